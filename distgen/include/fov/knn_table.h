@@ -1,0 +1,51 @@
+// Exact k-nearest-neighbour tables for every canvas pixel of a point set.
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include "fov/pointset.h"
+
+namespace fov {
+
+// The largest k a table may store.
+inline constexpr uint32_t max_knn = 32;
+
+struct knn_params {
+  uint32_t k = 20;     // neighbours stored per pixel, 1..max_knn
+  uint32_t group = 4;  // ranks per plane group (see knn_table); clamped to 1..k
+};
+
+// Answers "the k nearest points of each pixel centre in these rows", exactly.
+// FLANN's single kd-tree searches in float, so it is asked for a few extra
+// neighbours that are re-ranked by distance in double (ties: smaller index
+// first): results are exact and independent of thread count.
+class knn_builder {
+ public:
+  knn_builder(const std::vector<point>& points, uint32_t canvas_width, uint32_t canvas_height, uint32_t k);
+  ~knn_builder();
+  // Writes rows [y0, y1) pixel-major: out[((y - y0) * width + x) * k + rank]. Parallel.
+  void rows(uint32_t y0, uint32_t y1, uint32_t* out) const;
+  uint32_t k() const { return k_; }
+
+ private:
+  struct impl;
+  std::unique_ptr<impl> impl_;
+  const std::vector<point>& points_;
+  uint32_t width_, height_, k_;
+};
+
+// Builds the whole table in memory.
+knn_table build_knn_table(const std::vector<point>& points, uint32_t canvas_width,
+                          uint32_t canvas_height, const knn_params& params);
+
+// The same ranking by brute force over all points: slow, for tests.
+std::vector<uint32_t> brute_force_knn(const std::vector<point>& points, float qx, float qy, uint32_t k);
+
+// Copies a table into another group size (same entries, other layout).
+knn_table regroup(const knn_table& table, uint32_t group);
+
+// Throws darts and builds the table in memory.
+pointset generate_pointset(const spacing_model& model, const dart_params& darts, const knn_params& knn);
+
+}  // namespace fov

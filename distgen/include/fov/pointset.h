@@ -1,0 +1,107 @@
+// A foveated point set: Poisson-disc points on a 2W x 2H canvas whose centre is
+// the gaze, stored in Morton order, plus the k nearest points of every canvas pixel.
+#pragma once
+
+#include <algorithm>
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "fov/acuity.h"
+
+namespace fov {
+
+// One point of the set, in canvas pixels (pixel (i, j) covers [i, i+1) x [j, j+1)).
+struct point {
+  float x = 0, y = 0;
+  float spacing = 0;  // p: the minimum distance that was enforced when it was accepted
+};
+
+// How the dart thrower runs and when it calls a region saturated.
+struct dart_params {
+  uint64_t seed = 1;
+  // A tile is saturated after this many consecutive rejected darts.
+  uint32_t saturation_rejections = 8000;
+  // Phase 2 re-throws over this fraction of the screen size around the centre (thesis: 0.8).
+  double central_fraction = 0.8;
+  // Monte-Carlo probes used to estimate how much of the canvas is still free (0: skip).
+  uint32_t free_area_probes = 1u << 20;
+};
+
+// What dart throwing did; all counts are exact, free_fraction is estimated.
+struct dart_stats {
+  uint64_t phase1_points = 0, phase2_points = 0;
+  uint64_t darts_thrown = 0;
+  // Fraction of the canvas area where one more dart would still be accepted:
+  // 0 means the set is maximal. Estimated from free_area_probes uniform probes.
+  double free_fraction = 0;
+  uint64_t free_probes_accepted = 0;
+  double seconds = 0;  // wall time; not stored in files
+};
+
+// The k nearest points of every canvas pixel centre, nearest first (ties broken
+// by the smaller point index). Stored in "grouped planes": neighbour ranks are
+// cut into groups of `group` consecutive ranks; group g holds, for every pixel
+// in row-major order, its ranks [g*group, min(k, (g+1)*group)) contiguously.
+// group == 1 is one plane per rank, group == k is fully interleaved per pixel.
+struct knn_table {
+  uint32_t width = 0, height = 0;  // canvas size in pixels
+  uint32_t k = 0;
+  uint32_t group = 0;
+  std::vector<uint32_t> entries;  // width * height * k point indices
+
+  uint64_t pixel_count() const { return uint64_t(width) * height; }
+  // Offset of rank j (0 = nearest) of the pixel with row-major index `pixel`.
+  uint64_t offset(uint64_t pixel, uint32_t j) const {
+    const uint32_t g = j / group;
+    const uint64_t width_g = std::min<uint64_t>(group, k - uint64_t(g) * group);
+    return uint64_t(g) * group * pixel_count() + pixel * width_g + (j - g * group);
+  }
+  uint32_t at(uint32_t px, uint32_t py, uint32_t j) const {
+    return entries[offset(uint64_t(py) * width + px, j)];
+  }
+};
+
+struct pointset {
+  spacing_model model;
+  dart_params darts;
+  dart_stats stats;
+  double knn_seconds = 0;  // wall time; not stored in files
+  std::vector<point> points;  // Morton order
+  knn_table table;
+
+  uint32_t canvas_width() const { return 2u * uint32_t(model.display.width); }
+  uint32_t canvas_height() const { return 2u * uint32_t(model.display.height); }
+};
+
+// The integer shift that puts the set's centre on the gaze: canvas = screen + offset.
+// The gaze (screen pixels, continuous) is clamped to [0, W] x [0, H] and rounded
+// half-up to a whole pixel, so offset = (W - round(gx), H - round(gy)).
+struct canvas_offset {
+  int x = 0, y = 0;
+};
+canvas_offset offset_for_gaze(const display_geometry& display, double gaze_x, double gaze_y);
+
+// 64-bit Morton (Z-order) code of a canvas position, at 1/64-pixel resolution.
+uint64_t morton_code(float x, float y);
+
+// Number of pairs (i, j) closer than min(p_i, p_j): the spacing rule broken. Uses
+// a grid; exact in double arithmetic on the stored float values.
+uint64_t count_spacing_violations(const std::vector<point>& points, uint32_t canvas_width,
+                                  uint32_t canvas_height);
+
+// Points the renderer must trace for a gaze: every point on the screen plus every
+// point any on-screen pixel reads among its first k_used neighbours.
+struct traced_set {
+  uint64_t on_screen = 0;
+  uint64_t referenced_off_screen = 0;
+  uint64_t total() const { return on_screen + referenced_off_screen; }
+};
+traced_set count_traced_points(const pointset& set, double gaze_x, double gaze_y, uint32_t k_used);
+
+// Marks (1) every point that must be traced for the gaze, as above; size = points.size().
+std::vector<uint8_t> traced_point_mask(const pointset& set, double gaze_x, double gaze_y,
+                                       uint32_t k_used);
+
+}  // namespace fov

@@ -1,0 +1,66 @@
+// The .fovset file: one point set with its k-NN table (docs/pointset-format.md).
+#pragma once
+
+#include <functional>
+#include <stdexcept>
+#include <string>
+
+#include "fov/pointset.h"
+
+namespace fov {
+
+inline constexpr uint32_t pointset_format_version = 1;
+inline constexpr uint32_t pointset_header_bytes = 512;
+
+// How the k-NN table is stored on disk.
+enum class table_encoding : uint32_t {
+  raw = 0,            // fixed-width little-endian uint32 in the grouped-plane layout: mmap and use
+  ref_left_zstd = 1,  // ranks coded against the left pixel's list, zstd-compressed in row chunks
+};
+const char* table_encoding_name(table_encoding encoding);
+bool parse_table_encoding(const std::string& name, table_encoding& out);
+
+struct save_params {
+  table_encoding encoding = table_encoding::ref_left_zstd;
+  int zstd_level = 3;
+  uint32_t chunk_rows = 64;  // rows per independently decodable chunk
+};
+
+struct load_params {
+  bool table = true;   // false: header and points only
+  uint32_t group = 0;  // layout wanted in memory; 0 = as stored (ref_left_zstd: 4)
+};
+
+// Any problem with a file: the message names the file and the reason.
+class file_error : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// Fills rows [y0, y1) of the table pixel-major, k ranks per pixel (see knn_builder::rows).
+using table_row_source = std::function<void(uint32_t y0, uint32_t y1, uint32_t* out)>;
+
+// Files hold only what the parameters and seed determine (no timings, no host
+// names), so the same flags and seed give a byte-identical file.
+
+// Writes `set` (its points, model and dart statistics) with a table taken row band by row
+// band from `rows`, so the whole table never needs to be in memory. Writes to a
+// temporary file beside `path` and renames it into place; on any error nothing
+// is left at `path`.
+void save_pointset(const std::string& path, const pointset& set, uint32_t k, uint32_t group,
+                   const table_row_source& rows, const save_params& params = {});
+
+// Writes a set whose table is in memory.
+void save_pointset(const std::string& path, const pointset& set, const save_params& params = {});
+
+// Reads and verifies a file (with table = false, table.entries stays empty but its shape is set): magic, version, checksums, sizes, parameter ranges,
+// point coordinates and every table index. Throws file_error.
+pointset load_pointset(const std::string& path, const load_params& params = {});
+
+// Writes bytes to a temporary file beside `path`, then renames it into place.
+void write_file_atomic(const std::string& path, const void* data, size_t bytes);
+
+// Fails early with file_error when `path` cannot be written (directory missing, no permission).
+void check_writable(const std::string& path);
+
+}  // namespace fov

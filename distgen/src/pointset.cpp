@@ -1,0 +1,98 @@
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "fov/dart_throwing.h"
+#include "fov/knn_table.h"
+#include "fov/pointset.h"
+
+namespace fov {
+
+canvas_offset offset_for_gaze(const display_geometry& display, double gaze_x, double gaze_y) {
+  if (!std::isfinite(gaze_x)) gaze_x = 0.5 * display.width;
+  if (!std::isfinite(gaze_y)) gaze_y = 0.5 * display.height;
+  gaze_x = std::clamp(gaze_x, 0.0, double(display.width));
+  gaze_y = std::clamp(gaze_y, 0.0, double(display.height));
+  return {display.width - int(std::floor(gaze_x + 0.5)), display.height - int(std::floor(gaze_y + 0.5))};
+}
+
+uint64_t count_spacing_violations(const std::vector<point>& points, uint32_t canvas_width,
+                                  uint32_t canvas_height) {
+  if (points.empty()) return 0;
+  // Bucket points on a grid of about one point per cell (compressed rows).
+  const double area = double(canvas_width) * canvas_height;
+  const double cell = std::max(1.0, std::sqrt(area / double(points.size())));
+  const auto nx = uint32_t(std::ceil(canvas_width / cell)) + 1, ny = uint32_t(std::ceil(canvas_height / cell)) + 1;
+  auto cell_of = [&](float v, uint32_t n) { return std::min<uint32_t>(n - 1, uint32_t(std::max(0.0, v / cell))); };
+  std::vector<uint32_t> start(size_t(nx) * ny + 1, 0), order(points.size());
+  for (const point& p : points) ++start[size_t(cell_of(p.y, ny)) * nx + cell_of(p.x, nx) + 1];
+  for (size_t c = 1; c < start.size(); ++c) start[c] += start[c - 1];
+  std::vector<uint32_t> fill(start.begin(), start.end() - 1);
+  for (uint32_t i = 0; i < points.size(); ++i)
+    order[fill[size_t(cell_of(points[i].y, ny)) * nx + cell_of(points[i].x, nx)]++] = i;
+
+  uint64_t violations = 0;
+  for (uint32_t i = 0; i < points.size(); ++i) {
+    const point& a = points[i];
+    const int r = int(std::ceil(a.spacing / cell));
+    const int cx = int(cell_of(a.x, nx)), cy = int(cell_of(a.y, ny));
+    for (int y = std::max(0, cy - r); y <= std::min(int(ny) - 1, cy + r); ++y)
+      for (int x = std::max(0, cx - r); x <= std::min(int(nx) - 1, cx + r); ++x) {
+        const size_t c = size_t(y) * nx + x;
+        for (uint32_t s = start[c]; s < start[c + 1]; ++s) {
+          const uint32_t j = order[s];
+          if (j <= i) continue;
+          const point& b = points[j];
+          const double dx = double(a.x) - b.x, dy = double(a.y) - b.y;
+          const double m = std::min(a.spacing, b.spacing);
+          if (dx * dx + dy * dy < m * m) ++violations;
+        }
+      }
+  }
+  return violations;
+}
+
+std::vector<uint8_t> traced_point_mask(const pointset& set, double gaze_x, double gaze_y, uint32_t k_used) {
+  const display_geometry& d = set.model.display;
+  const canvas_offset o = offset_for_gaze(d, gaze_x, gaze_y);
+  std::vector<uint8_t> mask(set.points.size(), 0);
+  for (size_t i = 0; i < set.points.size(); ++i) {
+    const point& p = set.points[i];
+    if (p.x >= o.x && p.x < o.x + d.width && p.y >= o.y && p.y < o.y + d.height) mask[i] = 1;
+  }
+  const knn_table& t = set.table;
+  k_used = std::min(k_used, t.k);
+  for (uint32_t j = 0; j < k_used; ++j)
+    for (int sy = 0; sy < d.height; ++sy) {
+      const uint64_t row = uint64_t(sy + o.y) * t.width + uint64_t(o.x);
+      for (int sx = 0; sx < d.width; ++sx) mask[t.entries[t.offset(row + sx, j)]] = 1;
+    }
+  return mask;
+}
+
+traced_set count_traced_points(const pointset& set, double gaze_x, double gaze_y, uint32_t k_used) {
+  const std::vector<uint8_t> mask = traced_point_mask(set, gaze_x, gaze_y, k_used);
+  const display_geometry& d = set.model.display;
+  const canvas_offset o = offset_for_gaze(d, gaze_x, gaze_y);
+  traced_set out;
+  for (size_t i = 0; i < set.points.size(); ++i) {
+    if (!mask[i]) continue;
+    const point& p = set.points[i];
+    const bool on = p.x >= o.x && p.x < o.x + d.width && p.y >= o.y && p.y < o.y + d.height;
+    (on ? out.on_screen : out.referenced_off_screen)++;
+  }
+  return out;
+}
+
+pointset generate_pointset(const spacing_model& model, const dart_params& darts, const knn_params& knn) {
+  pointset set;
+  set.model = model;
+  set.darts = darts;
+  set.points = throw_darts(model, darts, &set.stats);
+  const auto start = std::chrono::steady_clock::now();
+  set.table = build_knn_table(set.points, set.canvas_width(), set.canvas_height(), knn);
+  set.knn_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return set;
+}
+
+}  // namespace fov

@@ -1,0 +1,454 @@
+#include "fov/pointset_io.h"
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <vector>
+
+#include <fmt/format.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <zstd.h>
+
+#include "fov/checksum.h"
+#include "fov/knn_table.h"
+
+namespace fov {
+
+namespace {
+
+constexpr char magic[8] = {'F', 'O', 'V', 'S', 'E', 'T', '\r', '\n'};
+constexpr uint64_t section_alignment = 64;
+
+// Everything in the 512-byte header, in file order (docs/pointset-format.md).
+struct header {
+  char magic[8];
+  uint32_t version, header_bytes;
+  uint32_t width, height;
+  double viewing_distance, scale;
+  uint32_t acuity_model, reserved0;
+  double ct0, alpha, e2;
+  uint64_t seed;
+  uint32_t saturation_rejections, free_area_probes;
+  double central_fraction;
+  uint64_t phase1_points, phase2_points, darts_thrown, free_probes_accepted;
+  double free_fraction;
+  uint64_t point_count;
+  uint32_t canvas_width, canvas_height, k, group, encoding, chunk_rows;
+  uint64_t points_offset, points_bytes, table_offset, table_bytes;
+  uint32_t points_crc, table_crc;
+  uint32_t header_crc;  // CRC-32C of bytes [0, 508) with this field excluded
+};
+
+// One list of fields serves both directions: f(value) for each, in file order.
+template <class H, class F>
+void visit_fields(H& h, F&& f) {
+  for (auto& c : h.magic) f(c);
+  f(h.version); f(h.header_bytes);
+  f(h.width); f(h.height); f(h.viewing_distance); f(h.scale);
+  f(h.acuity_model); f(h.reserved0); f(h.ct0); f(h.alpha); f(h.e2);
+  f(h.seed); f(h.saturation_rejections); f(h.free_area_probes); f(h.central_fraction);
+  f(h.phase1_points); f(h.phase2_points); f(h.darts_thrown); f(h.free_probes_accepted);
+  f(h.free_fraction);
+  f(h.point_count);
+  f(h.canvas_width); f(h.canvas_height); f(h.k); f(h.group); f(h.encoding); f(h.chunk_rows);
+  f(h.points_offset); f(h.points_bytes); f(h.table_offset); f(h.table_bytes);
+  f(h.points_crc); f(h.table_crc);
+}
+constexpr size_t header_crc_offset = pointset_header_bytes - 4;
+
+// Little-endian byte copies of arithmetic values (this code targets little-endian hosts).
+static_assert(__BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__, "fovray assumes a little-endian host");
+
+std::vector<uint8_t> encode_header(const header& h) {
+  std::vector<uint8_t> bytes(pointset_header_bytes, 0);
+  size_t at = 0;
+  visit_fields(h, [&](const auto& v) {
+    std::memcpy(&bytes[at], &v, sizeof(v));
+    at += sizeof(v);
+  });
+  const uint32_t crc = crc32c(bytes.data(), header_crc_offset);
+  std::memcpy(&bytes[header_crc_offset], &crc, 4);
+  return bytes;
+}
+
+header decode_header(const uint8_t* bytes) {
+  header h{};
+  size_t at = 0;
+  visit_fields(h, [&](auto& v) {
+    std::memcpy(&v, &bytes[at], sizeof(v));
+    at += sizeof(v);
+  });
+  std::memcpy(&h.header_crc, &bytes[header_crc_offset], 4);
+  return h;
+}
+
+uint64_t align_up(uint64_t v) { return (v + section_alignment - 1) / section_alignment * section_alignment; }
+
+uint64_t zigzag(int64_t v) { return (uint64_t(v) << 1) ^ uint64_t(v >> 63); }
+int64_t unzigzag(uint64_t v) { return int64_t(v >> 1) ^ -int64_t(v & 1); }
+
+// --- ref_left coding of one chunk of rows (see docs/pointset-format.md) -------------
+
+constexpr uint8_t literal_marker = 255;
+
+void encode_chunk(const uint32_t* rows, uint32_t width, uint32_t row_count, uint32_t k,
+                  std::vector<uint8_t>& symbols) {
+  symbols.clear();
+  const std::vector<uint32_t> none(k, 0);
+  for (uint32_t y = 0; y < row_count; ++y)
+    for (uint32_t x = 0; x < width; ++x) {
+      const uint32_t* cur = rows + (size_t(y) * width + x) * k;
+      const uint32_t* ref = x > 0 ? cur - k : (y > 0 ? cur - size_t(width) * k : none.data());
+      for (uint32_t j = 0; j < k; ++j) {
+        uint32_t pos = 0;
+        while (pos < k && ref[pos] != cur[j]) ++pos;
+        if (pos < k) {
+          symbols.push_back(uint8_t(zigzag(int64_t(pos) - int64_t(j))));
+        } else {
+          symbols.push_back(literal_marker);
+          uint64_t v = zigzag(int64_t(cur[j]) - int64_t(ref[0]));
+          while (v >= 128) {
+            symbols.push_back(uint8_t(v | 128));
+            v >>= 7;
+          }
+          symbols.push_back(uint8_t(v));
+        }
+      }
+    }
+}
+
+// Returns an empty string on success, else what is wrong.
+std::string decode_chunk(const uint8_t* symbols, size_t size, uint32_t width, uint32_t row_count, uint32_t k,
+                         uint64_t point_count, uint32_t* rows) {
+  const std::vector<uint32_t> none(k, 0);
+  size_t at = 0;
+  for (uint32_t y = 0; y < row_count; ++y)
+    for (uint32_t x = 0; x < width; ++x) {
+      uint32_t* cur = rows + (size_t(y) * width + x) * k;
+      const uint32_t* ref = x > 0 ? cur - k : (y > 0 ? cur - size_t(width) * k : none.data());
+      for (uint32_t j = 0; j < k; ++j) {
+        if (at >= size) return "table stream ends early";
+        const uint8_t s = symbols[at++];
+        if (s != literal_marker) {
+          const int64_t pos = int64_t(j) + unzigzag(s);
+          if (pos < 0 || pos >= int64_t(k)) return "table stream refers outside the previous list";
+          cur[j] = ref[pos];
+          continue;
+        }
+        uint64_t v = 0;
+        for (int shift = 0;; shift += 7) {
+          if (at >= size || shift > 63) return "table stream has a broken literal";
+          const uint8_t b = symbols[at++];
+          v |= uint64_t(b & 127) << shift;
+          if (!(b & 128)) break;
+        }
+        const int64_t value = int64_t(ref[0]) + unzigzag(v);
+        if (value < 0 || uint64_t(value) >= point_count)
+          return fmt::format("table index {} is out of range (set has {} points)", value, point_count);
+        cur[j] = uint32_t(value);
+      }
+    }
+  if (at != size) return "table stream has trailing bytes";
+  return {};
+}
+
+// Directory of a ref_left_zstd table section: chunk count, then per chunk its
+// byte offset (from the section start), compressed size, symbol-stream size and CRC.
+// The header's table checksum covers the directory; each chunk carries its own.
+struct chunk_entry {
+  uint64_t offset, bytes, symbols;
+  uint32_t crc, reserved;  // CRC-32C of the chunk's compressed bytes
+};
+static_assert(sizeof(chunk_entry) == 32);
+
+class temp_file {
+ public:
+  explicit temp_file(const std::string& path) : path_(path) {
+    tmp_ = path + ".tmp-XXXXXX";
+    const int fd = mkstemp(tmp_.data());
+    if (fd < 0) throw file_error(fmt::format("{}: cannot write: {}", path, std::strerror(errno)));
+    file_ = fdopen(fd, "wb");
+  }
+  ~temp_file() {
+    if (file_) std::fclose(file_);
+    if (!committed_) std::remove(tmp_.c_str());
+  }
+  void write_at(uint64_t offset, const void* data, size_t bytes) {
+    if (fseeko(file_, off_t(offset), SEEK_SET) != 0 || std::fwrite(data, 1, bytes, file_) != bytes)
+      throw file_error(fmt::format("{}: write failed: {}", path_, std::strerror(errno)));
+  }
+  void commit() {
+    if (std::fflush(file_) != 0 || fsync(fileno(file_)) != 0 || std::fclose(file_) != 0) {
+      file_ = nullptr;
+      throw file_error(fmt::format("{}: write failed: {}", path_, std::strerror(errno)));
+    }
+    file_ = nullptr;
+    chmod(tmp_.c_str(), 0644);
+    if (std::rename(tmp_.c_str(), path_.c_str()) != 0)
+      throw file_error(fmt::format("{}: cannot rename into place: {}", path_, std::strerror(errno)));
+    committed_ = true;
+  }
+
+ private:
+  std::string path_, tmp_;
+  FILE* file_ = nullptr;
+  bool committed_ = false;
+};
+
+header make_header(const pointset& set, uint32_t k, uint32_t group, const save_params& params) {
+  header h{};
+  std::memcpy(h.magic, magic, 8);
+  h.version = pointset_format_version;
+  h.header_bytes = pointset_header_bytes;
+  h.width = uint32_t(set.model.display.width);
+  h.height = uint32_t(set.model.display.height);
+  h.viewing_distance = set.model.display.viewing_distance;
+  h.scale = set.model.scale;
+  h.acuity_model = uint32_t(set.model.acuity.model);
+  h.ct0 = set.model.acuity.ct0;
+  h.alpha = set.model.acuity.alpha;
+  h.e2 = set.model.acuity.e2;
+  h.seed = set.darts.seed;
+  h.saturation_rejections = set.darts.saturation_rejections;
+  h.free_area_probes = set.darts.free_area_probes;
+  h.central_fraction = set.darts.central_fraction;
+  h.phase1_points = set.stats.phase1_points;
+  h.phase2_points = set.stats.phase2_points;
+  h.darts_thrown = set.stats.darts_thrown;
+  h.free_probes_accepted = set.stats.free_probes_accepted;
+  h.free_fraction = set.stats.free_fraction;
+  h.point_count = set.points.size();
+  h.canvas_width = set.canvas_width();
+  h.canvas_height = set.canvas_height();
+  h.k = k;
+  h.group = std::clamp<uint32_t>(group, 1, k);
+  h.encoding = uint32_t(params.encoding);
+  h.chunk_rows = params.chunk_rows;
+  return h;
+}
+
+}  // namespace
+
+const char* table_encoding_name(table_encoding e) {
+  switch (e) {
+    case table_encoding::raw: return "raw";
+    case table_encoding::ref_left_zstd: return "ref-left-zstd";
+  }
+  return "unknown";
+}
+
+bool parse_table_encoding(const std::string& name, table_encoding& out) {
+  if (name == "raw") { out = table_encoding::raw; return true; }
+  if (name == "ref-left-zstd") { out = table_encoding::ref_left_zstd; return true; }
+  return false;
+}
+
+void write_file_atomic(const std::string& path, const void* data, size_t bytes) {
+  temp_file out(path);
+  out.write_at(0, data, bytes);
+  out.commit();
+}
+
+void check_writable(const std::string& path) {
+  temp_file probe(path);  // creates and removes a temporary file beside path
+}
+
+void save_pointset(const std::string& path, const pointset& set, uint32_t k, uint32_t group,
+                   const table_row_source& rows, const save_params& params) {
+  if (params.chunk_rows == 0) throw std::invalid_argument("chunk_rows must be positive");
+  header h = make_header(set, k, group, params);
+  temp_file out(path);
+
+  h.points_offset = align_up(pointset_header_bytes);
+  h.points_bytes = uint64_t(set.points.size()) * sizeof(point);
+  h.points_crc = crc32c(set.points.data(), h.points_bytes);
+  out.write_at(h.points_offset, set.points.data(), h.points_bytes);
+  h.table_offset = align_up(h.points_offset + h.points_bytes);
+
+  const uint32_t width = h.canvas_width, height = h.canvas_height;
+  const uint32_t chunk_rows = params.chunk_rows;
+  const uint32_t chunks = (height + chunk_rows - 1) / chunk_rows;
+  std::vector<uint32_t> band(size_t(chunk_rows) * width * k);
+  auto for_each_band = [&](auto&& use) {
+    for (uint32_t c = 0; c < chunks; ++c) {
+      const uint32_t y0 = c * chunk_rows, y1 = std::min(height, y0 + chunk_rows);
+      rows(y0, y1, band.data());
+      use(c, y0, y1);
+    }
+  };
+
+  if (params.encoding == table_encoding::raw) {
+    // The in-memory grouped-plane layout, byte for byte.
+    knn_table t;
+    t.width = width; t.height = height; t.k = k; t.group = h.group;
+    t.entries.resize(t.pixel_count() * k);
+    for_each_band([&](uint32_t, uint32_t y0, uint32_t y1) {
+      const uint64_t first = uint64_t(y0) * width;
+      for (uint64_t p = 0; p < uint64_t(y1 - y0) * width; ++p)
+        for (uint32_t j = 0; j < k; ++j) t.entries[t.offset(first + p, j)] = band[p * k + j];
+    });
+    h.table_bytes = t.entries.size() * 4;
+    h.table_crc = crc32c(t.entries.data(), h.table_bytes);
+    out.write_at(h.table_offset, t.entries.data(), h.table_bytes);
+  } else {
+    // Directory first (its size is known), then each chunk as soon as it is coded.
+    std::vector<chunk_entry> directory(chunks);
+    const uint64_t directory_bytes = 8 + uint64_t(chunks) * sizeof(chunk_entry);
+    uint64_t at = align_up(directory_bytes);
+    std::vector<uint8_t> symbols, z;
+    for_each_band([&](uint32_t c, uint32_t y0, uint32_t y1) {
+      encode_chunk(band.data(), width, y1 - y0, k, symbols);
+      z.resize(ZSTD_compressBound(symbols.size()));
+      const size_t n = ZSTD_compress(z.data(), z.size(), symbols.data(), symbols.size(), params.zstd_level);
+      if (ZSTD_isError(n)) throw file_error(fmt::format("{}: compression failed: {}", path, ZSTD_getErrorName(n)));
+      directory[c] = {at, n, symbols.size(), crc32c(z.data(), n), 0};
+      out.write_at(h.table_offset + at, z.data(), n);
+      at += n;
+    });
+    h.table_bytes = at;
+    std::vector<uint8_t> dir(directory_bytes);
+    const uint64_t count = chunks;
+    std::memcpy(dir.data(), &count, 8);
+    std::memcpy(dir.data() + 8, directory.data(), chunks * sizeof(chunk_entry));
+    h.table_crc = crc32c(dir.data(), dir.size());
+    out.write_at(h.table_offset, dir.data(), dir.size());
+  }
+  const std::vector<uint8_t> head = encode_header(h);
+  out.write_at(0, head.data(), head.size());
+  out.commit();
+}
+
+void save_pointset(const std::string& path, const pointset& set, const save_params& params) {
+  const knn_table& t = set.table;
+  save_pointset(path, set, t.k, t.group,
+                [&](uint32_t y0, uint32_t y1, uint32_t* out) {
+                  for (uint64_t p = uint64_t(y0) * t.width; p < uint64_t(y1) * t.width; ++p)
+                    for (uint32_t j = 0; j < t.k; ++j) *out++ = t.entries[t.offset(p, j)];
+                },
+                params);
+}
+
+pointset load_pointset(const std::string& path, const load_params& params) {
+  auto fail = [&](const std::string& why) { return file_error(fmt::format("{}: {}", path, why)); };
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw fail(fmt::format("cannot open: {}", std::strerror(errno)));
+  in.seekg(0, std::ios::end);
+  const uint64_t file_size = uint64_t(in.tellg());
+  in.seekg(0);
+  auto read_at = [&](uint64_t offset, void* dst, uint64_t bytes) {
+    in.seekg(std::streamoff(offset));
+    in.read(static_cast<char*>(dst), std::streamsize(bytes));
+    if (!in) throw fail("read failed");
+  };
+  if (file_size < 8) throw fail(fmt::format("truncated: {} bytes, not a point-set file", file_size));
+  uint8_t head[pointset_header_bytes] = {};
+  read_at(0, head, std::min<uint64_t>(file_size, pointset_header_bytes));
+  if (std::memcmp(head, magic, 8) != 0) throw fail("not a point-set file (wrong magic)");
+  if (file_size < pointset_header_bytes)
+    throw fail(fmt::format("truncated: {} bytes, the header alone needs {}", file_size, pointset_header_bytes));
+  const header h = decode_header(head);
+  if (h.version != pointset_format_version)
+    throw fail(fmt::format("unknown format version {} (this build reads {})", h.version, pointset_format_version));
+  if (h.header_bytes != pointset_header_bytes) throw fail("unexpected header size");
+  if (crc32c(head, header_crc_offset) != h.header_crc) throw fail("header checksum mismatch (file corrupted)");
+
+  pointset set;
+  set.model.display = {int(h.width), int(h.height), h.viewing_distance};
+  set.model.scale = h.scale;
+  set.model.acuity = {acuity_model(h.acuity_model), h.ct0, h.alpha, h.e2};
+  if (h.width > 65536 || h.height > 65536) throw fail("screen size out of range");
+  if (const std::string why = validate(set.model); !why.empty()) throw fail("invalid model: " + why);
+  if (h.canvas_width != 2 * h.width || h.canvas_height != 2 * h.height) throw fail("canvas is not twice the screen");
+  if (h.k < 1 || h.k > max_knn) throw fail(fmt::format("k = {} outside 1..{}", h.k, max_knn));
+  if (h.group < 1 || h.group > h.k) throw fail("k-NN group size out of range");
+  if (h.encoding > uint32_t(table_encoding::ref_left_zstd)) throw fail(fmt::format("unknown table encoding {}", h.encoding));
+  if (h.chunk_rows == 0) throw fail("chunk_rows is zero");
+  if (h.point_count < h.k || h.point_count >= (uint64_t(1) << 32)) throw fail("point count out of range");
+  set.darts = {h.seed, h.saturation_rejections, h.central_fraction, h.free_area_probes};
+  set.stats = {h.phase1_points, h.phase2_points, h.darts_thrown, h.free_fraction, h.free_probes_accepted, 0.0};
+
+  const uint64_t pixels = uint64_t(h.canvas_width) * h.canvas_height;
+  if (h.points_bytes != h.point_count * sizeof(point)) throw fail("points section has the wrong size");
+  if (h.points_offset < pointset_header_bytes || h.points_offset + h.points_bytes > file_size ||
+      h.table_offset < h.points_offset + h.points_bytes || h.table_offset + h.table_bytes > file_size)
+    throw fail(fmt::format("truncated: {} bytes, sections need {}", file_size, h.table_offset + h.table_bytes));
+
+  set.points.resize(h.point_count);
+  read_at(h.points_offset, set.points.data(), h.points_bytes);
+  if (crc32c(set.points.data(), h.points_bytes) != h.points_crc) throw fail("points checksum mismatch (file corrupted)");
+  for (const point& p : set.points)
+    if (!(p.x >= 0 && p.x < float(h.canvas_width) && p.y >= 0 && p.y < float(h.canvas_height) && p.spacing > 0))
+      throw fail("a point lies outside the canvas or has no spacing");
+  knn_table& t = set.table;  // its shape is known even when the entries are not loaded
+  t.width = h.canvas_width;
+  t.height = h.canvas_height;
+  t.k = h.k;
+  t.group = h.group;
+  if (!params.table) return set;
+
+  if (h.encoding == uint32_t(table_encoding::raw)) {
+    if (h.table_bytes != pixels * h.k * 4) throw fail("table section has the wrong size");
+    t.entries.resize(pixels * h.k);
+    read_at(h.table_offset, t.entries.data(), h.table_bytes);
+    if (crc32c(t.entries.data(), h.table_bytes) != h.table_crc) throw fail("table checksum mismatch (file corrupted)");
+    for (uint32_t v : t.entries)
+      if (v >= h.point_count) throw fail(fmt::format("table index {} out of range (set has {} points)", v, h.point_count));
+  } else {
+    std::vector<uint8_t> section(h.table_bytes);
+    read_at(h.table_offset, section.data(), h.table_bytes);
+    const uint32_t chunks = (h.canvas_height + h.chunk_rows - 1) / h.chunk_rows;
+    uint64_t count = 0;
+    if (section.size() < 8) throw fail("table directory truncated");
+    std::memcpy(&count, section.data(), 8);
+    if (count != chunks || 8 + count * sizeof(chunk_entry) > section.size()) throw fail("table directory is inconsistent");
+    if (crc32c(section.data(), 8 + count * sizeof(chunk_entry)) != h.table_crc)
+      throw fail("table directory checksum mismatch (file corrupted)");
+    std::vector<chunk_entry> directory(chunks);
+    std::memcpy(directory.data(), section.data() + 8, chunks * sizeof(chunk_entry));
+    t.group = params.group ? std::min(params.group, t.k) : std::min<uint32_t>(h.group, t.k);
+    t.entries.resize(pixels * h.k);
+    std::vector<std::string> errors(chunks);
+    tbb::parallel_for(tbb::blocked_range<uint32_t>(0, chunks, 1), [&](const tbb::blocked_range<uint32_t>& r) {
+      std::vector<uint8_t> symbols;
+      std::vector<uint32_t> band;
+      for (uint32_t c = r.begin(); c < r.end(); ++c) {
+        const chunk_entry& e = directory[c];
+        const uint32_t y0 = c * h.chunk_rows, y1 = std::min(h.canvas_height, y0 + h.chunk_rows);
+        const uint64_t max_symbols = uint64_t(y1 - y0) * h.canvas_width * h.k * 6;
+        if (e.offset > section.size() || e.bytes > section.size() - e.offset || e.symbols > max_symbols) {
+          errors[c] = "table chunk outside its section";
+          continue;
+        }
+        if (crc32c(section.data() + e.offset, e.bytes) != e.crc) {
+          errors[c] = fmt::format("table chunk {} checksum mismatch (file corrupted)", c);
+          continue;
+        }
+        symbols.resize(e.symbols);
+        const size_t n = ZSTD_decompress(symbols.data(), symbols.size(), section.data() + e.offset, e.bytes);
+        if (ZSTD_isError(n) || n != e.symbols) {
+          errors[c] = "table chunk does not decompress";
+          continue;
+        }
+        band.resize(size_t(y1 - y0) * h.canvas_width * h.k);
+        errors[c] = decode_chunk(symbols.data(), n, h.canvas_width, y1 - y0, h.k, h.point_count, band.data());
+        if (!errors[c].empty()) continue;
+        const uint64_t first = uint64_t(y0) * h.canvas_width;
+        for (uint64_t p = 0; p < uint64_t(y1 - y0) * h.canvas_width; ++p)
+          for (uint32_t j = 0; j < h.k; ++j) t.entries[t.offset(first + p, j)] = band[p * h.k + j];
+      }
+    });
+    for (const std::string& e : errors)
+      if (!e.empty()) throw fail(e);
+  }
+  if (params.group && params.group != t.group) t = regroup(t, params.group);
+  return set;
+}
+
+}  // namespace fov

@@ -1,0 +1,36 @@
+// Small point sets for tests.
+#pragma once
+
+#include "fov/dart_throwing.h"
+#include "fov/knn_table.h"
+
+namespace fov::testing {
+
+inline spacing_model small_model(int w, int h, double v = 1.0, double s = 1.0) {
+  spacing_model m;
+  m.display = {w, h, v};
+  m.scale = s;
+  return m;
+}
+
+inline dart_params quick_darts(uint64_t seed = 7, uint32_t saturation = 2000) {
+  dart_params d;
+  d.seed = seed;
+  d.saturation_rejections = saturation;
+  d.free_area_probes = 1u << 16;
+  return d;
+}
+
+// Pairs closer than min(p_i, p_j), by checking every pair.
+inline uint64_t brute_force_violations(const std::vector<point>& pts) {
+  uint64_t n = 0;
+  for (size_t i = 0; i < pts.size(); ++i)
+    for (size_t j = i + 1; j < pts.size(); ++j) {
+      const double dx = double(pts[i].x) - pts[j].x, dy = double(pts[i].y) - pts[j].y;
+      const double m = std::min(pts[i].spacing, pts[j].spacing);
+      if (dx * dx + dy * dy < m * m) ++n;
+    }
+  return n;
+}
+
+}  // namespace fov::testing
