@@ -67,6 +67,11 @@ fov::spacing_model model_from(const generate_options& o, CLI::App& app) {
   m.scale = o.scale;
   if (o.width <= 0 && app.count("--width")) throw usage_error(fmt::format("--width must be positive (got {})", o.width));
   if (o.height <= 0 && app.count("--height")) throw usage_error(fmt::format("--height must be positive (got {})", o.height));
+  if (!(m.display.viewing_distance > 0) || !std::isfinite(m.display.viewing_distance))
+    throw usage_error(fmt::format("--viewing-distance must be a positive number of display widths (got {})",
+                                  m.display.viewing_distance));
+  if (!(o.scale > 0) || !std::isfinite(o.scale))
+    throw usage_error(fmt::format("--scale must be positive (got {})", o.scale));
   if (o.k < 1 || o.k > fov::max_knn) throw usage_error(fmt::format("--k must lie in 1..{} (got {})", fov::max_knn, o.k));
   if (o.group < 1) throw usage_error("--group must be at least 1");
   if (o.saturation < 1) throw usage_error("--saturation must be at least 1");
@@ -138,6 +143,9 @@ fov::pointset generate_file(const fov::spacing_model& model, const generate_opti
   set.darts.seed = o.seed;
   set.darts.saturation_rejections = o.saturation;
   set.points = fov::throw_darts(model, set.darts, &set.stats);
+  if (set.points.size() < o.k)
+    throw usage_error(fmt::format("--k {} exceeds the {} points of this set; use --k {} or less", o.k,
+                                  set.points.size(), set.points.size()));
   const auto start = clock_type::now();
   fov::knn_builder builder(set.points, set.canvas_width(), set.canvas_height(), o.k);
   fov::save_params save;

@@ -404,12 +404,13 @@ pointset load_pointset(const std::string& path, const load_params& params) {
     std::vector<uint8_t> section(h.table_bytes);
     read_at(h.table_offset, section.data(), h.table_bytes);
     const uint32_t chunks = (h.canvas_height + h.chunk_rows - 1) / h.chunk_rows;
-    uint64_t count = 0;
-    if (section.size() < 8) throw fail("table directory truncated");
-    std::memcpy(&count, section.data(), 8);
-    if (count != chunks || 8 + count * sizeof(chunk_entry) > section.size()) throw fail("table directory is inconsistent");
-    if (crc32c(section.data(), 8 + count * sizeof(chunk_entry)) != h.table_crc)
+    const uint64_t directory_bytes = 8 + uint64_t(chunks) * sizeof(chunk_entry);
+    if (section.size() < directory_bytes) throw fail("table directory truncated");
+    if (crc32c(section.data(), directory_bytes) != h.table_crc)
       throw fail("table directory checksum mismatch (file corrupted)");
+    uint64_t count = 0;
+    std::memcpy(&count, section.data(), 8);
+    if (count != chunks) throw fail("table directory is inconsistent");
     std::vector<chunk_entry> directory(chunks);
     std::memcpy(directory.data(), section.data() + 8, chunks * sizeof(chunk_entry));
     t.group = params.group ? std::min(params.group, t.k) : std::min<uint32_t>(h.group, t.k);

@@ -1,0 +1,68 @@
+#!/usr/bin/env bash
+# fovgen's command line: bad flags give one line and exit 2, bad files exit 1,
+# nothing half-written is left, and info --json has the documented keys.
+set -uo pipefail
+fovgen=$1
+dir=$(mktemp -d)
+trap 'rm -rf "$dir"' EXIT
+failures=0
+passes=0
+
+check() {  # check NAME EXPECTED_CODE -- COMMAND...
+  local name=$1 want=$2; shift 3
+  local err code
+  err=$("$@" 2>&1 >/dev/null); code=$?
+  local lines
+  lines=$(printf '%s' "$err" | grep -c '' || true)
+  if [[ $code -ne $want ]]; then
+    echo "FAIL $name: exit $code, wanted $want: $err"; failures=$((failures + 1))
+  elif [[ $want -ne 0 && ( $lines -ne 1 || "$err" != fovgen:* ) ]]; then
+    echo "FAIL $name: wanted one 'fovgen: ...' line, got: $err"; failures=$((failures + 1))
+  else
+    passes=$((passes + 1))
+  fi
+}
+
+small=(--width 48 --height 40 --saturation 500)
+check "k zero"            2 -- "$fovgen" "${small[@]}" --k 0 -o "$dir/a.fovset"
+check "k too large"       2 -- "$fovgen" "${small[@]}" --k 33 -o "$dir/a.fovset"
+check "width zero"        2 -- "$fovgen" --width 0 -o "$dir/a.fovset"
+check "height negative"   2 -- "$fovgen" --height -5 -o "$dir/a.fovset"
+check "v zero"            2 -- "$fovgen" "${small[@]}" -v 0 -o "$dir/a.fovset"
+check "s negative"        2 -- "$fovgen" "${small[@]}" --scale -1 -o "$dir/a.fovset"
+check "unknown display"   2 -- "$fovgen" --display oculus -o "$dir/a.fovset"
+check "unknown encoding"  2 -- "$fovgen" "${small[@]}" --encoding lzma -o "$dir/a.fovset"
+check "unwritable output" 2 -- "$fovgen" "${small[@]}" -o "$dir/no/such/dir/a.fovset"
+check "missing output"    2 -- "$fovgen" "${small[@]}"
+check "not a number"      2 -- "$fovgen" --width abc -o "$dir/a.fovset"
+check "unknown flag"      2 -- "$fovgen" --frobnicate
+check "k above points"    2 -- "$fovgen" --width 1 --height 1 --k 20 -o "$dir/one.fovset"
+[[ -e "$dir/one.fovset" ]] && { echo "FAIL a failed generation left its output"; failures=$((failures + 1)); }
+
+check "generate"          0 -- "$fovgen" "${small[@]}" --k 8 -o "$dir/a.fovset"
+check "generate 1x1"      0 -- "$fovgen" --width 1 --height 1 --k 1 -o "$dir/one.fovset"
+check "info"              0 -- "$fovgen" info "$dir/a.fovset"
+check "bad gaze"          2 -- "$fovgen" info "$dir/a.fovset" --gaze 10
+check "gaze off screen"   2 -- "$fovgen" info "$dir/a.fovset" --gaze 100,10
+check "plot"              0 -- "$fovgen" plot "$dir/a.fovset" --gaze 10,30 -o "$dir/p.png"
+check "info missing file" 1 -- "$fovgen" info "$dir/missing.fovset"
+head -c 1000 "$dir/a.fovset" > "$dir/cut.fovset"
+check "info truncated"    1 -- "$fovgen" info "$dir/cut.fovset"
+printf 'hello' > "$dir/text.fovset"
+check "info not a set"    1 -- "$fovgen" info "$dir/text.fovset"
+check "sweep bad scales"  2 -- "$fovgen" sweep "${small[@]}" --scales 2:1:0.1 -o "$dir/sweep"
+
+json=$("$fovgen" info "$dir/a.fovset" --gaze 24,20 --json)
+for key in width height viewing_distance scale k seed points_total spacing_violations generation_seconds points_traced; do
+  if ! grep -q "\"$key\":" <<<"$json"; then echo "FAIL info --json lacks $key"; failures=$((failures + 1)); fi
+done
+grep -q '"spacing_violations": 0,' <<<"$json" || { echo "FAIL spacing violations not 0"; failures=$((failures + 1)); }
+[[ $(head -c 8 "$dir/p.png" | od -An -c | tr -d ' ') == "211PNG\r\n032\n" ]] || { echo "FAIL plot is not a PNG"; failures=$((failures + 1)); }
+
+"$fovgen" "${small[@]}" --k 8 --seed 3 -o "$dir/x.fovset" >/dev/null
+"$fovgen" "${small[@]}" --k 8 --seed 3 -o "$dir/y.fovset" >/dev/null
+cmp -s "$dir/x.fovset" "$dir/y.fovset" || { echo "FAIL same seed, different bytes"; failures=$((failures + 1)); }
+ls "$dir" | grep -q 'tmp-' && { echo "FAIL temporary files left: $(ls "$dir")"; failures=$((failures + 1)); }
+
+echo "fovgen CLI: $passes passed, $failures failed"
+[[ $failures -eq 0 ]]

@@ -1,0 +1,184 @@
+#include <cmath>
+#include <set>
+
+#include <gtest/gtest.h>
+#include <tbb/global_control.h>
+
+#include "fov/knn_table.h"
+#include "test_sets.h"
+
+namespace fov {
+namespace {
+
+using testing::quick_darts;
+using testing::small_model;
+
+TEST(KnnTable, EqualsBruteForceAtEveryPixel) {
+  for (auto [w, h, s, k] : {std::tuple{48, 40, 1.0, 20u}, {40, 32, 3.0, 32u}, {36, 30, 1.0, 1u}, {30, 40, 2.0, 5u}}) {
+    const std::vector<point> pts = throw_darts(small_model(w, h, 1.0, s), quick_darts());
+    knn_params kp;
+    kp.k = k;
+    const knn_table t = build_knn_table(pts, 2 * w, 2 * h, kp);
+    for (uint32_t y = 0; y < t.height; ++y)
+      for (uint32_t x = 0; x < t.width; ++x) {
+        const std::vector<uint32_t> expected = brute_force_knn(pts, x + 0.5f, y + 0.5f, k);
+        for (uint32_t j = 0; j < k; ++j)
+          ASSERT_EQ(t.at(x, y, j), expected[j]) << "pixel " << x << "," << y << " rank " << j << " k=" << k;
+      }
+  }
+}
+
+TEST(KnnTable, TiesGoToTheSmallerIndex) {
+  // A regular lattice puts many points at exactly equal distances from pixel centres.
+  std::vector<point> pts;
+  for (int y = 0; y < 8; ++y)
+    for (int x = 0; x < 8; ++x) pts.push_back({2.0f * x + 1.0f, 2.0f * y + 1.0f, 1.0f});
+  knn_params kp;
+  kp.k = 8;
+  const knn_table t = build_knn_table(pts, 16, 16, kp);
+  for (uint32_t y = 0; y < 16; ++y)
+    for (uint32_t x = 0; x < 16; ++x) {
+      const auto expected = brute_force_knn(pts, x + 0.5f, y + 0.5f, 8);
+      for (uint32_t j = 0; j < 8; ++j) ASSERT_EQ(t.at(x, y, j), expected[j]) << x << "," << y << " rank " << j;
+    }
+  // Pixel (0,0) centre (0.5,0.5): nearest (1,1) = index 0; then (3,1) idx 1 and (1,3) idx 8 tie at sqrt(6.5).
+  EXPECT_EQ(t.at(0, 0, 0), 0u);
+  EXPECT_EQ(t.at(0, 0, 1), 1u);
+  EXPECT_EQ(t.at(0, 0, 2), 8u);
+}
+
+TEST(KnnTable, GroupedLayoutIsABijectionForEveryGroupSize) {
+  for (uint32_t k : {1u, 5u, 7u, 20u, 32u})
+    for (uint32_t g : {1u, 3u, 4u, 8u, 32u}) {
+      knn_table t;
+      t.width = 5;
+      t.height = 3;
+      t.k = k;
+      t.group = std::min(g, k);
+      std::vector<int> hit(t.pixel_count() * k, 0);
+      for (uint64_t p = 0; p < t.pixel_count(); ++p)
+        for (uint32_t j = 0; j < k; ++j) {
+          const uint64_t o = t.offset(p, j);
+          ASSERT_LT(o, hit.size());
+          ++hit[o];
+        }
+      for (int v : hit) ASSERT_EQ(v, 1) << "k=" << k << " group=" << g;
+    }
+}
+
+TEST(KnnTable, FirstRanksOfAGroupArePlanarPerPixel) {
+  // group = 4: ranks 0..3 of pixel p are contiguous, and pixel p+1 follows them.
+  knn_table t;
+  t.width = 10;
+  t.height = 10;
+  t.k = 20;
+  t.group = 4;
+  EXPECT_EQ(t.offset(0, 0), 0u);
+  EXPECT_EQ(t.offset(0, 3), 3u);
+  EXPECT_EQ(t.offset(1, 0), 4u);
+  EXPECT_EQ(t.offset(0, 4), 400u);  // the second group starts after 100 pixels x 4 ranks
+}
+
+TEST(KnnTable, EightKOffsetsDoNotOverflow) {
+  // An 8K screen's canvas has 15360 x 8640 x 20 = 2.65e9 entries, past 2^31 and 2^32 / 2.
+  knn_table t;
+  t.width = 15360;
+  t.height = 8640;
+  t.k = 20;
+  t.group = 4;
+  const uint64_t last = t.pixel_count() - 1;
+  EXPECT_EQ(t.offset(last, 19), t.pixel_count() * 20 - 1);
+  EXPECT_GT(t.offset(last, 19), uint64_t(1) << 31);
+  t.group = 1;
+  EXPECT_EQ(t.offset(last, 19), t.pixel_count() * 20 - 1);
+}
+
+TEST(KnnTable, RegroupKeepsEveryEntry) {
+  const std::vector<point> pts = throw_darts(small_model(40, 30), quick_darts());
+  knn_params kp;
+  kp.k = 10;
+  kp.group = 10;
+  const knn_table a = build_knn_table(pts, 80, 60, kp);
+  for (uint32_t g : {1u, 3u, 4u}) {
+    const knn_table b = regroup(a, g);
+    EXPECT_EQ(b.group, g);
+    for (uint32_t y = 0; y < 60; ++y)
+      for (uint32_t x = 0; x < 80; ++x)
+        for (uint32_t j = 0; j < 10; ++j) ASSERT_EQ(a.at(x, y, j), b.at(x, y, j));
+  }
+}
+
+TEST(KnnTable, SameTableForAnyThreadCount) {
+  const std::vector<point> pts = throw_darts(small_model(64, 64), quick_darts());
+  knn_table one, two;
+  {
+    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 1);
+    one = build_knn_table(pts, 128, 128, {});
+  }
+  {
+    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 2);
+    two = build_knn_table(pts, 128, 128, {});
+  }
+  EXPECT_EQ(one.entries, two.entries);
+}
+
+TEST(KnnTable, RejectsKOutsideRangeOrAboveThePointCount) {
+  const std::vector<point> pts = throw_darts(small_model(1, 1), quick_darts());
+  ASSERT_LT(pts.size(), 20u);  // a 1x1 screen has a 2x2 canvas with a handful of points
+  knn_params kp;
+  try {
+    build_knn_table(pts, 2, 2, kp);
+    FAIL();
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("exceeds the"), std::string::npos);
+  }
+  kp.k = uint32_t(pts.size());
+  const knn_table t = build_knn_table(pts, 2, 2, kp);  // the 1x1 screen works with k <= points
+  EXPECT_EQ(t.entries.size(), 4u * pts.size());
+  kp.k = 0;
+  EXPECT_THROW(build_knn_table(pts, 2, 2, kp), std::invalid_argument);
+  kp.k = 33;
+  EXPECT_THROW(build_knn_table(pts, 2, 2, kp), std::invalid_argument);
+}
+
+TEST(TracedPoints, EveryPixelReadsOnlyTracedPoints) {
+  const int w = 96, h = 80;
+  pointset set;
+  set.model = small_model(w, h);
+  set.points = throw_darts(set.model, quick_darts());
+  set.table = build_knn_table(set.points, 2 * w, 2 * h, {});
+  for (auto [gx, gy] : {std::pair{48.0, 40.0}, {0.0, 0.0}, {96.0, 80.0}, {10.4, 70.6}}) {
+    const std::vector<uint8_t> mask = traced_point_mask(set, gx, gy, 20);
+    const canvas_offset o = offset_for_gaze(set.model.display, gx, gy);
+    std::set<uint32_t> needed;
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x)
+        for (uint32_t j = 0; j < 20; ++j) needed.insert(set.table.at(x + o.x, y + o.y, j));
+    uint64_t on_screen = 0, off = 0;
+    for (uint32_t i = 0; i < set.points.size(); ++i) {
+      const point& p = set.points[i];
+      const bool on = p.x >= o.x && p.x < o.x + w && p.y >= o.y && p.y < o.y + h;
+      ASSERT_EQ(bool(mask[i]), on || needed.count(i)) << "point " << i;
+      on_screen += on;
+      off += !on && needed.count(i);
+    }
+    const traced_set t = count_traced_points(set, gx, gy, 20);
+    EXPECT_EQ(t.on_screen, on_screen);
+    EXPECT_EQ(t.referenced_off_screen, off);
+    EXPECT_GT(off, 0u) << "some off-screen points must be read near the screen edge";
+  }
+}
+
+TEST(TracedPoints, GazeShiftRoundsHalfUpAndClamps) {
+  const display_geometry d{100, 50, 1.0};
+  EXPECT_EQ(offset_for_gaze(d, 50, 25).x, 50);
+  EXPECT_EQ(offset_for_gaze(d, 10.5, 0).x, 89);  // round(10.5) = 11
+  EXPECT_EQ(offset_for_gaze(d, 10.49, 0).x, 90);
+  EXPECT_EQ(offset_for_gaze(d, -20, 0).x, 100);  // clamped to the screen
+  EXPECT_EQ(offset_for_gaze(d, 500, 0).x, 0);
+  EXPECT_EQ(offset_for_gaze(d, 0, 1e9).y, 0);
+  EXPECT_EQ(offset_for_gaze(d, NAN, NAN).x, 50);  // no gaze: centre
+}
+
+}  // namespace
+}  // namespace fov

@@ -1,0 +1,184 @@
+#include <unistd.h>
+
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+
+#include <gtest/gtest.h>
+
+#include "fov/checksum.h"
+#include "fov/knn_table.h"
+#include "fov/pointset_io.h"
+#include "test_sets.h"
+
+namespace fov {
+namespace {
+
+namespace fs = std::filesystem;
+
+class PointsetFile : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("fovray-io-" + std::to_string(getpid()) + "-" +
+                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::create_directories(dir_);
+    knn_params kp;
+    kp.k = 12;
+    set_ = generate_pointset(testing::small_model(60, 50), testing::quick_darts(), kp);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+
+  static std::vector<char> read(const std::string& p) {
+    std::ifstream in(p, std::ios::binary);
+    return {std::istreambuf_iterator<char>(in), {}};
+  }
+  static void write(const std::string& p, const std::vector<char>& bytes) {
+    std::ofstream(p, std::ios::binary).write(bytes.data(), std::streamsize(bytes.size()));
+  }
+  // Loads and returns the error message, or "" when the file loads.
+  static std::string load_error(const std::string& p) {
+    try {
+      load_pointset(p);
+      return "";
+    } catch (const file_error& e) {
+      return e.what();
+    }
+  }
+
+  fs::path dir_;
+  pointset set_;
+};
+
+void expect_same(const pointset& a, const pointset& b) {
+  EXPECT_EQ(a.model.display.width, b.model.display.width);
+  EXPECT_EQ(a.model.display.height, b.model.display.height);
+  EXPECT_EQ(a.model.display.viewing_distance, b.model.display.viewing_distance);
+  EXPECT_EQ(a.model.scale, b.model.scale);
+  EXPECT_EQ(a.model.acuity.alpha, b.model.acuity.alpha);
+  EXPECT_EQ(a.darts.seed, b.darts.seed);
+  EXPECT_EQ(a.stats.phase1_points, b.stats.phase1_points);
+  EXPECT_EQ(a.stats.free_fraction, b.stats.free_fraction);
+  ASSERT_EQ(a.points.size(), b.points.size());
+  EXPECT_EQ(0, std::memcmp(a.points.data(), b.points.data(), a.points.size() * sizeof(point)));
+  ASSERT_EQ(a.table.k, b.table.k);
+  for (uint32_t y = 0; y < a.table.height; ++y)
+    for (uint32_t x = 0; x < a.table.width; ++x)
+      for (uint32_t j = 0; j < a.table.k; ++j) ASSERT_EQ(a.table.at(x, y, j), b.table.at(x, y, j));
+}
+
+TEST_F(PointsetFile, RoundTripsInBothEncodings) {
+  for (table_encoding e : {table_encoding::raw, table_encoding::ref_left_zstd}) {
+    save_params sp;
+    sp.encoding = e;
+    sp.chunk_rows = 7;  // several chunks, the last one partial
+    save_pointset(path("a.fovset"), set_, sp);
+    expect_same(set_, load_pointset(path("a.fovset")));
+    load_params lp;
+    lp.group = 1;
+    const pointset planes = load_pointset(path("a.fovset"), lp);
+    EXPECT_EQ(planes.table.group, 1u);
+    expect_same(set_, planes);
+  }
+}
+
+TEST_F(PointsetFile, SameSetGivesByteIdenticalFiles) {
+  knn_params kp;
+  kp.k = 12;
+  const pointset again = generate_pointset(testing::small_model(60, 50), testing::quick_darts(), kp);
+  save_pointset(path("a.fovset"), set_);
+  save_pointset(path("b.fovset"), again);
+  EXPECT_EQ(read(path("a.fovset")), read(path("b.fovset")));
+}
+
+TEST_F(PointsetFile, HeaderOnlyLoadKeepsTheTableShape) {
+  save_pointset(path("a.fovset"), set_);
+  load_params lp;
+  lp.table = false;
+  const pointset s = load_pointset(path("a.fovset"), lp);
+  EXPECT_EQ(s.points.size(), set_.points.size());
+  EXPECT_EQ(s.table.k, 12u);
+  EXPECT_TRUE(s.table.entries.empty());
+}
+
+TEST_F(PointsetFile, RejectsWrongMagicVersionAndTruncation) {
+  save_pointset(path("a.fovset"), set_);
+  const std::vector<char> good = read(path("a.fovset"));
+  std::vector<char> bad = good;
+  bad[0] = 'X';
+  write(path("magic.fovset"), bad);
+  EXPECT_NE(load_error(path("magic.fovset")).find("wrong magic"), std::string::npos);
+  bad = good;
+  bad[8] = 9;  // version
+  write(path("version.fovset"), bad);
+  EXPECT_NE(load_error(path("version.fovset")).find("unknown format version 9"), std::string::npos);
+  for (size_t cut : {size_t(0), size_t(5), size_t(300), size_t(600), good.size() / 2, good.size() - 1}) {
+    write(path("cut.fovset"), std::vector<char>(good.begin(), good.begin() + long(cut)));
+    const std::string e = load_error(path("cut.fovset"));
+    EXPECT_NE(e.find("truncated"), std::string::npos) << "cut at " << cut << ": " << e;
+    EXPECT_NE(e.find("cut.fovset"), std::string::npos) << "the message names the file";
+  }
+  EXPECT_NE(load_error(path("missing.fovset")).find("cannot open"), std::string::npos);
+}
+
+TEST_F(PointsetFile, RejectsFlippedBytesInEverySection) {
+  for (table_encoding e : {table_encoding::raw, table_encoding::ref_left_zstd}) {
+    save_params sp;
+    sp.encoding = e;
+    save_pointset(path("a.fovset"), set_, sp);
+    const std::vector<char> good = read(path("a.fovset"));
+    const size_t points_at = 512, table_at = 512 + ((set_.points.size() * 12 + 63) / 64) * 64;
+    for (auto [where, what] : {std::pair{size_t(40), "header checksum"}, {points_at + 100, "points checksum"},
+                               {table_at + 3, e == table_encoding::raw ? "table checksum" : "directory checksum"},
+                               {good.size() - 10, "checksum"}}) {
+      std::vector<char> bad = good;
+      bad[where] ^= 0x10;
+      write(path("flip.fovset"), bad);
+      EXPECT_NE(load_error(path("flip.fovset")).find(what), std::string::npos)
+          << table_encoding_name(e) << " byte " << where << ": " << load_error(path("flip.fovset"));
+    }
+  }
+}
+
+TEST_F(PointsetFile, RejectsOutOfRangeIndicesEvenWithValidChecksums) {
+  save_params sp;
+  sp.encoding = table_encoding::raw;
+  save_pointset(path("a.fovset"), set_, sp);
+  std::vector<char> bytes = read(path("a.fovset"));
+  // Put an index past the point count into the raw table and re-seal its checksum,
+  // so only the range check can catch it.
+  uint64_t table_offset = 0, table_bytes = 0;
+  // Header offsets of table_offset / table_bytes / table_crc (docs/pointset-format.md).
+  std::memcpy(&table_offset, &bytes[184], 8);
+  std::memcpy(&table_bytes, &bytes[192], 8);
+  const uint32_t huge = uint32_t(set_.points.size()) + 5;
+  std::memcpy(&bytes[table_offset + 40], &huge, 4);
+  const uint32_t crc = crc32c(&bytes[table_offset], table_bytes);
+  std::memcpy(&bytes[204], &crc, 4);
+  const uint32_t header_crc = crc32c(bytes.data(), 508);
+  std::memcpy(&bytes[508], &header_crc, 4);
+  write(path("range.fovset"), bytes);
+  EXPECT_NE(load_error(path("range.fovset")).find("out of range"), std::string::npos) << load_error(path("range.fovset"));
+}
+
+TEST_F(PointsetFile, FailedWritesLeaveNothingBehind) {
+  EXPECT_THROW(save_pointset(path("no/such/dir/a.fovset"), set_), file_error);
+  EXPECT_THROW(check_writable(path("no/such/dir/a.fovset")), file_error);
+  // A table source that fails half-way leaves neither the target nor a temporary file.
+  EXPECT_THROW(save_pointset(path("half.fovset"), set_, set_.table.k, 4,
+                             [](uint32_t y0, uint32_t, uint32_t*) {
+                               if (y0 > 0) throw std::runtime_error("disk full");
+                             }),
+               std::runtime_error);
+  EXPECT_FALSE(fs::exists(path("half.fovset")));
+  EXPECT_TRUE(fs::is_empty(dir_));
+}
+
+TEST(Checksum, Crc32cKnownAnswer) {
+  // The standard check value of CRC-32C for "123456789" is 0xE3069283.
+  EXPECT_EQ(crc32c("123456789", 9), 0xE3069283u);
+  EXPECT_EQ(crc32c("56789", 5, crc32c("1234", 4)), 0xE3069283u);  // chaining
+}
+
+}  // namespace
+}  // namespace fov
