@@ -13,6 +13,16 @@ namespace {
 using testing::quick_darts;
 using testing::small_model;
 
+// A table with this shape and no entries: enough for offset arithmetic.
+knn_table shape(uint32_t width, uint32_t height, uint32_t k, uint32_t group) {
+  knn_table t;
+  t.width = width;
+  t.height = height;
+  t.k = k;
+  t.group = group;
+  return t;
+}
+
 TEST(KnnTable, EqualsBruteForceAtEveryPixel) {
   for (auto [w, h, s, k] : {std::tuple{48, 40, 1.0, 20u}, {40, 32, 3.0, 32u}, {36, 30, 1.0, 1u}, {30, 40, 2.0, 5u}}) {
     const std::vector<point> pts = throw_darts(small_model(w, h, 1.0, s), quick_darts());
@@ -50,11 +60,7 @@ TEST(KnnTable, TiesGoToTheSmallerIndex) {
 TEST(KnnTable, GroupedLayoutIsABijectionForEveryGroupSize) {
   for (uint32_t k : {1u, 5u, 7u, 20u, 32u})
     for (uint32_t g : {1u, 3u, 4u, 8u, 32u}) {
-      knn_table t;
-      t.width = 5;
-      t.height = 3;
-      t.k = k;
-      t.group = std::min(g, k);
+      const knn_table t = shape(5, 3, k, std::min(g, k));
       std::vector<int> hit(t.pixel_count() * k, 0);
       for (uint64_t p = 0; p < t.pixel_count(); ++p)
         for (uint32_t j = 0; j < k; ++j) {
@@ -68,11 +74,7 @@ TEST(KnnTable, GroupedLayoutIsABijectionForEveryGroupSize) {
 
 TEST(KnnTable, FirstRanksOfAGroupArePlanarPerPixel) {
   // group = 4: ranks 0..3 of pixel p are contiguous, and pixel p+1 follows them.
-  knn_table t;
-  t.width = 10;
-  t.height = 10;
-  t.k = 20;
-  t.group = 4;
+  const knn_table t = shape(10, 10, 20, 4);
   EXPECT_EQ(t.offset(0, 0), 0u);
   EXPECT_EQ(t.offset(0, 3), 3u);
   EXPECT_EQ(t.offset(1, 0), 4u);
@@ -81,11 +83,7 @@ TEST(KnnTable, FirstRanksOfAGroupArePlanarPerPixel) {
 
 TEST(KnnTable, EightKOffsetsDoNotOverflow) {
   // An 8K screen's canvas has 15360 x 8640 x 20 = 2.65e9 entries, past 2^31 and 2^32 / 2.
-  knn_table t;
-  t.width = 15360;
-  t.height = 8640;
-  t.k = 20;
-  t.group = 4;
+  knn_table t = shape(15360, 8640, 20, 4);
   const uint64_t last = t.pixel_count() - 1;
   EXPECT_EQ(t.offset(last, 19), t.pixel_count() * 20 - 1);
   EXPECT_GT(t.offset(last, 19), uint64_t(1) << 31);

@@ -269,6 +269,13 @@ int run_info(const std::string& file, const std::string& gaze_text, uint32_t k_u
     j["points_referenced_off_screen"] = t.referenced_off_screen;
     j["points_traced"] = t.total();
     j["traced_fraction"] = double(t.total()) / double(set.points.size());
+    // The thesis's rule for comparison: on-screen points plus a fixed 10-pixel margin.
+    const fov::canvas_offset o = fov::offset_for_gaze(set.model.display, xy[0], xy[1]);
+    const int w = set.model.display.width, h = set.model.display.height;
+    uint64_t margin10 = 0;
+    for (const fov::point& p : set.points)
+      margin10 += p.x >= o.x - 10 && p.x < o.x + w + 10 && p.y >= o.y - 10 && p.y < o.y + h + 10;
+    j["points_thesis_margin10"] = margin10;
   }
   if (as_json) {
     std::cout << j.dump(2) << "\n";

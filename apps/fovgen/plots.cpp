@@ -29,15 +29,20 @@ double nice_step(double range, int count) {
   return 10 * mag;
 }
 
+// Tick text: thousands as "k" and millions as "M" once the step is that coarse.
 std::string tick_label(double v, double step) {
+  if (step >= 1e6) return fmt::format("{:g}M", v / 1e6);
+  if (step >= 1e3) return fmt::format("{:g}k", v / 1e3);
   const int decimals = step >= 1 ? 0 : int(std::ceil(-std::log10(step)));
-  if (std::fabs(v) >= 1e6) return fmt::format("{:.2g}", v);
   return fmt::format("{:.{}f}", v, decimals);
 }
 
 }  // namespace
 
 void plot_points(const pointset& set, const std::string& path, const double* gaze_xy, uint32_t k_used) {
+  if (uint64_t(set.canvas_width()) * set.canvas_height() > (uint64_t(1) << 28))
+    throw std::invalid_argument(fmt::format("{}: a {}x{} canvas is too large to plot (limit 2^28 pixels)", path,
+                                            set.canvas_width(), set.canvas_height()));
   const int w = int(set.canvas_width()), h = int(set.canvas_height());
   cv::Mat image(h, w, CV_8UC3, cv::Scalar(255, 255, 255));
   std::vector<uint8_t> traced;
@@ -63,7 +68,7 @@ void plot_points(const pointset& set, const std::string& path, const double* gaz
 
 void write_line_plot(const line_plot& plot, const std::string& path) {
   cv::Mat image(plot.height, plot.width, CV_8UC3, cv::Scalar(255, 255, 255));
-  const int left = 100, right = 30, top = 50, bottom = 70;
+  const int left = 110, right = 30, top = 50, bottom = 70;
   const cv::Rect area(left, top, plot.width - left - right, plot.height - top - bottom);
   double x0 = INFINITY, x1 = -INFINITY, y0 = 0, y1 = -INFINITY;
   for (const plot_series& s : plot.series) {
@@ -84,7 +89,10 @@ void write_line_plot(const line_plot& plot, const std::string& path) {
   }
   for (double y = std::ceil(y0 / ys) * ys; y <= y1 + 1e-9; y += ys) {
     cv::line(image, {area.x, py(y)}, {area.x + area.width, py(y)}, grid, 1);
-    cv::putText(image, tick_label(y, ys), {8, py(y) + 5}, font, 0.45, ink, 1, cv::LINE_AA);
+    const std::string text = tick_label(y, ys);
+    int baseline = 0;
+    const cv::Size size = cv::getTextSize(text, font, 0.45, 1, &baseline);
+    cv::putText(image, text, {area.x - 8 - size.width, py(y) + 5}, font, 0.45, ink, 1, cv::LINE_AA);
   }
   cv::rectangle(image, area, ink, 1);
   cv::putText(image, plot.title, {left, 30}, font, 0.65, ink, 1, cv::LINE_AA);
@@ -93,7 +101,7 @@ void write_line_plot(const line_plot& plot, const std::string& path) {
   cv::putText(ylab, plot.y_label, {4, 22}, font, 0.55, ink, 1, cv::LINE_AA);
   cv::rotate(ylab, ylab, cv::ROTATE_90_COUNTERCLOCKWISE);
   const int yh = std::min(ylab.rows, area.height);
-  ylab(cv::Rect(0, ylab.rows - yh, ylab.cols, yh)).copyTo(image(cv::Rect(60, area.y + (area.height - yh) / 2, ylab.cols, yh)));
+  ylab(cv::Rect(0, ylab.rows - yh, ylab.cols, yh)).copyTo(image(cv::Rect(8, area.y + (area.height - yh) / 2, ylab.cols, yh)));
   const cv::Scalar palette[] = {{180, 100, 30}, {40, 40, 200}, {40, 150, 40}, {150, 60, 150}, {20, 140, 200}};
   for (size_t s = 0; s < plot.series.size(); ++s) {
     const plot_series& ser = plot.series[s];

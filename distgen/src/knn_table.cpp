@@ -119,9 +119,13 @@ std::vector<uint32_t> brute_force_knn(const std::vector<point>& points, float qx
 }
 
 knn_table regroup(const knn_table& table, uint32_t group) {
-  knn_table out = table;
+  if (std::clamp<uint32_t>(group, 1, table.k) == table.group) return table;
+  knn_table out;
+  out.width = table.width;
+  out.height = table.height;
+  out.k = table.k;
   out.group = std::clamp<uint32_t>(group, 1, table.k);
-  if (out.group == table.group) return out;
+  out.entries.resize(table.entries.size());
   const uint64_t n = table.pixel_count();
   tbb::parallel_for(tbb::blocked_range<uint64_t>(0, n, 4096), [&](const tbb::blocked_range<uint64_t>& r) {
     for (uint64_t p = r.begin(); p < r.end(); ++p)

@@ -2,9 +2,13 @@
 // the gaze, stored in Morton order, plus the k nearest points of every canvas pixel.
 #pragma once
 
+#include <sys/mman.h>
+
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
+#include <cstdlib>
+#include <new>
 #include <string>
 #include <vector>
 
@@ -40,6 +44,33 @@ struct dart_stats {
   double seconds = 0;  // wall time; not stored in files
 };
 
+// Storage for large tables: 2 MiB-aligned with transparent huge pages requested,
+// and elements left uninitialised on resize (every entry is written right after).
+// First-touch page faults dominated loading a 590 MB table here (docs/benchmarks.md).
+template <class T>
+struct table_allocator {
+  using value_type = T;
+  table_allocator() = default;
+  template <class U>
+  table_allocator(const table_allocator<U>&) {}
+  T* allocate(size_t n) {
+    const size_t huge = size_t(2) << 20, bytes = (n * sizeof(T) + huge - 1) / huge * huge;
+    void* p = std::aligned_alloc(huge, std::max(bytes, huge));
+    if (!p) throw std::bad_alloc();
+    if (bytes >= 2 * huge) madvise(p, bytes, MADV_HUGEPAGE);
+    return static_cast<T*>(p);
+  }
+  void deallocate(T* p, size_t) { std::free(p); }
+  template <class U>
+  void construct(U* p) { ::new (static_cast<void*>(p)) U; }
+  template <class U, class... A>
+  void construct(U* p, A&&... a) { ::new (static_cast<void*>(p)) U(std::forward<A>(a)...); }
+  template <class U>
+  bool operator==(const table_allocator<U>&) const { return true; }
+  template <class U>
+  bool operator!=(const table_allocator<U>&) const { return false; }
+};
+
 // The k nearest points of every canvas pixel centre, nearest first (ties broken
 // by the smaller point index). Stored in "grouped planes": neighbour ranks are
 // cut into groups of `group` consecutive ranks; group g holds, for every pixel
@@ -49,7 +80,7 @@ struct knn_table {
   uint32_t width = 0, height = 0;  // canvas size in pixels
   uint32_t k = 0;
   uint32_t group = 0;
-  std::vector<uint32_t> entries;  // width * height * k point indices
+  std::vector<uint32_t, table_allocator<uint32_t>> entries;  // width * height * k point indices
 
   uint64_t pixel_count() const { return uint64_t(width) * height; }
   // Offset of rank j (0 = nearest) of the pixel with row-major index `pixel`.
