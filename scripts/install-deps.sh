@@ -20,6 +20,7 @@ packages=(
   nlohmann-json3-dev         # --json output, protocol files
   libfmt-dev                 # formatting
   libgtest-dev libbenchmark-dev
+  assimp-testmodels          # tests: every glTF2/OBJ sample must load or fail cleanly
   libzstd-dev                # k-NN table compression on disk (see README, Dependencies)
 )
 

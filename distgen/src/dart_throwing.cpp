@@ -11,7 +11,7 @@
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
 
-#include "random.h"
+#include "fov/random.h"
 
 namespace fov {
 

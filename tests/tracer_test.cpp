@@ -1,0 +1,274 @@
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+
+#include <gtest/gtest.h>
+#include <OpenImageIO/imageio.h>
+#include <tbb/global_control.h>
+
+#include "fov/dart_throwing.h"
+#include "fov/knn_table.h"
+#include "fov/trace.h"
+
+namespace fov {
+namespace {
+
+namespace fs = std::filesystem;
+
+// A scene of one mesh whose material only emits: colours are exact, no lighting.
+scene_description emitter(std::vector<glm::vec3> corners, glm::vec3 colour, material mat = {}) {
+  scene_description d;
+  mat.base_colour = glm::vec4(0, 0, 0, mat.base_colour.a);
+  mat.emissive = colour;
+  d.materials.push_back(mat);
+  mesh m;
+  m.positions = std::move(corners);
+  m.uvs.assign(m.positions.size(), glm::vec2(0.5f));
+  for (uint32_t i = 2; i < m.positions.size(); ++i) m.triangles.push_back({0, i - 1, i});
+  d.meshes.push_back(m);
+  d.instances.push_back({0, glm::mat4(1.0f)});
+  d.sun.colour = glm::vec3(0);
+  d.env.colour = glm::vec3(0);
+  return d;
+}
+
+TEST(Camera, ProjectInvertsRayDirection) {
+  const camera_frame f = make_frame(look_at({1, 2, 3}, {0, 0, -4}, 70), 320, 200);
+  for (glm::vec2 s : {glm::vec2(0.5f, 0.5f), glm::vec2(160, 100), glm::vec2(319.5f, 10.25f)}) {
+    const glm::vec3 p = f.origin + 7.0f * ray_direction(f, s.x, s.y);
+    const glm::vec2 back = project(f, p);
+    EXPECT_NEAR(back.x, s.x, 1e-3);
+    EXPECT_NEAR(back.y, s.y, 1e-3);
+  }
+  // The screen centre looks straight ahead; the right edge is hfov / 2 off axis.
+  EXPECT_NEAR(glm::dot(ray_direction(f, 160, 100), f.forward), 1.0, 1e-6);
+  EXPECT_NEAR(std::acos(glm::dot(ray_direction(f, 320, 100), f.forward)), glm::radians(35.0f), 1e-5);
+}
+
+TEST(Tracer, KnownTriangleHitsKnownPixels) {
+  // Triangle (0,0,-5) (1,0,-5) (0,1,-5) seen from the origin with a 90-degree, 101-px screen:
+  // world x maps to 50.5 + 50.5 x / 5, world y to 50.5 - 50.5 y / 5.
+  scene s(emitter({{0, 0, -5}, {1, 0, -5}, {0, 1, -5}}, {1, 0, 0}));
+  trace_params tp;
+  tp.spp = 4;
+  const frame f = trace_reference(s, look_at({0, 0, 0}, {0, 0, -1}, 90), 101, 101, tp);
+  auto at = [&](int x, int y) { return f.rgb[size_t(y) * 101 + x]; };
+  EXPECT_EQ(at(52, 48), glm::vec3(1, 0, 0));  // world (0.2, 0.2) inside
+  EXPECT_NEAR(f.depth[48 * 101 + 52], 5.0f, 1e-4);
+  EXPECT_EQ(at(45, 48), glm::vec3(0));        // world x < 0
+  EXPECT_EQ(at(62, 48), glm::vec3(0));        // world x > 1
+  EXPECT_EQ(at(52, 52), glm::vec3(0));        // world y < 0
+  EXPECT_TRUE(std::isinf(f.depth[0]));
+  EXPECT_EQ(f.rays, 101u * 101u * 4u);
+}
+
+TEST(Tracer, AlphaMaskDropsHitsBelowTheCutoff) {
+  for (float alpha : {0.2f, 0.8f}) {
+    material front;
+    front.alpha_mask = true;
+    front.alpha_cutoff = 0.5f;
+    front.base_colour.a = alpha;
+    scene_description d = emitter({{-1, -1, -2}, {1, -1, -2}, {1, 1, -2}, {-1, 1, -2}}, {1, 0, 0}, front);
+    // A green emitter behind it.
+    material back;
+    back.base_colour = glm::vec4(0, 0, 0, 1);
+    back.emissive = {0, 1, 0};
+    d.materials.push_back(back);
+    mesh m = d.meshes[0];
+    for (glm::vec3& p : m.positions) p = glm::vec3(4 * p.x, 4 * p.y, -4);
+    m.material = 1;
+    d.meshes.push_back(m);
+    d.instances.push_back({1, glm::mat4(1.0f)});
+    scene s(std::move(d));
+    trace_params tp;
+    tp.spp = 2;
+    const frame f = trace_reference(s, look_at({0, 0, 0}, {0, 0, -1}, 60), 9, 9, tp);
+    const glm::vec3 expected = alpha < 0.5f ? glm::vec3(0, 1, 0) : glm::vec3(1, 0, 0);
+    EXPECT_EQ(f.rgb[4 * 9 + 4], expected) << "alpha " << alpha;
+    EXPECT_NEAR(f.depth[4 * 9 + 4], alpha < 0.5f ? 4.0f : 2.0f, 1e-4);
+  }
+}
+
+TEST(Tracer, LeafPatternMasksPerRay) {
+  material leaf;
+  leaf.alpha_mask = true;
+  leaf.procedural = pattern::leaf;
+  scene_description d = emitter({{-1, -1, -2}, {1, -1, -2}, {1, 1, -2}, {-1, 1, -2}}, {1, 1, 1}, leaf);
+  d.meshes[0].uvs = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+  scene s(std::move(d));
+  trace_params tp;
+  tp.spp = 1;
+  const frame f = trace_reference(s, look_at({0, 0, 0}, {0, 0, -1}, 90), 41, 41, tp);
+  // Pixel row 11 covers v = 0.89 .. 0.94, where the leaf is at most 0.21 wide either side of u = 0.5.
+  EXPECT_EQ(f.rgb[11 * 41 + 20], glm::vec3(1));  // u = 0.49 .. 0.51: inside
+  EXPECT_EQ(f.rgb[11 * 41 + 15], glm::vec3(0));  // u = 0.23 .. 0.28: inside the quad, outside the leaf
+  EXPECT_EQ(f.rgb[20 * 41 + 20], glm::vec3(1));  // the middle of the leaf
+}
+
+TEST(Tracer, PointsAreDeterministicAcrossFramesAndThreads) {
+  pointset set;
+  set.model.display = {64, 72, 1.0};
+  set.points = throw_darts(set.model, {});
+  set.table = build_knn_table(set.points, 128, 144, {});
+  const auto s = load_scene("builtin");
+  trace_params tp;
+  tp.spp = 8;
+  const camera cam = s->default_camera();
+  point_samples a, b;
+  {
+    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 1);
+    a = trace_points(*s, cam, set, 30, 40, 20, tp);
+  }
+  {
+    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 2);
+    b = trace_points(*s, cam, set, 30, 40, 20, tp);
+  }
+  ASSERT_EQ(a.traced, b.traced);
+  EXPECT_EQ(a.traced.size(), count_traced_points(set, 30, 40, 20).total());
+  EXPECT_EQ(a.rays, a.traced.size() * 8);
+  for (uint32_t i : a.traced) {
+    ASSERT_EQ(a.colour[i], b.colour[i]);
+    ASSERT_EQ(a.depth[i], b.depth[i]);
+    ASSERT_TRUE(std::isfinite(a.colour[i].r + a.colour[i].g + a.colour[i].b));
+  }
+  tp.seed = 2;
+  const point_samples c = trace_points(*s, cam, set, 30, 40, 20, tp);
+  size_t differ = 0;
+  for (uint32_t i : a.traced) differ += a.colour[i] != c.colour[i];
+  EXPECT_GT(differ, a.traced.size() / 10) << "another seed must move the rays";
+}
+
+// Writes a 64x32 lat-long image whose texels are coloured by the axis closest to their direction.
+std::string write_axis_envmap(const fs::path& dir) {
+  const glm::vec3 colours[6] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1, 1, 0}, {0, 1, 1}, {1, 0, 1}};  // +x -x +y -y +z -z
+  const int w = 64, h = 32;
+  std::vector<float> px(size_t(w) * h * 3);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      // Inverse of the documented mapping: s = 0.5 + atan2(x, -z) / 2pi, t = acos(y) / pi.
+      const float phi = (float(x) + 0.5f) / w * 2 * 3.14159265f - 3.14159265f, theta = (float(y) + 0.5f) / h * 3.14159265f;
+      const glm::vec3 d(std::sin(theta) * std::sin(phi), std::cos(theta), -std::sin(theta) * std::cos(phi));
+      int best = 0;
+      float score = -2;
+      for (int a = 0; a < 6; ++a) {
+        glm::vec3 axis(0);
+        axis[a / 2] = a % 2 ? -1.f : 1.f;
+        if (glm::dot(d, axis) > score) score = glm::dot(d, axis), best = a;
+      }
+      for (int c = 0; c < 3; ++c) px[(size_t(y) * w + x) * 3 + c] = colours[best][c];
+    }
+  const std::string path = (dir / "axes.exr").string();
+  auto out = OIIO::ImageOutput::create(path);
+  out->open(path, OIIO::ImageSpec(w, h, 3, OIIO::TypeDesc::FLOAT));
+  out->write_image(OIIO::TypeDesc::FLOAT, px.data());
+  out->close();
+  return path;
+}
+
+TEST(Tracer, EnvironmentSceneReturnsTheImageAlongEachAxis) {
+  const fs::path dir = fs::temp_directory_path() / ("fovray-env-" + std::to_string(getpid()));
+  fs::create_directories(dir);
+  const auto s = load_scene("env:" + write_axis_envmap(dir));
+  const glm::vec3 colours[6] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1, 1, 0}, {0, 1, 1}, {1, 0, 1}};
+  trace_params tp;
+  tp.spp = 1;
+  for (int a = 0; a < 6; ++a) {
+    glm::vec3 axis(0);
+    axis[a / 2] = a % 2 ? -1.f : 1.f;
+    const glm::vec3 up = a / 2 == 1 ? glm::vec3(0, 0, -1) : glm::vec3(0, 1, 0);
+    const frame f = trace_reference(*s, look_at({0, 0, 0}, axis, 5, up), 3, 3, tp);
+    const glm::vec3 c = f.rgb[4];
+    EXPECT_NEAR(c.r, colours[a].r, 0.02) << "axis " << a;
+    EXPECT_NEAR(c.g, colours[a].g, 0.02) << "axis " << a;
+    EXPECT_NEAR(c.b, colours[a].b, 0.02) << "axis " << a;
+  }
+  fs::remove_all(dir);
+}
+
+TEST(Tracer, MissingTexturesWarnOnceAndFallBack) {
+  const fs::path dir = fs::temp_directory_path() / ("fovray-obj-" + std::to_string(getpid()));
+  fs::create_directories(dir);
+  std::ofstream(dir / "quad.mtl") << "newmtl a\nKd 0.2 0.4 0.6\nmap_Kd missing.png\nnewmtl b\nKd 1 1 1\nmap_Kd missing.png\n";
+  std::ofstream(dir / "quad.obj") << "mtllib quad.mtl\nv -1 -1 -3\nv 1 -1 -3\nv 1 1 -3\nv -1 1 -3\nv 0 0 -3\n"
+                                     "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
+                                     "usemtl a\nf 1/1 2/2 3/3\nusemtl b\nf 1/1 3/3 4/4\nf 5 5 5\n";
+  const auto s = load_scene((dir / "quad.obj").string());
+  int missing = 0, degenerate = 0;
+  for (const std::string& w : s->warnings()) {
+    missing += w.find("missing.png is missing") != std::string::npos;
+    degenerate += w.find("degenerate") != std::string::npos;
+  }
+  EXPECT_EQ(missing, 1) << "one warning per missing file";
+  EXPECT_EQ(degenerate, 1);
+  trace_params tp;
+  tp.spp = 1;
+  const frame f = trace_reference(*s, look_at({0, 0, 0}, {0, 0, -1}, 60), 5, 5, tp);
+  EXPECT_GT(f.rgb[12].b, f.rgb[12].r) << "falls back to Kd (0.2, 0.4, 0.6)";
+  fs::remove_all(dir);
+  EXPECT_THROW(load_scene((dir / "nothing.gltf").string()), std::runtime_error);
+}
+
+TEST(Tracer, FlightHelmetReportsItsThreeMissingTextures) {
+  const fs::path file = fs::path(FOV_SOURCE_DIR) / "../shared/scenes/flight-helmet/FlightHelmet.gltf";
+  if (!fs::exists(file)) GTEST_SKIP() << "../shared/scenes/flight-helmet is absent";
+  const auto s = load_scene(file.string());
+  int missing = 0;
+  for (const std::string& w : s->warnings()) missing += w.find("LeatherPartsMat") != std::string::npos;
+  EXPECT_EQ(missing, 3);
+  trace_params tp;
+  tp.spp = 1;
+  const frame f = trace_reference(*s, s->default_camera(45), 64, 64, tp);
+  size_t hits = 0;
+  for (float d : f.depth) hits += std::isfinite(d);
+  EXPECT_GT(hits, 64u * 64u / 10) << "the helmet is in view";
+}
+
+TEST(Tracer, EveryAssimpSampleLoadsOrFailsCleanly) {
+  const fs::path root = "/usr/share/assimp/models";
+  if (!fs::exists(root)) GTEST_SKIP() << root << " is absent (package assimp-testmodels)";
+  int loaded = 0, refused = 0;
+  for (const char* sub : {"glTF2", "OBJ"}) {
+    if (!fs::exists(root / sub)) continue;
+    for (const auto& e : fs::recursive_directory_iterator(root / sub)) {
+      const std::string ext = e.path().extension().string();
+      if (ext != ".gltf" && ext != ".glb" && ext != ".obj") continue;
+      try {
+        const auto s = load_scene(e.path().string());
+        trace_params tp;
+        tp.spp = 1;
+        const frame f = trace_reference(*s, s->default_camera(), 8, 8, tp);
+        for (const glm::vec3& c : f.rgb) ASSERT_TRUE(std::isfinite(c.r + c.g + c.b)) << e.path();
+        ++loaded;
+      } catch (const std::runtime_error& err) {
+        EXPECT_NE(std::string(err.what()).find(e.path().filename().string()), std::string::npos)
+            << "the error names the file: " << err.what();
+        ++refused;
+      }
+    }
+  }
+  EXPECT_GT(loaded, 10);
+  std::cout << "assimp samples: " << loaded << " loaded, " << refused << " refused with a message\n";
+}
+
+TEST(Tracer, OneByOneAndEightKScreensWork) {
+  const auto s = load_scene("builtin");
+  trace_params tp;
+  tp.spp = 4;
+  const frame one = trace_reference(*s, s->default_camera(), 1, 1, tp);
+  EXPECT_TRUE(std::isfinite(one.rgb[0].r));
+  tp.spp = 1;
+  const frame big = trace_reference(*s, s->default_camera(), 7680, 4320, tp);
+  EXPECT_EQ(big.rgb.size(), 7680u * 4320u);
+  size_t finite = 0;
+  for (const glm::vec3& c : big.rgb) finite += std::isfinite(c.r + c.g + c.b) && c.r >= 0;
+  EXPECT_EQ(finite, big.rgb.size());
+  EXPECT_THROW(trace_reference(*s, s->default_camera(), 0, 10, tp), std::invalid_argument);
+  tp.spp = 0;
+  EXPECT_THROW(trace_reference(*s, s->default_camera(), 10, 10, tp), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace fov

@@ -1,0 +1,36 @@
+// Pinhole camera: screen pixels to rays and back.
+#pragma once
+
+#include <glm/glm.hpp>
+
+namespace fov {
+
+struct camera {
+  glm::vec3 position{0, 0, 0};
+  glm::vec3 forward{0, 0, -1};  // unit view direction
+  glm::vec3 up{0, 1, 0};        // roughly up; re-orthogonalised against forward
+  float hfov_deg = 90;          // horizontal field of view
+};
+
+// Where a screen maps into the world: the camera's orthonormal frame and the
+// half-extent of the image plane at unit distance.
+struct camera_frame {
+  glm::vec3 origin, right, up, forward;
+  float half_width = 1, half_height = 1;  // tan(hfov/2), scaled by aspect
+  int width = 1, height = 1;
+  float pixel_angle = 0;  // image-plane size of one pixel at unit distance
+};
+
+camera_frame make_frame(const camera& cam, int width, int height);
+
+// Direction (unit) through screen position (sx, sy) in pixels; (0, 0) is the
+// top-left corner of the top-left pixel, y grows downwards.
+glm::vec3 ray_direction(const camera_frame& f, float sx, float sy);
+
+// Screen position of a world point, and its distance along forward (<= 0: behind).
+glm::vec2 project(const camera_frame& f, const glm::vec3& world, float* depth = nullptr);
+
+// A camera that looks at `target` from `eye`.
+camera look_at(const glm::vec3& eye, const glm::vec3& target, float hfov_deg, const glm::vec3& up = {0, 1, 0});
+
+}  // namespace fov

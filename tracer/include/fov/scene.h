@@ -1,0 +1,109 @@
+// Scenes the tracer can render: triangle meshes with a small material model,
+// one light, and an environment. Only what the scenes in use need (docs/tracer.md).
+#pragma once
+
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "fov/camera.h"
+
+namespace fov {
+
+// A texture file read through OpenImageIO's TextureSystem (mip-mapped, filtered).
+struct texture_ref {
+  std::string file;   // empty: none
+  bool srgb = true;   // colour data stored sRGB-encoded (decoded after filtering)
+};
+
+// Patterns the built-in scene computes instead of reading files; each is
+// filtered analytically by the ray footprint.
+enum class pattern : uint8_t { none, checker, glyphs, leaf };
+
+struct material {
+  std::string name;
+  glm::vec4 base_colour{0.8f, 0.8f, 0.8f, 1};  // linear RGB + alpha, times base_texture
+  texture_ref base_texture;
+  glm::vec3 emissive{0, 0, 0};
+  texture_ref emissive_texture;
+  texture_ref normal_texture;  // tangent space, linear
+  bool alpha_mask = false;     // alpha-tested (glTF alphaMode MASK, OBJ map_d)
+  float alpha_cutoff = 0.5f;
+  pattern procedural = pattern::none;
+  float pattern_repeats = 1;  // pattern periods per UV unit
+  glm::vec3 pattern_colour{0, 0, 0};  // the second colour of checker and glyph patterns
+};
+
+struct mesh {
+  std::vector<glm::vec3> positions, normals;  // object space; normals may be empty
+  std::vector<glm::vec4> tangents;            // xyz + handedness; may be empty
+  std::vector<glm::vec2> uvs;                 // may be empty
+  std::vector<glm::uvec3> triangles;
+  uint32_t material = 0;
+};
+
+// One placement of a mesh: the node hierarchy flattened into instances.
+struct instance {
+  uint32_t mesh = 0;
+  glm::mat4 transform{1.0f};
+};
+
+struct light {
+  enum class kind { directional, point } type = kind::directional;
+  glm::vec3 direction = glm::normalize(glm::vec3(0.4f, 1.0f, 0.3f));  // towards the light
+  glm::vec3 position{0, 10, 0};
+  glm::vec3 colour{2.5f, 2.4f, 2.2f};  // irradiance (directional) or intensity (point)
+};
+
+// What rays that miss see, and the ambient light every surface gets.
+struct environment {
+  glm::vec3 colour{0.35f, 0.45f, 0.6f};  // constant colour (times intensity), when no map
+  std::string latlong_file;              // lat-long image; see docs/tracer.md for the mapping
+  float intensity = 1;
+  float ambient = 0.35f;  // ambient = ambient * mean environment colour
+};
+
+struct scene_description {
+  std::vector<mesh> meshes;
+  std::vector<instance> instances;
+  std::vector<material> materials;
+  light sun;
+  environment env;
+  std::optional<camera> scene_camera;  // from the file, when it has one
+  std::vector<std::string> warnings;   // one per problem item, in load order
+};
+
+// A scene ready to trace: Embree BVH (two levels: meshes, instances), textures.
+class scene {
+ public:
+  explicit scene(scene_description description);
+  ~scene();
+  scene(const scene&) = delete;
+  scene& operator=(const scene&) = delete;
+
+  const scene_description& description() const;
+  const std::vector<std::string>& warnings() const { return description().warnings; }
+  // The file's camera, or one that frames the scene bounds with this field of view.
+  camera default_camera(float hfov_deg = 90) const;
+  glm::vec3 bounds_min() const;
+  glm::vec3 bounds_max() const;
+
+  struct impl;
+  const impl& internals() const { return *impl_; }
+
+ private:
+  std::unique_ptr<impl> impl_;
+};
+
+// "builtin", "env:FILE" (an environment image and no geometry) or a glTF 2.0 / OBJ
+// file (through Assimp). Missing textures and degenerate triangles are warned about
+// once each and skipped; an unreadable file throws std::runtime_error naming it.
+std::unique_ptr<scene> load_scene(const std::string& spec);
+
+// The built-in procedural scene (no files): see docs/tracer.md.
+scene_description builtin_scene();
+
+}  // namespace fov

@@ -1,0 +1,47 @@
+// Tracing: per-point colours for a foveated frame, and the full-resolution reference.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "fov/camera.h"
+#include "fov/pointset.h"
+#include "fov/scene.h"
+
+namespace fov {
+
+struct trace_params {
+  uint32_t spp = 32;     // rays per point (foveated) or per pixel (reference)
+  uint64_t seed = 1;     // fixes the ray positions: the same every frame
+  bool shadows = true;   // hard shadows from the scene's light
+};
+
+// Per-point results, indexed like the point set (untraced points stay zero).
+struct point_samples {
+  std::vector<glm::vec3> colour;  // mean linear RGB of the point's rays
+  std::vector<float> depth;       // mean camera-space depth of the rays that hit; +inf if none did
+  std::vector<uint16_t> hits;     // rays that hit geometry
+  std::vector<uint32_t> traced;   // the traced points, in Morton order
+  canvas_offset offset;           // canvas = screen + offset for this gaze
+  uint64_t rays = 0;
+};
+
+// Traces every point the screen needs for this gaze (traced_point_mask with k_used):
+// each casts params.spp rays through uniform random positions in the disc of radius
+// p around it (fixed per point: seeded by params.seed and the point's index).
+point_samples trace_points(const scene& s, const camera& cam, const pointset& set, double gaze_x, double gaze_y,
+                           uint32_t k_used, const trace_params& params);
+
+struct frame {
+  int width = 0, height = 0;
+  std::vector<glm::vec3> rgb;  // linear
+  std::vector<float> depth;    // mean camera-space depth of hits; +inf where none
+  uint64_t rays = 0;
+};
+
+// Full resolution: params.spp rays per pixel, jittered uniformly inside the pixel.
+frame trace_reference(const scene& s, const camera& cam, int width, int height, const trace_params& params);
+
+}  // namespace fov

@@ -1,0 +1,46 @@
+#include "fov/camera.h"
+
+#include <cmath>
+
+namespace fov {
+
+camera_frame make_frame(const camera& cam, int width, int height) {
+  camera_frame f;
+  f.origin = cam.position;
+  f.forward = glm::normalize(cam.forward);
+  glm::vec3 right = glm::cross(f.forward, cam.up);
+  if (glm::dot(right, right) < 1e-12f) right = glm::cross(f.forward, glm::vec3(0, 0, 1));
+  f.right = glm::normalize(right);
+  f.up = glm::cross(f.right, f.forward);
+  f.width = width;
+  f.height = height;
+  f.half_width = std::tan(0.5f * glm::radians(cam.hfov_deg));
+  f.half_height = f.half_width * float(height) / float(width);
+  f.pixel_angle = 2 * f.half_width / float(width);
+  return f;
+}
+
+glm::vec3 ray_direction(const camera_frame& f, float sx, float sy) {
+  const float u = (2 * sx / float(f.width) - 1) * f.half_width;
+  const float v = (1 - 2 * sy / float(f.height)) * f.half_height;
+  return glm::normalize(f.forward + u * f.right + v * f.up);
+}
+
+glm::vec2 project(const camera_frame& f, const glm::vec3& world, float* depth) {
+  const glm::vec3 d = world - f.origin;
+  const float z = glm::dot(d, f.forward);
+  if (depth) *depth = z;
+  const float u = glm::dot(d, f.right) / z, v = glm::dot(d, f.up) / z;
+  return {(u / f.half_width + 1) * 0.5f * float(f.width), (1 - v / f.half_height) * 0.5f * float(f.height)};
+}
+
+camera look_at(const glm::vec3& eye, const glm::vec3& target, float hfov_deg, const glm::vec3& up) {
+  camera c;
+  c.position = eye;
+  c.forward = glm::normalize(target - eye);
+  c.up = up;
+  c.hfov_deg = hfov_deg;
+  return c;
+}
+
+}  // namespace fov

@@ -1,0 +1,295 @@
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+#include "fov/scene.h"
+#include "scene_impl.h"
+
+namespace fov {
+
+namespace {
+
+constexpr float pi = 3.14159265358979323846f;
+
+// Rejects hits where the material's alpha falls below its cutoff (glTF MASK).
+void alpha_filter(const RTCFilterFunctionNArguments* args) {
+  const auto* g = static_cast<const geometry_data*>(args->geometryUserPtr);
+  for (unsigned i = 0; i < args->N; ++i) {
+    if (args->valid[i] != -1) continue;
+    const unsigned prim = RTCHitN_primID(args->hit, args->N, i);
+    const float u = RTCHitN_u(args->hit, args->N, i), v = RTCHitN_v(args->hit, args->N, i);
+    glm::vec2 uv(0);
+    if (!g->m->uvs.empty()) {
+      const glm::uvec3 t = g->m->triangles[prim];
+      uv = (1 - u - v) * g->m->uvs[t.x] + u * g->m->uvs[t.y] + v * g->m->uvs[t.z];
+    }
+    // Alpha is tested at the finest level: a mask is a hit-or-miss decision per ray.
+    if (g->owner->base_colour(*g->mat, uv, 0).a < g->mat->alpha_cutoff) args->valid[i] = 0;
+  }
+}
+
+float square_wave_integral(float x) {  // integral of a 0/1 square wave of period 2, high on [1, 2)
+  const float f = std::floor(x / 2);
+  return f + std::max(x - 2 * f - 1, 0.0f);
+}
+
+float filtered_square(float x, float w) {
+  if (w < 1e-6f) return std::fmod(std::floor(x), 2.0f) != 0 ? 1.0f : 0.0f;
+  return (square_wave_integral(x + w / 2) - square_wave_integral(x - w / 2)) / w;
+}
+
+uint32_t hash2(int x, int y) {
+  uint32_t h = uint32_t(x) * 0x8da6b343u ^ uint32_t(y) * 0xd8163841u;
+  h ^= h >> 13;
+  h *= 0x85ebca6bu;
+  return h ^ (h >> 16);
+}
+
+}  // namespace
+
+float filtered_checker(glm::vec2 p, float w) {
+  const float sx = filtered_square(p.x, w), sy = filtered_square(p.y, w);
+  return sx * (1 - sy) + (1 - sx) * sy;
+}
+
+// Text-like rows of 5x7-dot glyphs (random bitmaps), one glyph per pattern cell with
+// margins; fades to its mean coverage once a dot is smaller than the footprint.
+float filtered_glyphs(glm::vec2 p, float w) {
+  const float mean = 0.5f * (5.0f * 7.0f) / (7.0f * 9.0f);  // half the dots lit, glyph box 5x7 of 7x9
+  const int cx = int(std::floor(p.x)), cy = int(std::floor(p.y));
+  const float fx = p.x - float(cx), fy = p.y - float(cy);
+  const int gx = int(std::floor(fx * 7)) - 1, gy = int(std::floor(fy * 9)) - 1;
+  float sharp = 0;
+  if (gx >= 0 && gx < 5 && gy >= 0 && gy < 7 && (cy % 3 != 2)) {  // every third row is line spacing
+    const uint32_t bits = hash2(cx, cy);
+    const uint32_t more = hash2(cy, cx + 7919);
+    const int bit = gy * 5 + gx;
+    sharp = float(((bit < 32 ? bits >> bit : more >> (bit - 32)) & 1u));
+  }
+  const float row_mean = mean * 2.0f / 3.0f;
+  const float t = std::clamp((w - 1.0f / 9) / (0.5f - 1.0f / 9), 0.0f, 1.0f);
+  return sharp * (1 - t) + row_mean * t;
+}
+
+float leaf_alpha(glm::vec2 uv) {
+  // A pointed leaf along v: half-width 0.45 sin(pi v)^0.7 around u = 0.5.
+  if (uv.y <= 0 || uv.y >= 1) return 0;
+  const float half = 0.45f * std::pow(std::sin(pi * uv.y), 0.7f);
+  return std::fabs(uv.x - 0.5f) < half ? 1.0f : 0.0f;
+}
+
+bool scene::impl::texture4(const texture_ref& t, glm::vec2 uv, float duv, float out[4]) const {
+  OIIO::TextureOpt opt;
+  opt.swrap = opt.twrap = OIIO::TextureOpt::WrapPeriodic;
+  opt.fill = 1.0f;
+  out[0] = out[1] = out[2] = out[3] = 1;
+  return textures->texture(OIIO::ustring(t.file), opt, uv.x, uv.y, duv, 0, 0, duv, 4, out);
+}
+
+glm::vec4 scene::impl::base_colour(const material& mat, glm::vec2 uv, float duv) const {
+  glm::vec4 c = mat.base_colour;
+  if (!mat.base_texture.file.empty()) {
+    float t[4];
+    if (texture4(mat.base_texture, uv, duv, t)) {
+      glm::vec3 rgb(t[0], t[1], t[2]);
+      if (mat.base_texture.srgb) rgb = srgb_to_linear(rgb);
+      c *= glm::vec4(rgb, t[3]);
+    }
+  }
+  const glm::vec2 p = uv * mat.pattern_repeats;
+  const float w = duv * mat.pattern_repeats;
+  switch (mat.procedural) {
+    case pattern::none: break;
+    case pattern::checker: {
+      const float f = filtered_checker(p, w);
+      c = glm::vec4(glm::mix(glm::vec3(c), mat.pattern_colour, f), c.a);
+      break;
+    }
+    case pattern::glyphs: {
+      const float f = filtered_glyphs(p, w);
+      c = glm::vec4(glm::mix(glm::vec3(c), mat.pattern_colour, f), c.a);
+      break;
+    }
+    case pattern::leaf: c.a *= leaf_alpha(uv); break;
+  }
+  return c;
+}
+
+glm::vec3 scene::impl::emission(const material& mat, glm::vec2 uv, float duv) const {
+  glm::vec3 e = mat.emissive;
+  if (!mat.emissive_texture.file.empty() && e != glm::vec3(0)) {
+    float t[4];
+    if (texture4(mat.emissive_texture, uv, duv, t)) e *= srgb_to_linear(glm::vec3(t[0], t[1], t[2]));
+  }
+  return e;
+}
+
+glm::vec3 scene::impl::normal_map(const material& mat, glm::vec2 uv, float duv) const {
+  if (mat.normal_texture.file.empty()) return {0, 0, 1};
+  float t[4];
+  if (!texture4(mat.normal_texture, uv, duv, t)) return {0, 0, 1};
+  const glm::vec3 n(2 * t[0] - 1, 2 * t[1] - 1, 2 * t[2] - 1);
+  const float len = glm::length(n);
+  return len > 1e-6f ? n / len : glm::vec3(0, 0, 1);
+}
+
+glm::vec3 scene::impl::environment_radiance(const glm::vec3& dir, float angle) const {
+  const environment& env = desc.env;
+  if (!has_env_map) return env.colour * env.intensity;
+  // Lat-long: u = 0.5 + atan2(x, -z) / 2 pi (so -z is the image centre), v = acos(y) / pi (+y is the top row).
+  const float s = 0.5f + std::atan2(dir.x, -dir.z) / (2 * pi);
+  const float t = std::acos(std::clamp(dir.y, -1.0f, 1.0f)) / pi;
+  OIIO::TextureOpt opt;
+  opt.swrap = OIIO::TextureOpt::WrapPeriodic;
+  opt.twrap = OIIO::TextureOpt::WrapClamp;
+  float out[3] = {0, 0, 0};
+  const float ds = angle / (2 * pi), dt = angle / pi;
+  textures->texture(OIIO::ustring(env.latlong_file), opt, s, t, ds, 0, 0, dt, 3, out);
+  return glm::vec3(out[0], out[1], out[2]) * env.intensity;
+}
+
+void scene::impl::surface_at(unsigned inst, unsigned prim, float u, float v, surface& s) const {
+  const instance& in = desc.instances[inst];
+  const geometry_data& g = geometry[in.mesh];
+  const mesh& m = *g.m;
+  const glm::uvec3 t = m.triangles[prim];
+  const float w = 1 - u - v;
+  const glm::vec3 p0 = glm::vec3(in.transform * glm::vec4(m.positions[t.x], 1));
+  const glm::vec3 p1 = glm::vec3(in.transform * glm::vec4(m.positions[t.y], 1));
+  const glm::vec3 p2 = glm::vec3(in.transform * glm::vec4(m.positions[t.z], 1));
+  s.position = w * p0 + u * p1 + v * p2;
+  const glm::vec3 ng = glm::cross(p1 - p0, p2 - p0);
+  const float area2 = glm::length(ng);
+  s.geometric_normal = area2 > 0 ? ng / area2 : glm::vec3(0, 1, 0);
+  s.normal = s.geometric_normal;
+  if (!m.normals.empty()) {
+    const glm::vec3 n = normal_matrix[inst] * (w * m.normals[t.x] + u * m.normals[t.y] + v * m.normals[t.z]);
+    const float len = glm::length(n);
+    if (len > 1e-12f) s.normal = n / len;
+  }
+  s.uv = glm::vec2(0);
+  s.uv_per_world = 0;
+  if (!m.uvs.empty()) {
+    const glm::vec2 a = m.uvs[t.x], b = m.uvs[t.y], c = m.uvs[t.z];
+    s.uv = w * a + u * b + v * c;
+    const float uv_area2 = std::fabs((b.x - a.x) * (c.y - a.y) - (c.x - a.x) * (b.y - a.y));
+    s.uv_per_world = area2 > 0 ? std::sqrt(uv_area2 / area2) : 0;
+  }
+  s.tangent = glm::vec4(0);
+  if (!m.tangents.empty()) {
+    const glm::vec4 tg = w * m.tangents[t.x] + u * m.tangents[t.y] + v * m.tangents[t.z];
+    s.tangent = glm::vec4(glm::mat3(in.transform) * glm::vec3(tg), tg.w < 0 ? -1.0f : 1.0f);
+  }
+  s.mat = g.mat;
+  s.m = &m;
+}
+
+scene::scene(scene_description description) : impl_(std::make_unique<impl>()) {
+  impl& d = *impl_;
+  d.desc = std::move(description);
+  if (d.desc.materials.empty()) d.desc.materials.push_back({});
+  d.device = rtcNewDevice(nullptr);
+  if (!d.device) throw std::runtime_error(fmt::format("Embree device: error {}", int(rtcGetDeviceError(nullptr))));
+  d.textures = OIIO::TextureSystem::create(false);
+  d.textures->attribute("automip", 1);
+  d.textures->attribute("max_memory_MB", 2048.0f);
+  d.top = rtcNewScene(d.device);
+  rtcSetSceneBuildQuality(d.top, RTC_BUILD_QUALITY_HIGH);
+
+  d.geometry.resize(d.desc.meshes.size());
+  d.mesh_scenes.resize(d.desc.meshes.size(), nullptr);
+  for (size_t i = 0; i < d.desc.meshes.size(); ++i) {
+    mesh& m = d.desc.meshes[i];
+    if (m.material >= d.desc.materials.size()) m.material = 0;
+    d.geometry[i] = {&m, &d.desc.materials[m.material], &d};
+    RTCScene child = rtcNewScene(d.device);
+    rtcSetSceneBuildQuality(child, RTC_BUILD_QUALITY_HIGH);
+    if (!m.triangles.empty()) {
+      RTCGeometry g = rtcNewGeometry(d.device, RTC_GEOMETRY_TYPE_TRIANGLE);
+      auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                                            3 * sizeof(float), m.positions.size()));
+      for (size_t k = 0; k < m.positions.size(); ++k)
+        v[3 * k] = m.positions[k].x, v[3 * k + 1] = m.positions[k].y, v[3 * k + 2] = m.positions[k].z;
+      auto* idx = static_cast<unsigned*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                                                 3 * sizeof(unsigned), m.triangles.size()));
+      std::memcpy(idx, m.triangles.data(), m.triangles.size() * sizeof(glm::uvec3));
+      rtcSetGeometryUserData(g, &d.geometry[i]);
+      if (d.geometry[i].mat->alpha_mask) {
+        rtcSetGeometryIntersectFilterFunction(g, alpha_filter);
+        rtcSetGeometryOccludedFilterFunction(g, alpha_filter);
+      }
+      rtcCommitGeometry(g);
+      rtcAttachGeometryByID(child, g, 0);
+      rtcReleaseGeometry(g);
+    }
+    rtcCommitScene(child);
+    d.mesh_scenes[i] = child;
+  }
+
+  d.bmin = glm::vec3(INFINITY);
+  d.bmax = glm::vec3(-INFINITY);
+  d.normal_matrix.resize(d.desc.instances.size());
+  for (size_t i = 0; i < d.desc.instances.size(); ++i) {
+    const instance& in = d.desc.instances[i];
+    if (in.mesh >= d.desc.meshes.size()) throw std::invalid_argument("instance of a mesh that does not exist");
+    d.normal_matrix[i] = glm::transpose(glm::inverse(glm::mat3(in.transform)));
+    RTCGeometry g = rtcNewGeometry(d.device, RTC_GEOMETRY_TYPE_INSTANCE);
+    rtcSetGeometryInstancedScene(g, d.mesh_scenes[in.mesh]);
+    rtcSetGeometryTransform(g, 0, RTC_FORMAT_FLOAT4X4_COLUMN_MAJOR, &in.transform[0][0]);
+    rtcCommitGeometry(g);
+    rtcAttachGeometryByID(d.top, g, unsigned(i));
+    rtcReleaseGeometry(g);
+    for (const glm::vec3& p : d.desc.meshes[in.mesh].positions) {
+      const glm::vec3 w = glm::vec3(in.transform * glm::vec4(p, 1));
+      d.bmin = glm::min(d.bmin, w);
+      d.bmax = glm::max(d.bmax, w);
+    }
+  }
+  rtcCommitScene(d.top);
+  if (d.desc.instances.empty()) d.bmin = d.bmax = glm::vec3(0);
+
+  // Ambient light: the environment's mean colour (sampled over the sphere).
+  d.has_env_map = !d.desc.env.latlong_file.empty();
+  if (d.has_env_map) {
+    glm::vec3 sum(0);
+    const int n = 32;
+    float weight = 0;
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < 2 * n; ++i) {
+        const float theta = pi * (j + 0.5f) / n, phi = 2 * pi * (i + 0.5f) / (2 * n);
+        const glm::vec3 dir(std::sin(theta) * std::sin(phi), std::cos(theta), -std::sin(theta) * std::cos(phi));
+        sum += std::sin(theta) * d.environment_radiance(dir, pi / n);
+        weight += std::sin(theta);
+      }
+    d.env_mean = sum / weight;
+  } else {
+    d.env_mean = d.desc.env.colour * d.desc.env.intensity;
+  }
+}
+
+scene::~scene() {
+  impl& d = *impl_;
+  for (RTCScene s : d.mesh_scenes)
+    if (s) rtcReleaseScene(s);
+  if (d.top) rtcReleaseScene(d.top);
+  if (d.device) rtcReleaseDevice(d.device);
+  if (d.textures) OIIO::TextureSystem::destroy(d.textures);
+}
+
+const scene_description& scene::description() const { return impl_->desc; }
+glm::vec3 scene::bounds_min() const { return impl_->bmin; }
+glm::vec3 scene::bounds_max() const { return impl_->bmax; }
+
+camera scene::default_camera(float hfov_deg) const {
+  if (impl_->desc.scene_camera) return *impl_->desc.scene_camera;
+  const glm::vec3 centre = 0.5f * (impl_->bmin + impl_->bmax);
+  const float radius = std::max(1e-3f, 0.5f * glm::length(impl_->bmax - impl_->bmin));
+  // Back off along +z until the bounding sphere fits the horizontal field of view.
+  const float distance = radius / std::sin(0.5f * glm::radians(std::min(hfov_deg, 170.0f)));
+  return look_at(centre + glm::vec3(0, 0, distance), centre, hfov_deg);
+}
+
+}  // namespace fov

@@ -1,0 +1,62 @@
+// Internals shared by the scene and the tracer: Embree handles, texture access, shading inputs.
+#pragma once
+
+#include <embree3/rtcore.h>
+#include <OpenImageIO/texture.h>
+
+#include "fov/scene.h"
+
+namespace fov {
+
+struct geometry_data {
+  const mesh* m = nullptr;
+  const material* mat = nullptr;
+  const scene::impl* owner = nullptr;
+};
+
+// Surface attributes at a hit, in world space.
+struct surface {
+  glm::vec3 position, normal, geometric_normal;
+  glm::vec2 uv{0, 0};
+  float uv_per_world = 0;  // UV units per world unit (isotropic estimate)
+  const material* mat = nullptr;
+  const mesh* m = nullptr;
+  glm::vec4 tangent{0, 0, 0, 0};
+};
+
+struct scene::impl {
+  scene_description desc;
+  RTCDevice device = nullptr;
+  RTCScene top = nullptr;
+  std::vector<RTCScene> mesh_scenes;
+  std::vector<geometry_data> geometry;  // per mesh
+  std::vector<glm::mat3> normal_matrix;  // per instance
+  OIIO::TextureSystem* textures = nullptr;
+  glm::vec3 bmin{0}, bmax{0};
+  glm::vec3 env_mean{0};
+  bool has_env_map = false;
+
+  // Base colour (linear RGB, alpha) at uv filtered over duv UV units.
+  glm::vec4 base_colour(const material& mat, glm::vec2 uv, float duv) const;
+  glm::vec3 emission(const material& mat, glm::vec2 uv, float duv) const;
+  // Tangent-space normal map value in [-1, 1]^3, or (0, 0, 1) without a map.
+  glm::vec3 normal_map(const material& mat, glm::vec2 uv, float duv) const;
+  // Environment radiance seen along `dir`, filtered over `angle` radians.
+  glm::vec3 environment_radiance(const glm::vec3& dir, float angle) const;
+  // Fills `s` for a hit of instance `inst`, primitive `prim` at barycentrics (u, v).
+  void surface_at(unsigned inst, unsigned prim, float u, float v, surface& s) const;
+  // 4 channels (fill alpha = 1) of a texture; false when the lookup failed.
+  bool texture4(const texture_ref& t, glm::vec2 uv, float duv, float out[4]) const;
+};
+
+// Procedural patterns, filtered over a box of width w pattern units.
+float filtered_checker(glm::vec2 p, float w);
+float filtered_glyphs(glm::vec2 p, float w);
+float leaf_alpha(glm::vec2 uv);
+
+inline glm::vec3 srgb_to_linear(glm::vec3 c) {
+  auto f = [](float v) { return v <= 0.04045f ? v / 12.92f : std::pow((v + 0.055f) / 1.055f, 2.4f); };
+  return {f(c.r), f(c.g), f(c.b)};
+}
+
+}  // namespace fov

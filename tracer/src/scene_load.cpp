@@ -1,0 +1,213 @@
+// Scene files: glTF 2.0 and OBJ through Assimp; env:FILE image scenes; the built-in scene.
+#include <filesystem>
+#include <map>
+#include <set>
+#include <stdexcept>
+
+#include <assimp/GltfMaterial.h>
+#include <assimp/Importer.hpp>
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+#include <fmt/format.h>
+#include <OpenImageIO/imageio.h>
+
+#include "fov/scene.h"
+
+namespace fov {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+glm::mat4 to_glm(const aiMatrix4x4& m) {
+  // Assimp is row-major with translation in the last column; glm is column-major.
+  return glm::mat4(m.a1, m.b1, m.c1, m.d1, m.a2, m.b2, m.c2, m.d2, m.a3, m.b3, m.c3, m.d3, m.a4, m.b4, m.c4, m.d4);
+}
+
+const aiNode* find_node(const aiNode* node, const aiString& name) {
+  if (node->mName == name) return node;
+  for (unsigned i = 0; i < node->mNumChildren; ++i)
+    if (const aiNode* n = find_node(node->mChildren[i], name)) return n;
+  return nullptr;
+}
+
+glm::mat4 world_transform(const aiNode* node) {
+  glm::mat4 t(1.0f);
+  for (; node; node = node->mParent) t = to_glm(node->mTransformation) * t;
+  return t;
+}
+
+void flatten(const aiNode* node, const glm::mat4& parent, std::vector<instance>& out,
+             const std::vector<int>& mesh_map) {
+  const glm::mat4 t = parent * to_glm(node->mTransformation);
+  for (unsigned i = 0; i < node->mNumMeshes; ++i)
+    if (mesh_map[node->mMeshes[i]] >= 0) out.push_back({uint32_t(mesh_map[node->mMeshes[i]]), t});
+  for (unsigned i = 0; i < node->mNumChildren; ++i) flatten(node->mChildren[i], t, out, mesh_map);
+}
+
+class texture_resolver {
+ public:
+  texture_resolver(fs::path dir, std::vector<std::string>& warnings) : dir_(std::move(dir)), warnings_(warnings) {}
+  // The texture of this type, when it names a file that exists; warns once per missing file.
+  texture_ref find(const aiMaterial* m, aiTextureType type, bool srgb) {
+    if (m->GetTextureCount(type) == 0) return {};
+    return check(m, type, 0, srgb);
+  }
+  texture_ref check(const aiMaterial* m, aiTextureType type, unsigned index, bool srgb = false) {
+    aiString path;
+    if (m->GetTexture(type, index, &path) != AI_SUCCESS) return {};
+    const std::string name = path.C_Str();
+    if (!name.empty() && name[0] == '*') {
+      warn_once(name, fmt::format("embedded texture {} is not supported; using the material's factors", name));
+      return {};
+    }
+    const fs::path file = dir_ / name;
+    if (!fs::exists(file)) {
+      warn_once(name, fmt::format("texture {} is missing; using the material's factors", file.string()));
+      return {};
+    }
+    return {file.string(), srgb};
+  }
+
+ private:
+  void warn_once(const std::string& key, std::string message) {
+    if (seen_.insert(key).second) warnings_.push_back(std::move(message));
+  }
+  fs::path dir_;
+  std::vector<std::string>& warnings_;
+  std::set<std::string> seen_;
+};
+
+material convert_material(const aiMaterial* m, texture_resolver& textures) {
+  material out;
+  aiString name;
+  if (m->Get(AI_MATKEY_NAME, name) == AI_SUCCESS) out.name = name.C_Str();
+  aiColor4D c;
+  if (m->Get(AI_MATKEY_BASE_COLOR, c) == AI_SUCCESS || m->Get(AI_MATKEY_COLOR_DIFFUSE, c) == AI_SUCCESS)
+    out.base_colour = {c.r, c.g, c.b, c.a};
+  float opacity = 1;
+  if (m->Get(AI_MATKEY_OPACITY, opacity) == AI_SUCCESS && opacity < 1) out.base_colour.a *= opacity;
+  out.base_texture = textures.find(m, aiTextureType_BASE_COLOR, true);
+  if (out.base_texture.file.empty()) out.base_texture = textures.find(m, aiTextureType_DIFFUSE, true);
+  aiColor3D e;
+  if (m->Get(AI_MATKEY_COLOR_EMISSIVE, e) == AI_SUCCESS) out.emissive = {e.r, e.g, e.b};
+  out.emissive_texture = textures.find(m, aiTextureType_EMISSIVE, true);
+  out.normal_texture = textures.find(m, aiTextureType_NORMALS, false);
+  aiString mode;
+  if (m->Get(AI_MATKEY_GLTF_ALPHAMODE, mode) == AI_SUCCESS && std::string(mode.C_Str()) == "MASK") {
+    out.alpha_mask = true;
+    m->Get(AI_MATKEY_GLTF_ALPHACUTOFF, out.alpha_cutoff);
+  }
+  if (textures.find(m, aiTextureType_OPACITY, false).file.size()) out.alpha_mask = true;  // OBJ map_d
+  // Every other texture the file names is checked too, so each missing file is reported
+  // (occlusion, roughness and metalness are not shaded: see docs/tracer.md).
+  for (int type = aiTextureType_NONE + 1; type <= AI_TEXTURE_TYPE_MAX; ++type)
+    for (unsigned i = 0; i < m->GetTextureCount(aiTextureType(type)); ++i) textures.check(m, aiTextureType(type), i);
+  return out;
+}
+
+scene_description load_file(const std::string& path) {
+  if (!fs::exists(path)) throw std::runtime_error(fmt::format("{}: no such file", path));
+  Assimp::Importer importer;
+  const unsigned flags = aiProcess_Triangulate | aiProcess_JoinIdenticalVertices | aiProcess_GenSmoothNormals |
+                         aiProcess_CalcTangentSpace | aiProcess_FlipUVs | aiProcess_SortByPType;
+  const aiScene* ai = importer.ReadFile(path, flags);
+  if (!ai || !ai->mRootNode)
+    throw std::runtime_error(fmt::format("{}: cannot load scene: {}", path, importer.GetErrorString()));
+
+  scene_description d;
+  texture_resolver textures(fs::path(path).parent_path(), d.warnings);
+  for (unsigned i = 0; i < ai->mNumMaterials; ++i) d.materials.push_back(convert_material(ai->mMaterials[i], textures));
+
+  std::vector<int> mesh_map(ai->mNumMeshes, -1);
+  for (unsigned i = 0; i < ai->mNumMeshes; ++i) {
+    const aiMesh* am = ai->mMeshes[i];
+    mesh m;
+    m.material = am->mMaterialIndex;
+    m.positions.reserve(am->mNumVertices);
+    for (unsigned v = 0; v < am->mNumVertices; ++v) {
+      m.positions.push_back({am->mVertices[v].x, am->mVertices[v].y, am->mVertices[v].z});
+      if (am->HasNormals()) m.normals.push_back({am->mNormals[v].x, am->mNormals[v].y, am->mNormals[v].z});
+      if (am->HasTextureCoords(0)) m.uvs.push_back({am->mTextureCoords[0][v].x, am->mTextureCoords[0][v].y});
+      if (am->HasTangentsAndBitangents()) {
+        const aiVector3D t = am->mTangents[v], b = am->mBitangents[v];
+        const glm::vec3 n = am->HasNormals() ? glm::vec3(am->mNormals[v].x, am->mNormals[v].y, am->mNormals[v].z)
+                                             : glm::vec3(0, 0, 1);
+        const float hand = glm::dot(glm::cross(n, glm::vec3(t.x, t.y, t.z)), glm::vec3(b.x, b.y, b.z)) < 0 ? -1.f : 1.f;
+        m.tangents.push_back({t.x, t.y, t.z, hand});
+      }
+    }
+    size_t degenerate = 0;
+    for (unsigned f = 0; f < am->mNumFaces; ++f) {
+      const aiFace& face = am->mFaces[f];
+      if (face.mNumIndices != 3) continue;  // points and lines
+      const glm::uvec3 t(face.mIndices[0], face.mIndices[1], face.mIndices[2]);
+      const glm::vec3 n = glm::cross(m.positions[t.y] - m.positions[t.x], m.positions[t.z] - m.positions[t.x]);
+      if (!(glm::dot(n, n) > 0) || !std::isfinite(n.x + n.y + n.z)) {
+        ++degenerate;
+        continue;
+      }
+      m.triangles.push_back(t);
+    }
+    if (degenerate)
+      d.warnings.push_back(fmt::format("mesh '{}': skipped {} degenerate triangle{}", am->mName.C_Str(), degenerate,
+                                       degenerate == 1 ? "" : "s"));
+    if (m.triangles.empty()) {
+      if (am->mNumFaces) d.warnings.push_back(fmt::format("mesh '{}' has no usable triangles", am->mName.C_Str()));
+      continue;
+    }
+    mesh_map[i] = int(d.meshes.size());
+    d.meshes.push_back(std::move(m));
+  }
+  flatten(ai->mRootNode, glm::mat4(1.0f), d.instances, mesh_map);
+  if (d.instances.empty()) throw std::runtime_error(fmt::format("{}: the scene has no triangles", path));
+
+  if (ai->mNumCameras > 0) {
+    const aiCamera* c = ai->mCameras[0];
+    const glm::mat4 t = world_transform(find_node(ai->mRootNode, c->mName));
+    const glm::vec3 eye = glm::vec3(t * glm::vec4(c->mPosition.x, c->mPosition.y, c->mPosition.z, 1));
+    const glm::vec3 look = glm::mat3(t) * glm::vec3(c->mLookAt.x, c->mLookAt.y, c->mLookAt.z);
+    const glm::vec3 up = glm::mat3(t) * glm::vec3(c->mUp.x, c->mUp.y, c->mUp.z);
+    // Assimp stores half the horizontal field of view.
+    d.scene_camera = look_at(eye, eye + look, 2 * glm::degrees(c->mHorizontalFOV), up);
+  }
+  for (unsigned i = 0; i < ai->mNumLights; ++i) {
+    const aiLight* l = ai->mLights[i];
+    if (l->mType != aiLightSource_DIRECTIONAL && l->mType != aiLightSource_POINT) continue;
+    const glm::mat4 t = world_transform(find_node(ai->mRootNode, l->mName));
+    d.sun.colour = {l->mColorDiffuse.r, l->mColorDiffuse.g, l->mColorDiffuse.b};
+    if (l->mType == aiLightSource_DIRECTIONAL) {
+      d.sun.type = light::kind::directional;
+      d.sun.direction = -glm::normalize(glm::mat3(t) * glm::vec3(l->mDirection.x, l->mDirection.y, l->mDirection.z));
+    } else {
+      d.sun.type = light::kind::point;
+      d.sun.position = glm::vec3(t * glm::vec4(l->mPosition.x, l->mPosition.y, l->mPosition.z, 1));
+    }
+    if (ai->mNumLights > 1) d.warnings.push_back(fmt::format("{} lights in the file; using '{}' only", ai->mNumLights, l->mName.C_Str()));
+    break;
+  }
+  return d;
+}
+
+}  // namespace
+
+std::unique_ptr<scene> load_scene(const std::string& spec) {
+  if (spec == "builtin") return std::make_unique<scene>(builtin_scene());
+  if (spec.rfind("env:", 0) == 0) {
+    const std::string file = spec.substr(4);
+    auto in = OIIO::ImageInput::open(file);
+    if (!in) throw std::runtime_error(fmt::format("{}: cannot read environment image: {}", file, OIIO::geterror()));
+    const OIIO::ImageSpec& s = in->spec();
+    if (s.width < 2 || s.height < 1) throw std::runtime_error(fmt::format("{}: image too small", file));
+    scene_description d;
+    d.env.latlong_file = file;
+    d.env.colour = glm::vec3(0);
+    if (std::abs(s.width - 2 * s.height) > s.height / 8)
+      d.warnings.push_back(fmt::format("{}: {}x{} is not 2:1; reading it as lat-long anyway", file, s.width, s.height));
+    d.scene_camera = look_at({0, 0, 0}, {0, 0, -1}, 90);
+    return std::make_unique<scene>(std::move(d));
+  }
+  return std::make_unique<scene>(load_file(spec));
+}
+
+}  // namespace fov

@@ -1,0 +1,249 @@
+#include "fov/trace.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include "fov/random.h"
+#include "scene_impl.h"
+
+namespace fov {
+
+namespace {
+
+constexpr float pi = 3.14159265358979323846f;
+constexpr float infinity = std::numeric_limits<float>::infinity();
+
+// One primary ray: screen position, footprint radius (pixels) and who owns the result.
+struct sample_ray {
+  float sx, sy, radius_px;
+  uint32_t owner;
+};
+
+struct shaded {
+  glm::vec3 colour{0};     // everything but the light's direct contribution
+  glm::vec3 direct{0};     // the light's contribution if unshadowed
+  glm::vec3 to_light{0};   // shadow-ray direction
+  glm::vec3 origin{0};     // shadow-ray origin
+  float light_distance = 0;
+  float depth = infinity;  // camera-space depth, +inf on a miss
+};
+
+shaded shade_hit(const scene::impl& d, const camera_frame& f, const RTCRayHit16& rh, int lane, const glm::vec3& dir,
+                 float radius_px) {
+  shaded out;
+  surface s;
+  d.surface_at(rh.hit.instID[0][lane], rh.hit.primID[lane], rh.hit.u[lane], rh.hit.v[lane], s);
+  const float t = rh.ray.tfar[lane];
+  out.depth = t * glm::dot(dir, f.forward);
+  const float footprint_world = 2 * radius_px * f.pixel_angle * t;
+  const float duv = footprint_world * s.uv_per_world;
+  const material& mat = *s.mat;
+  const glm::vec4 base = d.base_colour(mat, s.uv, duv);
+  glm::vec3 ng = s.geometric_normal, n = s.normal;
+  if (s.tangent.w != 0 && !mat.normal_texture.file.empty()) {
+    const glm::vec3 tn = d.normal_map(mat, s.uv, duv);
+    const glm::vec3 tangent = glm::normalize(glm::vec3(s.tangent) - n * glm::dot(n, glm::vec3(s.tangent)));
+    const glm::vec3 bitangent = glm::cross(n, tangent) * s.tangent.w;
+    n = glm::normalize(tn.x * tangent + tn.y * bitangent + tn.z * n);
+  }
+  if (glm::dot(ng, dir) > 0) ng = -ng;
+  if (glm::dot(n, ng) < 0) n = -n;
+  const glm::vec3 albedo(base);
+  out.colour = d.emission(mat, s.uv, duv) + albedo * d.env_mean * d.desc.env.ambient;
+  const light& l = d.desc.sun;
+  glm::vec3 irradiance = l.colour;
+  if (l.type == light::kind::directional) {
+    out.to_light = glm::normalize(l.direction);
+    out.light_distance = infinity;
+  } else {
+    const glm::vec3 v = l.position - s.position;
+    out.light_distance = glm::length(v);
+    out.to_light = v / std::max(out.light_distance, 1e-6f);
+    irradiance /= std::max(out.light_distance * out.light_distance, 1e-6f);
+  }
+  const float cos_n = glm::dot(n, out.to_light);
+  if (cos_n > 0 && glm::dot(ng, out.to_light) > 0) out.direct = albedo * irradiance * cos_n;
+  const float scale = 1 + std::max({std::fabs(s.position.x), std::fabs(s.position.y), std::fabs(s.position.z)});
+  out.origin = s.position + ng * (1e-4f * scale);
+  return out;
+}
+
+// Traces rays[begin, end) in packets of 16 and hands each result to sink(ray, colour, depth, hit).
+template <class Sink>
+void trace_rays(const scene::impl& d, const camera_frame& f, const sample_ray* rays, size_t count, bool shadows,
+                Sink&& sink) {
+  RTCIntersectContext context;
+  for (size_t base = 0; base < count; base += 16) {
+    const int n = int(std::min<size_t>(16, count - base));
+    alignas(64) int valid[16];
+    alignas(64) RTCRayHit16 rh;
+    glm::vec3 dirs[16];
+    for (int i = 0; i < 16; ++i) {
+      valid[i] = i < n ? -1 : 0;
+      const sample_ray& r = rays[base + std::min(i, n - 1)];
+      dirs[i] = ray_direction(f, r.sx, r.sy);
+      rh.ray.org_x[i] = f.origin.x, rh.ray.org_y[i] = f.origin.y, rh.ray.org_z[i] = f.origin.z;
+      rh.ray.dir_x[i] = dirs[i].x, rh.ray.dir_y[i] = dirs[i].y, rh.ray.dir_z[i] = dirs[i].z;
+      rh.ray.tnear[i] = 0;
+      rh.ray.tfar[i] = infinity;
+      rh.ray.time[i] = 0;
+      rh.ray.mask[i] = 0xFFFFFFFFu;
+      rh.ray.id[i] = unsigned(i);
+      rh.ray.flags[i] = 0;
+      rh.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
+      rh.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
+    }
+    rtcInitIntersectContext(&context);
+    context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+    rtcIntersect16(valid, d.top, &context, &rh);
+
+    shaded result[16];
+    alignas(64) int shadow_valid[16];
+    alignas(64) RTCRay16 shadow;
+    bool any_shadow = false;
+    for (int i = 0; i < 16; ++i) {
+      shadow_valid[i] = 0;
+      if (i >= n) continue;
+      const float radius = rays[base + i].radius_px;
+      if (rh.hit.geomID[i] == RTC_INVALID_GEOMETRY_ID) {
+        result[i].colour = d.environment_radiance(dirs[i], 2 * radius * f.pixel_angle);
+        continue;
+      }
+      result[i] = shade_hit(d, f, rh, i, dirs[i], radius);
+      if (result[i].direct == glm::vec3(0)) continue;
+      if (!shadows) {
+        result[i].colour += result[i].direct;
+        continue;
+      }
+      shadow_valid[i] = -1;
+      any_shadow = true;
+      shadow.org_x[i] = result[i].origin.x, shadow.org_y[i] = result[i].origin.y, shadow.org_z[i] = result[i].origin.z;
+      shadow.dir_x[i] = result[i].to_light.x, shadow.dir_y[i] = result[i].to_light.y, shadow.dir_z[i] = result[i].to_light.z;
+      shadow.tnear[i] = 0;
+      shadow.tfar[i] = result[i].light_distance;
+      shadow.time[i] = 0;
+      shadow.mask[i] = 0xFFFFFFFFu;
+      shadow.id[i] = unsigned(i);
+      shadow.flags[i] = 0;
+    }
+    if (any_shadow) {
+      rtcInitIntersectContext(&context);
+      rtcOccluded16(shadow_valid, d.top, &context, &shadow);
+      for (int i = 0; i < n; ++i)
+        if (shadow_valid[i] == -1 && shadow.tfar[i] >= 0) result[i].colour += result[i].direct;  // tfar = -inf when occluded
+    }
+    for (int i = 0; i < n; ++i)
+      sink(rays[base + i], result[i].colour, result[i].depth, result[i].depth != infinity);
+  }
+}
+
+void check(const trace_params& p, int width, int height) {
+  if (p.spp < 1 || p.spp > 65535) throw std::invalid_argument("spp must lie in 1..65535");
+  if (width < 1 || height < 1) throw std::invalid_argument("screen size must be positive");
+}
+
+}  // namespace
+
+point_samples trace_points(const scene& sc, const camera& cam, const pointset& set, double gaze_x, double gaze_y,
+                           uint32_t k_used, const trace_params& params) {
+  const display_geometry& disp = set.model.display;
+  check(params, disp.width, disp.height);
+  const scene::impl& d = sc.internals();
+  const camera_frame f = make_frame(cam, disp.width, disp.height);
+  point_samples out;
+  out.offset = offset_for_gaze(disp, gaze_x, gaze_y);
+  const std::vector<uint8_t> mask = traced_point_mask(set, gaze_x, gaze_y, k_used);
+  for (uint32_t i = 0; i < mask.size(); ++i)
+    if (mask[i]) out.traced.push_back(i);
+  const size_t n = set.points.size();
+  out.colour.assign(n, glm::vec3(0));
+  out.depth.assign(n, infinity);
+  out.hits.assign(n, 0);
+  const uint32_t spp = params.spp;
+  const float radius_scale = 1.0f / std::sqrt(float(spp));
+  const size_t chunk = std::max<size_t>(1, 256 / spp);  // points per task: about 256 rays
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, out.traced.size(), chunk), [&](const tbb::blocked_range<size_t>& r) {
+    std::vector<sample_ray> rays;
+    rays.reserve((r.end() - r.begin()) * spp);
+    for (size_t k = r.begin(); k < r.end(); ++k) {
+      const uint32_t i = out.traced[k];
+      const point& p = set.points[i];
+      rng random(stream_seed(params.seed, 0x7261797375ull, i));  // fixed per point, every frame
+      const float cx = p.x - float(out.offset.x), cy = p.y - float(out.offset.y);
+      for (uint32_t s = 0; s < spp; ++s) {
+        const float radius = p.spacing * float(std::sqrt(random.uniform())), angle = 2 * pi * float(random.uniform());
+        rays.push_back({cx + radius * std::cos(angle), cy + radius * std::sin(angle), p.spacing * radius_scale, i});
+      }
+    }
+    std::vector<glm::vec3> sum(r.end() - r.begin(), glm::vec3(0));
+    std::vector<double> depth_sum(r.end() - r.begin(), 0.0);
+    std::vector<uint32_t> hits(r.end() - r.begin(), 0);
+    size_t at = 0;
+    trace_rays(d, f, rays.data(), rays.size(), params.shadows, [&](const sample_ray&, glm::vec3 c, float depth, bool hit) {
+      const size_t local = at++ / spp;
+      sum[local] += c;
+      if (hit) depth_sum[local] += depth, ++hits[local];
+    });
+    for (size_t k = r.begin(); k < r.end(); ++k) {
+      const uint32_t i = out.traced[k];
+      const size_t local = k - r.begin();
+      out.colour[i] = sum[local] / float(spp);
+      out.hits[i] = uint16_t(hits[local]);
+      out.depth[i] = hits[local] ? float(depth_sum[local] / hits[local]) : infinity;
+    }
+  });
+  out.rays = uint64_t(out.traced.size()) * spp;
+  return out;
+}
+
+frame trace_reference(const scene& sc, const camera& cam, int width, int height, const trace_params& params) {
+  check(params, width, height);
+  const scene::impl& d = sc.internals();
+  const camera_frame f = make_frame(cam, width, height);
+  frame out;
+  out.width = width;
+  out.height = height;
+  out.rgb.assign(size_t(width) * height, glm::vec3(0));
+  out.depth.assign(size_t(width) * height, infinity);
+  const uint32_t spp = params.spp;
+  const float radius = 0.5f / std::sqrt(float(spp));
+  // 8x8-pixel tiles keep each packet's rays close together.
+  const int tiles_x = (width + 7) / 8, tiles_y = (height + 7) / 8;
+  tbb::parallel_for(tbb::blocked_range<int>(0, tiles_x * tiles_y), [&](const tbb::blocked_range<int>& r) {
+    std::vector<sample_ray> rays;
+    for (int tile = r.begin(); tile < r.end(); ++tile) {
+      const int x0 = (tile % tiles_x) * 8, y0 = (tile / tiles_x) * 8;
+      rays.clear();
+      for (int y = y0; y < std::min(height, y0 + 8); ++y)
+        for (int x = x0; x < std::min(width, x0 + 8); ++x) {
+          const uint32_t pixel = uint32_t(y) * uint32_t(width) + uint32_t(x);
+          rng random(stream_seed(params.seed, 0x706978656Cull, pixel));
+          for (uint32_t s = 0; s < spp; ++s)
+            rays.push_back({float(x) + float(random.uniform()), float(y) + float(random.uniform()), radius, pixel});
+        }
+      glm::vec3 sum(0);
+      double depth_sum = 0;
+      uint32_t hits = 0, seen = 0;
+      trace_rays(d, f, rays.data(), rays.size(), params.shadows, [&](const sample_ray& ray, glm::vec3 c, float depth, bool hit) {
+        sum += c;
+        if (hit) depth_sum += depth, ++hits;
+        if (++seen == spp) {
+          out.rgb[ray.owner] = sum / float(spp);
+          out.depth[ray.owner] = hits ? float(depth_sum / hits) : infinity;
+          sum = glm::vec3(0);
+          depth_sum = 0;
+          hits = seen = 0;
+        }
+      });
+    }
+  });
+  out.rays = uint64_t(width) * height * spp;
+  return out;
+}
+
+}  // namespace fov
