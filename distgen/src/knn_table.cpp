@@ -105,6 +105,7 @@ knn_table build_knn_table(const std::vector<point>& points, uint32_t canvas_widt
         }
     });
   }
+  table.max_radius = max_knn_radius(table, points);
   return table;
 }
 
@@ -121,6 +122,7 @@ std::vector<uint32_t> brute_force_knn(const std::vector<point>& points, float qx
 knn_table regroup(const knn_table& table, uint32_t group) {
   if (std::clamp<uint32_t>(group, 1, table.k) == table.group) return table;
   knn_table out;
+  out.max_radius = table.max_radius;
   out.width = table.width;
   out.height = table.height;
   out.k = table.k;

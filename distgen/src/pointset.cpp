@@ -2,6 +2,9 @@
 #include <chrono>
 #include <cmath>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_reduce.h>
+
 #include "fov/dart_throwing.h"
 #include "fov/knn_table.h"
 #include "fov/pointset.h"
@@ -52,6 +55,21 @@ uint64_t count_spacing_violations(const std::vector<point>& points, uint32_t can
   return violations;
 }
 
+float max_knn_radius(const knn_table& t, const std::vector<point>& points) {
+  if (t.k == 0 || t.entries.empty()) return 0;
+  return tbb::parallel_reduce(
+      tbb::blocked_range<uint32_t>(0, t.height), 0.0f,
+      [&](const tbb::blocked_range<uint32_t>& rows, float r) {
+        for (uint32_t y = rows.begin(); y < rows.end(); ++y)
+          for (uint32_t x = 0; x < t.width; ++x) {
+            const point& p = points[t.at(x, y, t.k - 1)];
+            r = std::max(r, std::hypot(p.x - (float(x) + 0.5f), p.y - (float(y) + 0.5f)));
+          }
+        return r;
+      },
+      [](float a, float b) { return std::max(a, b); });
+}
+
 std::vector<uint8_t> traced_point_mask(const pointset& set, double gaze_x, double gaze_y, uint32_t k_used) {
   const display_geometry& d = set.model.display;
   const canvas_offset o = offset_for_gaze(d, gaze_x, gaze_y);
@@ -62,11 +80,17 @@ std::vector<uint8_t> traced_point_mask(const pointset& set, double gaze_x, doubl
   }
   const knn_table& t = set.table;
   k_used = std::min(k_used, t.k);
-  for (uint32_t j = 0; j < k_used; ++j)
-    for (int sy = 0; sy < d.height; ++sy) {
-      const uint64_t row = uint64_t(sy + o.y) * t.width + uint64_t(o.x);
-      for (int sx = 0; sx < d.width; ++sx) mask[t.entries[t.offset(row + sx, j)]] = 1;
+  // Only pixels within max_radius of the screen edge can read an off-screen point
+  // (without a known radius, every pixel is scanned).
+  const int band = t.max_radius > 0 ? int(std::ceil(t.max_radius)) + 1 : std::max(d.width, d.height);
+  for (int sy = 0; sy < d.height; ++sy) {
+    const bool edge_row = sy < band || sy >= d.height - band;
+    const uint64_t row = uint64_t(sy + o.y) * t.width + uint64_t(o.x);
+    for (int sx = 0; sx < d.width; ++sx) {
+      if (!edge_row && sx == band && d.width - band > band) sx = d.width - band;  // skip the interior
+      for (uint32_t j = 0; j < k_used; ++j) mask[t.entries[t.offset(row + sx, j)]] = 1;
     }
+  }
   return mask;
 }
 

@@ -54,6 +54,7 @@ struct table_allocator {
   template <class U>
   table_allocator(const table_allocator<U>&) {}
   T* allocate(size_t n) {
+    if (n > (size_t(1) << 46) / sizeof(T)) throw std::bad_alloc();  // 64 TiB: also keeps the sizes below from overflowing
     const size_t huge = size_t(2) << 20, bytes = (n * sizeof(T) + huge - 1) / huge * huge;
     void* p = std::aligned_alloc(huge, std::max(bytes, huge));
     if (!p) throw std::bad_alloc();
@@ -80,6 +81,9 @@ struct knn_table {
   uint32_t width = 0, height = 0;  // canvas size in pixels
   uint32_t k = 0;
   uint32_t group = 0;
+  // Largest distance from a pixel centre to its k-th neighbour (derived, not stored in
+  // files): a pixel farther than this from the screen edge reads only on-screen points.
+  float max_radius = 0;
   std::vector<uint32_t, table_allocator<uint32_t>> entries;  // width * height * k point indices
 
   uint64_t pixel_count() const { return uint64_t(width) * height; }
@@ -121,6 +125,9 @@ uint64_t morton_code(float x, float y);
 // a grid; exact in double arithmetic on the stored float values.
 uint64_t count_spacing_violations(const std::vector<point>& points, uint32_t canvas_width,
                                   uint32_t canvas_height);
+
+// The largest distance from any pixel centre to its k-th (farthest stored) neighbour.
+float max_knn_radius(const knn_table& table, const std::vector<point>& points);
 
 // Points the renderer must trace for a gaze: every point on the screen plus every
 // point any on-screen pixel reads among its first k_used neighbours.
