@@ -193,9 +193,16 @@ scene::scene(scene_description description) : impl_(std::make_unique<impl>()) {
   if (d.desc.materials.empty()) d.desc.materials.push_back({});
   d.device = rtcNewDevice(nullptr);
   if (!d.device) throw std::runtime_error(fmt::format("Embree device: error {}", int(rtcGetDeviceError(nullptr))));
-  d.textures = OIIO::TextureSystem::create(false);
+  // OpenImageIO's shared texture system: 2.4's TextureSystem::destroy() skips the
+  // implementation's destructor (a leak and a new/delete size mismatch under ASan), so
+  // per-scene systems are not used. Files this scene names are re-read, not taken stale.
+  d.textures = OIIO::TextureSystem::create(true);
   d.textures->attribute("automip", 1);
   d.textures->attribute("max_memory_MB", 2048.0f);
+  for (const material& m : d.desc.materials)
+    for (const texture_ref* t : {&m.base_texture, &m.emissive_texture, &m.normal_texture})
+      if (!t->file.empty()) d.textures->invalidate(OIIO::ustring(t->file));
+  if (!d.desc.env.latlong_file.empty()) d.textures->invalidate(OIIO::ustring(d.desc.env.latlong_file));
   d.top = rtcNewScene(d.device);
   rtcSetSceneBuildQuality(d.top, RTC_BUILD_QUALITY_HIGH);
 
@@ -276,7 +283,6 @@ scene::~scene() {
     if (s) rtcReleaseScene(s);
   if (d.top) rtcReleaseScene(d.top);
   if (d.device) rtcReleaseDevice(d.device);
-  if (d.textures) OIIO::TextureSystem::destroy(d.textures);
 }
 
 const scene_description& scene::description() const { return impl_->desc; }

@@ -31,7 +31,7 @@ struct scene::impl {
   std::vector<RTCScene> mesh_scenes;
   std::vector<geometry_data> geometry;  // per mesh
   std::vector<glm::mat3> normal_matrix;  // per instance
-  OIIO::TextureSystem* textures = nullptr;
+  OIIO::TextureSystem* textures = nullptr;  // OpenImageIO's shared system, not owned
   glm::vec3 bmin{0}, bmax{0};
   glm::vec3 env_mean{0};
   bool has_env_map = false;
