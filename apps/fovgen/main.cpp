@@ -137,7 +137,6 @@ void read_timings(json& j, const std::string& set_path) {
 
 // Generates one set and writes it; the table goes to disk band by band.
 fov::pointset generate_file(const fov::spacing_model& model, const generate_options& o, const std::string& path) {
-  fov::check_writable(path);
   fov::pointset set;
   set.model = model;
   set.darts.seed = o.seed;
@@ -229,13 +228,12 @@ void progress(size_t done, size_t total, double elapsed, const std::string& labe
 int run_generate(CLI::App& app, const generate_options& o, const std::string& output) {
   if (output.empty()) throw usage_error("-o: an output file is required");
   const fov::spacing_model model = model_from(o, app);
-  fov::pointset set;
   try {
-    fov::check_writable(output);
+    fov::check_writable(output);  // fail before minutes of work, as a usage error
   } catch (const fov::file_error& e) {
     throw usage_error(e.what());
   }
-  set = generate_file(model, o, output);
+  const fov::pointset set = generate_file(model, o, output);
   json j = summary(set, output);
   add_timings(j, set);
   j["spacing_violations"] = fov::count_spacing_violations(set.points, set.canvas_width(), set.canvas_height());

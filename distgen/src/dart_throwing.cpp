@@ -1,7 +1,6 @@
 #include "fov/dart_throwing.h"
 
 #include <algorithm>
-#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <limits>

@@ -1,6 +1,9 @@
+#include <sys/mman.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_reduce.h>
@@ -10,6 +13,17 @@
 #include "fov/pointset.h"
 
 namespace fov {
+
+void* allocate_table_bytes(size_t bytes) {
+  const size_t huge = size_t(2) << 20;
+  bytes = std::max(huge, (bytes + huge - 1) / huge * huge);
+  void* p = std::aligned_alloc(huge, bytes);
+  if (!p) throw std::bad_alloc();
+  if (bytes >= 2 * huge) madvise(p, bytes, MADV_HUGEPAGE);
+  return p;
+}
+
+void free_table_bytes(void* p) { std::free(p); }
 
 canvas_offset offset_for_gaze(const display_geometry& display, double gaze_x, double gaze_y) {
   if (!std::isfinite(gaze_x)) gaze_x = 0.5 * display.width;

@@ -1,6 +1,5 @@
 // Scene files: glTF 2.0 and OBJ through Assimp; env:FILE image scenes; the built-in scene.
 #include <filesystem>
-#include <map>
 #include <set>
 #include <stdexcept>
 

@@ -2,12 +2,9 @@
 // the gaze, stored in Morton order, plus the k nearest points of every canvas pixel.
 #pragma once
 
-#include <sys/mman.h>
-
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
-#include <cstdlib>
 #include <new>
 #include <string>
 #include <vector>
@@ -44,9 +41,13 @@ struct dart_stats {
   double seconds = 0;  // wall time; not stored in files
 };
 
-// Storage for large tables: 2 MiB-aligned with transparent huge pages requested,
-// and elements left uninitialised on resize (every entry is written right after).
-// First-touch page faults dominated loading a 590 MB table here (docs/benchmarks.md).
+// Bytes for large tables: 2 MiB-aligned, transparent huge pages requested (pointset.cpp).
+void* allocate_table_bytes(size_t bytes);
+void free_table_bytes(void* p);
+
+// Storage for large tables: huge pages, and elements left uninitialised on resize
+// (every entry is written right after). First-touch page faults dominated loading a
+// 590 MB table here (docs/benchmarks.md).
 template <class T>
 struct table_allocator {
   using value_type = T;
@@ -54,14 +55,10 @@ struct table_allocator {
   template <class U>
   table_allocator(const table_allocator<U>&) {}
   T* allocate(size_t n) {
-    if (n > (size_t(1) << 46) / sizeof(T)) throw std::bad_alloc();  // 64 TiB: also keeps the sizes below from overflowing
-    const size_t huge = size_t(2) << 20, bytes = (n * sizeof(T) + huge - 1) / huge * huge;
-    void* p = std::aligned_alloc(huge, std::max(bytes, huge));
-    if (!p) throw std::bad_alloc();
-    if (bytes >= 2 * huge) madvise(p, bytes, MADV_HUGEPAGE);
-    return static_cast<T*>(p);
+    if (n > (size_t(1) << 46) / sizeof(T)) throw std::bad_alloc();  // 64 TiB
+    return static_cast<T*>(allocate_table_bytes(n * sizeof(T)));
   }
-  void deallocate(T* p, size_t) { std::free(p); }
+  void deallocate(T* p, size_t) { free_table_bytes(p); }
   template <class U>
   void construct(U* p) { ::new (static_cast<void*>(p)) U; }
   template <class U, class... A>
