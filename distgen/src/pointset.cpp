@@ -88,23 +88,39 @@ std::vector<uint8_t> traced_point_mask(const pointset& set, double gaze_x, doubl
   const display_geometry& d = set.model.display;
   const canvas_offset o = offset_for_gaze(d, gaze_x, gaze_y);
   std::vector<uint8_t> mask(set.points.size(), 0);
+  const knn_table& t = set.table;
+  k_used = std::min(k_used, t.k);
+  // Only pixels within max_radius of the screen edge can read an off-screen point
+  // (without a known radius, every pixel is scanned). Rows are split over threads;
+  // each collects the points it finds, and the marks are written afterwards.
+  const int band = t.max_radius > 0 ? int(std::ceil(t.max_radius)) + 1 : std::max(d.width, d.height);
+  using found = std::vector<uint32_t>;
+  const found referenced = tbb::parallel_reduce(
+      tbb::blocked_range<int>(0, d.height, 16), found(),
+      [&](const tbb::blocked_range<int>& rows, found acc) {
+        for (int sy = rows.begin(); sy < rows.end(); ++sy) {
+          const bool edge_row = sy < band || sy >= d.height - band;
+          const uint64_t row = uint64_t(sy + o.y) * t.width + uint64_t(o.x);
+          for (int sx = 0; sx < d.width; ++sx) {
+            if (!edge_row && sx == band && d.width - band > band) sx = d.width - band;  // skip the interior
+            for (uint32_t j = 0; j < k_used; ++j) {
+              const uint32_t i = t.entries[t.offset(row + sx, j)];
+              const point& p = set.points[i];
+              if (!(p.x >= o.x && p.x < o.x + d.width && p.y >= o.y && p.y < o.y + d.height)) acc.push_back(i);
+            }
+          }
+        }
+        return acc;
+      },
+      [](found a, const found& b) {
+        a.insert(a.end(), b.begin(), b.end());
+        return a;
+      });
   for (size_t i = 0; i < set.points.size(); ++i) {
     const point& p = set.points[i];
     if (p.x >= o.x && p.x < o.x + d.width && p.y >= o.y && p.y < o.y + d.height) mask[i] = 1;
   }
-  const knn_table& t = set.table;
-  k_used = std::min(k_used, t.k);
-  // Only pixels within max_radius of the screen edge can read an off-screen point
-  // (without a known radius, every pixel is scanned).
-  const int band = t.max_radius > 0 ? int(std::ceil(t.max_radius)) + 1 : std::max(d.width, d.height);
-  for (int sy = 0; sy < d.height; ++sy) {
-    const bool edge_row = sy < band || sy >= d.height - band;
-    const uint64_t row = uint64_t(sy + o.y) * t.width + uint64_t(o.x);
-    for (int sx = 0; sx < d.width; ++sx) {
-      if (!edge_row && sx == band && d.width - band > band) sx = d.width - band;  // skip the interior
-      for (uint32_t j = 0; j < k_used; ++j) mask[t.entries[t.offset(row + sx, j)]] = 1;
-    }
-  }
+  for (uint32_t i : referenced) mask[i] = 1;
   return mask;
 }
 

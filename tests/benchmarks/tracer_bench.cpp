@@ -3,16 +3,20 @@
 //    bare Embree loop over the same primary rays, at 1280x1440 and 1 ray per pixel;
 //  - a foveated frame (trace_points, centred gaze) against the full-resolution
 //    reference at equal rays per sample, for point sets s = 1.0 and 1.75.
-// Scenes: builtin, and ../shared/scenes/flight-helmet when present. Point sets come
+// Scenes: builtin, ../shared/scenes/flight-helmet when present, and a generated env:
+// image whose rays all cost the same (it separates the tracer's own overhead from the
+// content under the fovea, which differs between foveated and reference rays). Point sets come
 // from precomputed/fove-s1.00.fovset and fove-s1.75.fovset, generated in memory if missing.
 #include <filesystem>
 #include <map>
 
 #include <benchmark/benchmark.h>
+#include <OpenImageIO/imageio.h>
 #include <embree3/rtcore.h>
 #include <fmt/format.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 
 #include "../../tracer/src/scene_impl.h"
 #include "fov/knn_table.h"
@@ -24,12 +28,28 @@ namespace {
 namespace fs = std::filesystem;
 constexpr int width = 1280, height = 1440;
 
+// A 2048x1024 lat-long image of smooth colour bands: an env: scene in which every ray
+// costs the same (one filtered lookup), so foveated and reference rays compare fairly.
+std::string uniform_cost_envmap() {
+  const std::string path = (fs::temp_directory_path() / "fovray-bench-env.exr").string();
+  const int w = 2048, h = 1024;
+  std::vector<float> px(size_t(w) * h * 3);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      for (int c = 0; c < 3; ++c)
+        px[(size_t(y) * w + x) * 3 + c] = 0.5f + 0.5f * std::sin(0.05f * float(x * (c + 1)) + 0.03f * float(y));
+  auto out = OIIO::ImageOutput::create(path);
+  out->open(path, OIIO::ImageSpec(w, h, 3, OIIO::TypeDesc::FLOAT));
+  out->write_image(OIIO::TypeDesc::FLOAT, px.data());
+  out->close();
+  return "env:" + path;
+}
+
+// Scenes 0 = built-in, 1 = flight helmet (skipped when absent), 2 = uniform-cost env: image.
 const std::vector<std::string>& scene_specs() {
   static const std::vector<std::string> specs = [] {
-    std::vector<std::string> s{"builtin"};
     const fs::path helmet = fs::path(FOV_SOURCE_DIR) / "../shared/scenes/flight-helmet/FlightHelmet.gltf";
-    if (fs::exists(helmet)) s.push_back(helmet.string());
-    return s;
+    return std::vector<std::string>{"builtin", fs::exists(helmet) ? helmet.string() : "", uniform_cost_envmap()};
   }();
   return specs;
 }
@@ -62,7 +82,8 @@ const fov::pointset& get_set(double scale) {
 
 // Primary rays through pixel centres, packets of 16 over 4x4 pixel blocks: intersection only.
 void BM_BareEmbree(benchmark::State& state) {
-  if (size_t(state.range(0)) >= scene_specs().size()) return state.SkipWithError("scene absent");
+  if (scene_specs().at(size_t(state.range(0))).empty()) return state.SkipWithError("scene absent");
+  if (state.range(0) == 2) return state.SkipWithError("an env: scene has no geometry to intersect");
   const fov::scene& s = get_scene(size_t(state.range(0)));
   const fov::camera_frame f = fov::make_frame(bench_camera(s), width, height);
   RTCScene top = s.internals().top;
@@ -91,11 +112,26 @@ void BM_BareEmbree(benchmark::State& state) {
     });
   }
   state.counters["Mrays/s"] = benchmark::Counter(double(width) * height * state.iterations() / 1e6, benchmark::Counter::kIsRate);
+  state.counters["isect_Mrays_per_thread_s"] = benchmark::Counter(
+      double(width) * height * state.iterations() / 1e6 / tbb::this_task_arena::max_concurrency(), benchmark::Counter::kIsRate);
+}
+
+// Runs `trace` once more with stage timing on and reports nanoseconds of thread time per
+// ray for each stage (the timed iterations above it run without the clock reads).
+template <class Trace>
+void report_stages(benchmark::State& state, Trace&& trace) {
+  fov::trace_timing t;
+  const double rays = double(trace(&t));
+  state.counters["setup_ns"] = 1e9 * t.setup / rays;
+  state.counters["intersect_ns"] = 1e9 * t.intersect / rays;
+  state.counters["shade_ns"] = 1e9 * t.shade / rays;
+  state.counters["shadow_ns"] = 1e9 * t.shadow / rays;
+  state.counters["isect_Mrays_per_thread_s"] = rays / t.intersect / 1e6;
 }
 
 // args: scene, spp
 void BM_TraceReference(benchmark::State& state) {
-  if (size_t(state.range(0)) >= scene_specs().size()) return state.SkipWithError("scene absent");
+  if (scene_specs().at(size_t(state.range(0))).empty()) return state.SkipWithError("scene absent");
   const fov::scene& s = get_scene(size_t(state.range(0)));
   fov::trace_params tp;
   tp.spp = uint32_t(state.range(1));
@@ -103,11 +139,15 @@ void BM_TraceReference(benchmark::State& state) {
   for (auto _ : state) rays += fov::trace_reference(s, bench_camera(s), width, height, tp).rays;
   state.counters["Mrays/s"] = benchmark::Counter(double(rays) / 1e6, benchmark::Counter::kIsRate);
   state.counters["rays"] = double(rays) / double(state.iterations());
+  report_stages(state, [&](fov::trace_timing* t) {
+    tp.timing = t;
+    return fov::trace_reference(s, bench_camera(s), width, height, tp).rays;
+  });
 }
 
 // args: scene, spp, scale x 100
 void BM_TracePoints(benchmark::State& state) {
-  if (size_t(state.range(0)) >= scene_specs().size()) return state.SkipWithError("scene absent");
+  if (scene_specs().at(size_t(state.range(0))).empty()) return state.SkipWithError("scene absent");
   const fov::scene& s = get_scene(size_t(state.range(0)));
   const fov::pointset& set = get_set(double(state.range(2)) / 100);
   fov::trace_params tp;
@@ -116,11 +156,15 @@ void BM_TracePoints(benchmark::State& state) {
   for (auto _ : state) rays += fov::trace_points(s, bench_camera(s), set, width / 2.0, height / 2.0, set.table.k, tp).rays;
   state.counters["Mrays/s"] = benchmark::Counter(double(rays) / 1e6, benchmark::Counter::kIsRate);
   state.counters["rays"] = double(rays) / double(state.iterations());
+  report_stages(state, [&](fov::trace_timing* t) {
+    tp.timing = t;
+    return fov::trace_points(s, bench_camera(s), set, width / 2.0, height / 2.0, set.table.k, tp).rays;
+  });
 }
 
 BENCHMARK(BM_BareEmbree)->ArgName("scene")->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK(BM_TraceReference)->ArgNames({"scene", "spp"})->ArgsProduct({{0, 1}, {1, 4}})->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK(BM_TracePoints)->ArgNames({"scene", "spp", "s100"})->ArgsProduct({{0, 1}, {4}, {100, 175}})->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_TraceReference)->ArgNames({"scene", "spp"})->ArgsProduct({{0, 1, 2}, {1, 4, 32}})->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_TracePoints)->ArgNames({"scene", "spp", "s100"})->ArgsProduct({{0, 1, 2}, {4, 32}, {100, 175}})->Unit(benchmark::kMillisecond)->UseRealTime();
 
 }  // namespace
 

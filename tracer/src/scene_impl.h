@@ -24,6 +24,13 @@ struct surface {
   glm::vec4 tangent{0, 0, 0, 0};
 };
 
+// A material's textures, resolved once: lookups by handle skip the file-name lookup.
+struct texture_handles {
+  OIIO::TextureSystem::TextureHandle* base = nullptr;
+  OIIO::TextureSystem::TextureHandle* emissive = nullptr;
+  OIIO::TextureSystem::TextureHandle* normal = nullptr;
+};
+
 struct scene::impl {
   scene_description desc;
   RTCDevice device = nullptr;
@@ -32,6 +39,8 @@ struct scene::impl {
   std::vector<geometry_data> geometry;  // per mesh
   std::vector<glm::mat3> normal_matrix;  // per instance
   OIIO::TextureSystem* textures = nullptr;  // OpenImageIO's shared system, not owned
+  std::vector<texture_handles> handles;      // per material
+  OIIO::TextureSystem::TextureHandle* env_handle = nullptr;
   glm::vec3 bmin{0}, bmax{0};
   glm::vec3 env_mean{0};
   bool has_env_map = false;
@@ -45,8 +54,9 @@ struct scene::impl {
   glm::vec3 environment_radiance(const glm::vec3& dir, float angle) const;
   // Fills `s` for a hit of instance `inst`, primitive `prim` at barycentrics (u, v).
   void surface_at(unsigned inst, unsigned prim, float u, float v, surface& s) const;
-  // 4 channels (fill alpha = 1) of a texture; false when the lookup failed.
-  bool texture4(const texture_ref& t, glm::vec2 uv, float duv, float out[4]) const;
+  // 4 channels (fill alpha = 1) of a texture; false when there is none or the lookup failed.
+  bool texture4(OIIO::TextureSystem::TextureHandle* t, glm::vec2 uv, float duv, float out[4]) const;
+  const texture_handles& handles_of(const material& mat) const { return handles[size_t(&mat - desc.materials.data())]; }
 };
 
 // Procedural patterns, filtered over a box of width w pattern units.

@@ -1,8 +1,10 @@
 #include "fov/trace.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <limits>
+#include <mutex>
 #include <stdexcept>
 
 #include <tbb/blocked_range.h>
@@ -15,8 +17,39 @@ namespace fov {
 
 namespace {
 
-constexpr float pi = 3.14159265358979323846f;
 constexpr float infinity = std::numeric_limits<float>::infinity();
+
+// Adds the time since the previous mark to a stage, when timing is on.
+class stage_timer {
+ public:
+  using clock = std::chrono::steady_clock;
+  explicit stage_timer(bool on) : on_(on), last_(on ? clock::now() : clock::time_point()) {}
+  void mark(double& stage) {
+    if (!on_) return;
+    const clock::time_point now = clock::now();
+    stage += std::chrono::duration<double>(now - last_).count();
+    last_ = now;
+  }
+
+ private:
+  bool on_;
+  clock::time_point last_;
+};
+
+// A task's stage times, added to the caller's totals once at the end of the task.
+struct task_timing {
+  trace_timing local;
+  stage_timer timer;
+  trace_timing* total;
+  explicit task_timing(trace_timing* t) : timer(t != nullptr), total(t) {}
+  ~task_timing() {
+    if (!total) return;
+    static std::mutex lock;
+    std::lock_guard<std::mutex> guard(lock);
+    total->setup += local.setup, total->intersect += local.intersect;
+    total->shade += local.shade, total->shadow += local.shadow;
+  }
+};
 
 // One primary ray: screen position, footprint radius (pixels) and who owns the result.
 struct sample_ray {
@@ -76,7 +109,8 @@ shaded shade_hit(const scene::impl& d, const camera_frame& f, const RTCRayHit16&
 // Traces rays[begin, end) in packets of 16 and hands each result to sink(ray, colour, depth, hit).
 template <class Sink>
 void trace_rays(const scene::impl& d, const camera_frame& f, const sample_ray* rays, size_t count, bool shadows,
-                Sink&& sink) {
+                task_timing& timing, Sink&& sink) {
+  trace_timing& t = timing.local;
   RTCIntersectContext context;
   for (size_t base = 0; base < count; base += 16) {
     const int n = int(std::min<size_t>(16, count - base));
@@ -100,7 +134,9 @@ void trace_rays(const scene::impl& d, const camera_frame& f, const sample_ray* r
     }
     rtcInitIntersectContext(&context);
     context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+    timing.timer.mark(t.setup);
     rtcIntersect16(valid, d.top, &context, &rh);
+    timing.timer.mark(t.intersect);
 
     shaded result[16];
     alignas(64) int shadow_valid[16];
@@ -131,11 +167,13 @@ void trace_rays(const scene::impl& d, const camera_frame& f, const sample_ray* r
       shadow.id[i] = unsigned(i);
       shadow.flags[i] = 0;
     }
+    timing.timer.mark(t.shade);
     if (any_shadow) {
       rtcInitIntersectContext(&context);
       rtcOccluded16(shadow_valid, d.top, &context, &shadow);
       for (int i = 0; i < n; ++i)
         if (shadow_valid[i] == -1 && shadow.tfar[i] >= 0) result[i].colour += result[i].direct;  // tfar = -inf when occluded
+      timing.timer.mark(t.shadow);
     }
     for (int i = 0; i < n; ++i)
       sink(rays[base + i], result[i].colour, result[i].depth, result[i].depth != infinity);
@@ -156,6 +194,7 @@ point_samples trace_points(const scene& sc, const camera& cam, const pointset& s
   const scene::impl& d = sc.internals();
   const camera_frame f = make_frame(cam, disp.width, disp.height);
   point_samples out;
+  stage_timer choose(params.timing != nullptr);
   out.offset = offset_for_gaze(disp, gaze_x, gaze_y);
   const std::vector<uint8_t> mask = traced_point_mask(set, gaze_x, gaze_y, k_used);
   for (uint32_t i = 0; i < mask.size(); ++i)
@@ -164,10 +203,12 @@ point_samples trace_points(const scene& sc, const camera& cam, const pointset& s
   out.colour.assign(n, glm::vec3(0));
   out.depth.assign(n, infinity);
   out.hits.assign(n, 0);
+  if (params.timing) choose.mark(params.timing->setup);
   const uint32_t spp = params.spp;
   const float radius_scale = 1.0f / std::sqrt(float(spp));
   const size_t chunk = std::max<size_t>(1, 256 / spp);  // points per task: about 256 rays
   tbb::parallel_for(tbb::blocked_range<size_t>(0, out.traced.size(), chunk), [&](const tbb::blocked_range<size_t>& r) {
+    task_timing timing(params.timing);
     std::vector<sample_ray> rays;
     rays.reserve((r.end() - r.begin()) * spp);
     for (size_t k = r.begin(); k < r.end(); ++k) {
@@ -176,18 +217,24 @@ point_samples trace_points(const scene& sc, const camera& cam, const pointset& s
       rng random(stream_seed(params.seed, 0x7261797375ull, i));  // fixed per point, every frame
       const float cx = p.x - float(out.offset.x), cy = p.y - float(out.offset.y);
       for (uint32_t s = 0; s < spp; ++s) {
-        const float radius = p.spacing * float(std::sqrt(random.uniform())), angle = 2 * pi * float(random.uniform());
-        rays.push_back({cx + radius * std::cos(angle), cy + radius * std::sin(angle), p.spacing * radius_scale, i});
+        // Uniform in the unit disc by rejection from the square (no trigonometry).
+        float u, v;
+        do {
+          u = float(2 * random.uniform() - 1);
+          v = float(2 * random.uniform() - 1);
+        } while (u * u + v * v > 1);
+        rays.push_back({cx + p.spacing * u, cy + p.spacing * v, p.spacing * radius_scale, i});
       }
     }
     std::vector<glm::vec3> sum(r.end() - r.begin(), glm::vec3(0));
     std::vector<double> depth_sum(r.end() - r.begin(), 0.0);
     std::vector<uint32_t> hits(r.end() - r.begin(), 0);
-    size_t at = 0;
-    trace_rays(d, f, rays.data(), rays.size(), params.shadows, [&](const sample_ray&, glm::vec3 c, float depth, bool hit) {
-      const size_t local = at++ / spp;
+    size_t local = 0;
+    uint32_t seen = 0;
+    trace_rays(d, f, rays.data(), rays.size(), params.shadows, timing, [&](const sample_ray&, glm::vec3 c, float depth, bool hit) {
       sum[local] += c;
       if (hit) depth_sum[local] += depth, ++hits[local];
+      if (++seen == spp) seen = 0, ++local;
     });
     for (size_t k = r.begin(); k < r.end(); ++k) {
       const uint32_t i = out.traced[k];
@@ -215,6 +262,7 @@ frame trace_reference(const scene& sc, const camera& cam, int width, int height,
   // 8x8-pixel tiles keep each packet's rays close together.
   const int tiles_x = (width + 7) / 8, tiles_y = (height + 7) / 8;
   tbb::parallel_for(tbb::blocked_range<int>(0, tiles_x * tiles_y), [&](const tbb::blocked_range<int>& r) {
+    task_timing timing(params.timing);
     std::vector<sample_ray> rays;
     for (int tile = r.begin(); tile < r.end(); ++tile) {
       const int x0 = (tile % tiles_x) * 8, y0 = (tile / tiles_x) * 8;
@@ -229,7 +277,7 @@ frame trace_reference(const scene& sc, const camera& cam, int width, int height,
       glm::vec3 sum(0);
       double depth_sum = 0;
       uint32_t hits = 0, seen = 0;
-      trace_rays(d, f, rays.data(), rays.size(), params.shadows, [&](const sample_ray& ray, glm::vec3 c, float depth, bool hit) {
+      trace_rays(d, f, rays.data(), rays.size(), params.shadows, timing, [&](const sample_ray& ray, glm::vec3 c, float depth, bool hit) {
         sum += c;
         if (hit) depth_sum += depth, ++hits;
         if (++seen == spp) {

@@ -12,10 +12,21 @@
 
 namespace fov {
 
+// Where tracing time goes, in thread-seconds summed over worker threads. Filled only
+// when trace_params::timing points here: each stage costs two clock reads a packet.
+struct trace_timing {
+  double setup = 0;      // choosing points, generating rays
+  double intersect = 0;  // rtcIntersect16 of primary rays
+  double shade = 0;      // surface attributes, textures, environment
+  double shadow = 0;     // rtcOccluded16 of shadow rays
+  double total() const { return setup + intersect + shade + shadow; }
+};
+
 struct trace_params {
   uint32_t spp = 32;     // rays per point (foveated) or per pixel (reference)
   uint64_t seed = 1;     // fixes the ray positions: the same every frame
   bool shadows = true;   // hard shadows from the scene's light
+  trace_timing* timing = nullptr;  // accumulates stage times when set
 };
 
 // Per-point results, indexed like the point set (untraced points stay zero).
