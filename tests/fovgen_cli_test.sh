@@ -5,23 +5,8 @@ set -uo pipefail
 fovgen=$1
 dir=$(mktemp -d)
 trap 'rm -rf "$dir"' EXIT
-failures=0
-passes=0
-
-check() {  # check NAME EXPECTED_CODE -- COMMAND...
-  local name=$1 want=$2; shift 3
-  local err code
-  err=$("$@" 2>&1 >/dev/null); code=$?
-  local lines
-  lines=$(printf '%s' "$err" | grep -c '' || true)
-  if [[ $code -ne $want ]]; then
-    echo "FAIL $name: exit $code, wanted $want: $err"; failures=$((failures + 1))
-  elif [[ $want -ne 0 && ( $lines -ne 1 || "$err" != fovgen:* ) ]]; then
-    echo "FAIL $name: wanted one 'fovgen: ...' line, got: $err"; failures=$((failures + 1))
-  else
-    passes=$((passes + 1))
-  fi
-}
+tool=fovgen
+source "$(dirname "$0")/cli_check.sh"
 
 small=(--width 48 --height 40 --saturation 500)
 check "k zero"            2 -- "$fovgen" "${small[@]}" --k 0 -o "$dir/a.fovset"

@@ -17,6 +17,7 @@
 #include "fov/dart_throwing.h"
 #include "fov/knn_table.h"
 #include "fov/pointset_io.h"
+#include "../common/cli.h"
 #include "plots.h"
 
 namespace {
@@ -24,10 +25,7 @@ namespace {
 using json = nlohmann::json;
 using clock_type = std::chrono::steady_clock;
 
-// A usage problem: one line on stderr, exit code 2.
-struct usage_error : std::runtime_error {
-  using std::runtime_error::runtime_error;
-};
+using fov::usage_error;
 
 struct generate_options {
   std::string display;  // preset name, or empty
@@ -162,24 +160,6 @@ fov::pointset generate_file(const fov::spacing_model& model, const generate_opti
   return set;
 }
 
-bool parse_gaze(const std::string& text, const fov::display_geometry& d, double xy[2]) {
-  if (text == "centre" || text == "center") { xy[0] = 0.5 * d.width; xy[1] = 0.5 * d.height; return true; }
-  if (text == "corner") { xy[0] = d.width; xy[1] = d.height; return true; }
-  char* end = nullptr;
-  xy[0] = std::strtod(text.c_str(), &end);
-  if (end == text.c_str() || *end != ',') return false;
-  const char* second = end + 1;
-  xy[1] = std::strtod(second, &end);
-  return end != second && *end == '\0' && std::isfinite(xy[0]) && std::isfinite(xy[1]);
-}
-
-void require_gaze(const std::string& text, const fov::display_geometry& d, double xy[2]) {
-  if (!parse_gaze(text, d, xy))
-    throw usage_error(fmt::format("--gaze: expected X,Y in screen pixels, 'centre' or 'corner' (got '{}')", text));
-  if (xy[0] < 0 || xy[0] > d.width || xy[1] < 0 || xy[1] > d.height)
-    throw usage_error(fmt::format("--gaze {} lies outside the {}x{} screen", text, d.width, d.height));
-}
-
 std::vector<double> parse_scales(const std::string& text) {
   std::vector<double> out;
   const auto colon = text.find(':');
@@ -258,7 +238,7 @@ int run_info(const std::string& file, const std::string& gaze_text, uint32_t k_u
   j["spacing_violations"] = fov::count_spacing_violations(set.points, set.canvas_width(), set.canvas_height());
   if (!gaze_text.empty()) {
     double xy[2];
-    require_gaze(gaze_text, set.model.display, xy);
+    fov::require_gaze("--gaze", gaze_text, set.model.display, xy);
     const uint32_t k = k_used ? std::min(k_used, set.table.k) : set.table.k;
     const fov::traced_set t = fov::count_traced_points(set, xy[0], xy[1], k);
     j["gaze"] = {xy[0], xy[1]};
@@ -328,7 +308,7 @@ int main(int argc, char** argv) {
       lp.table = !plot_gaze.empty();
       const fov::pointset set = fov::load_pointset(plot_file, lp);
       double xy[2];
-      if (!plot_gaze.empty()) require_gaze(plot_gaze, set.model.display, xy);
+      if (!plot_gaze.empty()) fov::require_gaze("--gaze", plot_gaze, set.model.display, xy);
       try {
         fov::check_writable(plot_out);
       } catch (const fov::file_error& e) {

@@ -1,0 +1,67 @@
+#include "image_io.h"
+
+#include <cmath>
+#include <algorithm>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+
+#include <fmt/format.h>
+#include <OpenImageIO/imageio.h>
+#include <unistd.h>
+
+#include "fov/pointset_io.h"
+
+namespace fov {
+
+namespace {
+
+float encode_srgb(float v) {
+  v = std::clamp(v, 0.0f, 1.0f);
+  return v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1 / 2.4f) - 0.055f;
+}
+float decode_srgb(float v) { return v <= 0.04045f ? v / 12.92f : std::pow((v + 0.055f) / 1.055f, 2.4f); }
+
+}  // namespace
+
+void write_frame(const frame& f, const std::string& path) {
+  const std::string ext = std::filesystem::path(path).extension().string();
+  if (ext.empty()) throw file_error(fmt::format("{}: no extension to choose the image format by", path));
+  const bool linear = ext == ".exr" || ext == ".EXR" || ext == ".hdr";
+  auto out = OIIO::ImageOutput::create(ext.substr(1));
+  if (!out) throw file_error(fmt::format("{}: unsupported image format '{}'", path, ext));
+  const std::string tmp = fmt::format("{}.tmp-{}{}", path, getpid(), ext);
+  OIIO::ImageSpec spec(f.width, f.height, 3, linear ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8);
+  std::vector<float> px(size_t(f.width) * f.height * 3);
+  for (size_t i = 0; i < f.rgb.size(); ++i)
+    for (int c = 0; c < 3; ++c) px[3 * i + c] = linear ? f.rgb[i][c] : encode_srgb(f.rgb[i][c]);
+  if (!linear) spec.attribute("oiio:ColorSpace", "sRGB");
+  const bool ok = out->open(tmp, spec) && out->write_image(OIIO::TypeDesc::FLOAT, px.data()) && out->close();
+  if (!ok || std::rename(tmp.c_str(), path.c_str()) != 0) {
+    std::remove(tmp.c_str());
+    throw file_error(fmt::format("{}: cannot write: {}", path, ok ? std::strerror(errno) : out->geterror()));
+  }
+}
+
+frame read_frame(const std::string& path) {
+  auto in = OIIO::ImageInput::open(path);
+  if (!in) throw file_error(fmt::format("{}: cannot read image: {}", path, OIIO::geterror()));
+  const OIIO::ImageSpec& spec = in->spec();
+  if (spec.nchannels < 3) throw file_error(fmt::format("{}: need an RGB image, got {} channels", path, spec.nchannels));
+  frame f;
+  f.width = spec.width;
+  f.height = spec.height;
+  std::vector<float> px(size_t(spec.width) * spec.height * spec.nchannels);
+  if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, px.data()))
+    throw file_error(fmt::format("{}: cannot read image: {}", path, in->geterror()));
+  const bool encoded = spec.format.basetype == OIIO::TypeDesc::UINT8 || spec.format.basetype == OIIO::TypeDesc::UINT16;
+  f.rgb.resize(size_t(f.width) * f.height);
+  for (size_t i = 0; i < f.rgb.size(); ++i)
+    for (int c = 0; c < 3; ++c) {
+      const float v = px[i * spec.nchannels + c];
+      f.rgb[i][c] = encoded ? decode_srgb(v) : v;
+    }
+  return f;
+}
+
+}  // namespace fov

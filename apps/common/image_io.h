@@ -1,0 +1,18 @@
+// Frames to and from image files through OpenImageIO.
+#pragma once
+
+#include <string>
+
+#include "fov/trace.h"
+
+namespace fov {
+
+// By extension: .exr keeps linear float RGB; anything else (.png, .jpg, ...) is clamped
+// to [0, 1] and sRGB-encoded at 8 bits. Written to a temporary file, then renamed.
+// Throws file_error naming the path.
+void write_frame(const frame& f, const std::string& path);
+
+// Reads RGB; 8-bit images are sRGB-decoded to linear. Throws file_error naming the path.
+frame read_frame(const std::string& path);
+
+}  // namespace fov

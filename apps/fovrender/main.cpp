@@ -1,0 +1,160 @@
+// fovrender: renders one frame headless, foveated or at full resolution, and compares.
+#include <chrono>
+#include <cmath>
+#include <iostream>
+
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "../common/cli.h"
+#include "../common/image_io.h"
+#include "fov/metrics.h"
+#include "fov/pointset_io.h"
+#include "fov/reconstruct.h"
+
+namespace {
+
+using json = nlohmann::json;
+using fov::usage_error;
+
+double ms_since(std::chrono::steady_clock::time_point t) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t).count();
+}
+
+json band_json(const fov::band_metrics& m) {
+  return {{"psnr", std::isfinite(m.psnr) ? json(m.psnr) : json("inf")}, {"ssim", m.ssim}, {"pixels", m.pixels}};
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"fovrender: render one frame foveated (or at full resolution) and measure it"};
+  std::string scene_spec = "builtin", points_file, gaze_text = "centre", method_text = "shepard", output, compare;
+  uint32_t k = 5, spp = 32;
+  uint64_t seed = 1;
+  int width = 1280, height = 1440;
+  double hfov = 0;
+  bool reference = false, renka = false, as_json = false, no_shadows = false;
+  app.add_option("--scene", scene_spec, "builtin, a glTF/OBJ file, or env:IMAGE");
+  app.add_option("--points", points_file, "Point set (.fovset); gives the screen size");
+  app.add_option("--gaze", gaze_text, "X,Y in screen pixels, centre or corner");
+  app.add_option("--method", method_text, "nn or shepard");
+  app.add_option("--k", k, "Neighbours each pixel reads (1..the set's k)");
+  app.add_flag("--renka", renka, "Shepard with Renka's squared weights");
+  app.add_option("--spp", spp, "Rays per point (foveated) or per pixel (reference)");
+  app.add_option("--seed", seed, "Seed of the ray positions");
+  app.add_flag("--reference", reference, "Render at full resolution instead");
+  app.add_option("--width", width, "Screen width without --points");
+  app.add_option("--height", height, "Screen height without --points");
+  app.add_option("--hfov", hfov, "Horizontal field of view in degrees (default: the scene's camera, else 90)");
+  app.add_flag("--no-shadows", no_shadows, "Skip shadow rays");
+  app.add_option("-o,--output", output, "Output image (.exr linear, .png sRGB)");
+  app.add_option("--compare", compare, "Reference image: print PSNR/SSIM overall and by eccentricity band");
+  app.add_flag("--json", as_json, "Print JSON");
+  try {
+    app.parse(argc, argv);
+    fov::method how;
+    if (!fov::parse_method(method_text, how))
+      throw usage_error(fmt::format("--method: unknown '{}' (nn, shepard; rbf is not implemented yet)", method_text));
+    if (spp < 1 || spp > 65535) throw usage_error(fmt::format("--spp must lie in 1..65535 (got {})", spp));
+    if (hfov != 0 && !(hfov > 0 && hfov < 180)) throw usage_error(fmt::format("--hfov must lie in (0, 180) (got {})", hfov));
+    if (output.empty() && compare.empty()) throw usage_error("nothing to do: give -o and/or --compare");
+    if (!reference && points_file.empty()) throw usage_error("--points is required unless --reference");
+
+    fov::pointset set;
+    fov::display_geometry display{width, height, 1.0};
+    if (!points_file.empty()) {
+      set = fov::load_pointset(points_file);
+      display = set.model.display;
+      if (k < 1 || k > set.table.k)
+        throw usage_error(fmt::format("--k must lie in 1..{} for {} (got {})", set.table.k, points_file, k));
+    } else if (width < 1 || height < 1 || width > 65536 || height > 65536) {
+      throw usage_error(fmt::format("--width/--height must lie in 1..65536 (got {}x{})", width, height));
+    }
+    double gaze[2];
+    fov::require_gaze("--gaze", gaze_text, display, gaze);
+
+    const auto start = std::chrono::steady_clock::now();
+    auto scene = fov::load_scene(scene_spec);
+    for (const std::string& w : scene->warnings()) std::cerr << "fovrender: warning: " << w << "\n";
+    fov::camera cam = scene->default_camera(hfov > 0 ? float(hfov) : 90.0f);
+    if (hfov > 0) cam.hfov_deg = float(hfov);
+    fov::trace_params tp;
+    tp.spp = spp;
+    tp.seed = seed;
+    tp.shadows = !no_shadows;
+
+    json j;
+    fov::frame image;
+    const auto traced = std::chrono::steady_clock::now();
+    if (reference) {
+      image = fov::trace_reference(*scene, cam, display.width, display.height, tp);
+      j["trace_ms"] = ms_since(traced);
+      j["reconstruct_ms"] = 0.0;
+      j["rays"] = image.rays;
+      j["points_traced"] = nullptr;
+    } else {
+      const fov::point_samples samples = fov::trace_points(*scene, cam, set, gaze[0], gaze[1], k, tp);
+      j["trace_ms"] = ms_since(traced);
+      const auto rebuilt = std::chrono::steady_clock::now();
+      fov::reconstruct_params rp;
+      rp.how = how;
+      rp.k = k;
+      rp.renka = renka;
+      image = fov::reconstruct(set, samples, rp);
+      j["reconstruct_ms"] = ms_since(rebuilt);
+      j["rays"] = samples.rays;
+      j["points_traced"] = samples.traced.size();
+    }
+    j["taa_ms"] = nullptr;  // temporal anti-aliasing is not implemented yet
+    j["total_ms"] = ms_since(traced);
+    j["scene_load_ms"] = std::chrono::duration<double, std::milli>(traced - start).count();
+    j["width"] = display.width;
+    j["height"] = display.height;
+    j["spp"] = spp;
+    j["method"] = reference ? "reference" : fov::method_name(how);
+    if (!reference) j["k"] = k;
+
+    if (!output.empty()) fov::write_frame(image, output);
+    if (!compare.empty()) {
+      const fov::frame ref = fov::read_frame(compare);
+      if (ref.width != image.width || ref.height != image.height)
+        throw usage_error(fmt::format("--compare {}: {}x{} does not match the {}x{} frame", compare, ref.width,
+                                      ref.height, image.width, image.height));
+      const fov::frame_comparison c = fov::compare_frames(image, ref, display, gaze[0], gaze[1]);
+      j["metrics"] = {{"psnr", band_json(c.overall)["psnr"]}, {"ssim", c.overall.ssim},
+                      {"psnr_fovea", band_json(c.fovea)["psnr"]}, {"ssim_fovea", c.fovea.ssim},
+                      {"psnr_mid", band_json(c.mid)["psnr"]}, {"ssim_mid", c.mid.ssim},
+                      {"psnr_periphery", band_json(c.periphery)["psnr"]}, {"ssim_periphery", c.periphery.ssim},
+                      {"bands", {{"fovea", band_json(c.fovea)}, {"mid", band_json(c.mid)}, {"periphery", band_json(c.periphery)}}}};
+    }
+    if (as_json) {
+      std::cout << j.dump(2) << "\n";
+    } else {
+      fmt::print("{} {}x{}: {} rays, trace {:.1f} ms, reconstruct {:.1f} ms\n", j["method"].get<std::string>(),
+                 display.width, display.height, j["rays"].get<uint64_t>(), j["trace_ms"].get<double>(),
+                 j["reconstruct_ms"].get<double>());
+      if (j.contains("metrics")) {
+        const json& m = j["metrics"];
+        fmt::print("vs {}: PSNR {} dB, SSIM {:.4f} | fovea (<5 deg) {} dB {:.4f} | 5-30 deg {} dB {:.4f} | >30 deg {} dB {:.4f}\n",
+                   compare, m["psnr"].dump(), m["ssim"].get<double>(), m["psnr_fovea"].dump(),
+                   m["ssim_fovea"].get<double>(), m["psnr_mid"].dump(), m["ssim_mid"].get<double>(),
+                   m["psnr_periphery"].dump(), m["ssim_periphery"].get<double>());
+      }
+    }
+    return 0;
+  } catch (const CLI::CallForHelp&) {
+    std::cout << app.help();
+    return 0;
+  } catch (const CLI::ParseError& e) {
+    std::cerr << "fovrender: " << e.what() << " (see --help)\n";
+    return 2;
+  } catch (const usage_error& e) {
+    std::cerr << "fovrender: " << e.what() << "\n";
+    return 2;
+  } catch (const std::exception& e) {
+    std::cerr << "fovrender: " << e.what() << "\n";
+    return 1;
+  }
+}

@@ -1,0 +1,39 @@
+#!/usr/bin/env bash
+# fovrender's command line: bad flags give one line and exit 2, bad files exit 1, and
+# a small render, its reference and the comparison work end to end.
+set -uo pipefail
+fovrender=$1
+fovgen=$2
+dir=$(mktemp -d)
+trap 'rm -rf "$dir"' EXIT
+tool=fovrender
+source "$(dirname "$0")/cli_check.sh"
+
+"$fovgen" --width 64 --height 72 --k 8 --saturation 500 -o "$dir/set.fovset" >/dev/null
+set=(--points "$dir/set.fovset")
+check "no points"          2 -- "$fovrender" -o "$dir/a.png"
+check "nothing to do"      2 -- "$fovrender" "${set[@]}"
+check "unknown method"     2 -- "$fovrender" "${set[@]}" --method cubic -o "$dir/a.png"
+check "k above the set"    2 -- "$fovrender" "${set[@]}" --k 9 -o "$dir/a.png"
+check "spp zero"           2 -- "$fovrender" "${set[@]}" --spp 0 -o "$dir/a.png"
+check "gaze off screen"    2 -- "$fovrender" "${set[@]}" --gaze 100,10 -o "$dir/a.png"
+check "bad hfov"           2 -- "$fovrender" "${set[@]}" --hfov 200 -o "$dir/a.png"
+check "bad size"           2 -- "$fovrender" --reference --width 0 -o "$dir/a.png"
+check "missing set"        1 -- "$fovrender" --points "$dir/none.fovset" -o "$dir/a.png"
+check "missing scene"      1 -- "$fovrender" "${set[@]}" --scene "$dir/none.gltf" -o "$dir/a.png"
+check "unwritable output"  1 -- "$fovrender" "${set[@]}" --spp 1 -o "$dir/no/dir/a.png"
+check "reference"          0 -- "$fovrender" --reference "${set[@]}" --spp 4 -o "$dir/ref.exr"
+check "foveated"           0 -- "$fovrender" "${set[@]}" --spp 4 --k 5 -o "$dir/fov.png" --compare "$dir/ref.exr"
+check "nn"                 0 -- "$fovrender" "${set[@]}" --spp 4 --method nn --k 1 -o "$dir/nn.exr"
+check "size mismatch"      2 -- "$fovrender" --reference --width 32 --height 32 --spp 1 --compare "$dir/ref.exr"
+check "compare not image"  1 -- "$fovrender" "${set[@]}" --spp 1 --compare "$dir/set.fovset"
+
+json=$("$fovrender" "${set[@]}" --spp 4 --compare "$dir/ref.exr" --json)
+for key in trace_ms reconstruct_ms taa_ms total_ms rays points_traced psnr ssim psnr_fovea ssim_fovea psnr_mid psnr_periphery; do
+  grep -q "\"$key\":" <<<"$json" || { echo "FAIL --json lacks $key"; failures=$((failures + 1)); }
+done
+ls "$dir" | grep -q 'tmp-' && { echo "FAIL temporary files left: $(ls "$dir")"; failures=$((failures + 1)); }
+[[ -e "$dir/no" ]] && { echo "FAIL created a directory"; failures=$((failures + 1)); }
+
+echo "fovrender CLI: $passes passed, $failures failed"
+[[ $failures -eq 0 ]]

@@ -1,0 +1,198 @@
+#include <cmath>
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include "fov/dart_throwing.h"
+#include "fov/knn_table.h"
+#include "fov/metrics.h"
+#include "fov/reconstruct.h"
+
+namespace fov {
+namespace {
+
+// A small set with its table, and samples whose colours come from f(x, y) at each point.
+struct fixture {
+  pointset set;
+  point_samples samples;
+  template <class F>
+  fixture(int w, int h, double gx, double gy, F f) {
+    set.model.display = {w, h, 1.0};
+    set.points = throw_darts(set.model, {});
+    knn_params kp;
+    kp.k = 32;
+    set.table = build_knn_table(set.points, 2 * w, 2 * h, kp);
+    samples.offset = offset_for_gaze(set.model.display, gx, gy);
+    samples.colour.resize(set.points.size());
+    samples.depth.assign(set.points.size(), 2.0f);
+    for (size_t i = 0; i < set.points.size(); ++i) samples.colour[i] = f(set.points[i].x, set.points[i].y);
+  }
+};
+
+TEST(Shepard, PixelOnAPointReturnsItsValue) {
+  const double h[3] = {0.0, 1.0, 2.0};
+  const double f[3] = {7.0, 1.0, 2.0};
+  EXPECT_EQ(shepard_weighted(h, f, 3, false), 7.0);
+  const double h2[3] = {0.5, 0.0, 2.0};  // not first in the list: still exact
+  EXPECT_EQ(shepard_weighted(h2, f, 3, true), 1.0);
+}
+
+TEST(Shepard, EquidistantNeighboursGiveTheirMean) {
+  // All weights (R - h) / (R h) are zero: the documented result is the plain mean.
+  const double h[4] = {2.0, 2.0, 2.0, 2.0};
+  const double f[4] = {1.0, 2.0, 3.0, 6.0};
+  EXPECT_DOUBLE_EQ(shepard_weighted(h, f, 4, false), 3.0);
+  const double one_h[1] = {0.7}, one_f[1] = {5.0};
+  EXPECT_DOUBLE_EQ(shepard_weighted(one_h, one_f, 1, false), 5.0);  // k = 1 is nearest neighbour
+}
+
+TEST(Shepard, WeightsFollowEquationSix) {
+  // h = 1, 2, 4 (R = 4): w = 3/4, 2/8 = 1/4, 0 -> F = (0.75 * 10 + 0.25 * 20) / 1 = 12.5.
+  const double h[3] = {1, 2, 4};
+  const double f[3] = {10, 20, 1000};
+  EXPECT_DOUBLE_EQ(shepard_weighted(h, f, 3, false), 12.5);
+  // Renka: w^2 = 9/16, 1/16 -> (9 * 10 + 1 * 20) / 10 = 11.
+  EXPECT_DOUBLE_EQ(shepard_weighted(h, f, 3, true), 11.0);
+}
+
+TEST(Reconstruct, EveryMethodReproducesAConstantFieldAtEveryK) {
+  const glm::vec3 c(0.25f, 0.5f, 0.75f);
+  fixture fx(48, 40, 20, 25, [&](float, float) { return c; });
+  for (method m : {method::nn, method::shepard})
+    for (uint32_t k : {1u, 2u, 5u, 10u, 20u, 32u})
+      for (bool renka : {false, true}) {
+        reconstruct_params rp;
+        rp.how = m;
+        rp.k = k;
+        rp.renka = renka;
+        const frame f = reconstruct(fx.set, fx.samples, rp);
+        ASSERT_EQ(f.rgb.size(), 48u * 40u);
+        for (size_t i = 0; i < f.rgb.size(); ++i)
+          for (int ch = 0; ch < 3; ++ch)
+            ASSERT_NEAR(f.rgb[i][ch], c[ch], 1e-5 * c[ch]) << method_name(m) << " k=" << k << " pixel " << i;
+        EXPECT_FLOAT_EQ(f.depth[100], 2.0f);
+      }
+}
+
+TEST(Reconstruct, NearestNeighbourMatchesBruteForce) {
+  fixture fx(40, 32, 10, 10, [](float x, float y) { return glm::vec3(x, y, x * y); });
+  reconstruct_params rp;
+  rp.how = method::nn;
+  rp.k = 1;
+  const frame f = reconstruct(fx.set, fx.samples, rp);
+  for (int y = 0; y < 32; y += 3)
+    for (int x = 0; x < 40; x += 3) {
+      const float cx = float(x + fx.samples.offset.x) + 0.5f, cy = float(y + fx.samples.offset.y) + 0.5f;
+      const uint32_t nearest = brute_force_knn(fx.set.points, cx, cy, 1)[0];
+      ASSERT_EQ(f.rgb[size_t(y) * 40 + x], fx.samples.colour[nearest]);
+    }
+}
+
+TEST(Reconstruct, ShepardMatchesADoublePrecisionReferenceOnRandomFields) {
+  std::mt19937 random(3);
+  std::uniform_real_distribution<float> u(0, 1);
+  fixture fx(40, 32, 30, 5, [&](float, float) { return glm::vec3(u(random), u(random), u(random)); });
+  for (uint32_t k : {1u, 5u, 10u, 20u, 32u}) {
+    reconstruct_params rp;
+    rp.k = k;
+    const frame f = reconstruct(fx.set, fx.samples, rp);
+    for (int y = 0; y < 32; y += 5)
+      for (int x = 0; x < 40; x += 5) {
+        const double cx = x + fx.samples.offset.x + 0.5, cy = y + fx.samples.offset.y + 0.5;
+        const auto nn = brute_force_knn(fx.set.points, float(cx), float(cy), k);
+        double h[32], r[32];
+        for (uint32_t j = 0; j < k; ++j) {
+          const point& p = fx.set.points[nn[j]];
+          h[j] = std::hypot(double(p.x) - cx, double(p.y) - cy);
+          r[j] = fx.samples.colour[nn[j]].r;
+        }
+        ASSERT_NEAR(f.rgb[size_t(y) * 40 + x].r, shepard_weighted(h, r, k, false), 1e-6) << "k=" << k;
+      }
+  }
+}
+
+TEST(Reconstruct, RejectsKBeyondTheTable) {
+  fixture fx(16, 16, 8, 8, [](float, float) { return glm::vec3(1); });
+  reconstruct_params rp;
+  rp.k = 33;
+  EXPECT_THROW(reconstruct(fx.set, fx.samples, rp), std::invalid_argument);
+  rp.k = 0;
+  EXPECT_THROW(reconstruct(fx.set, fx.samples, rp), std::invalid_argument);
+}
+
+frame flat(int w, int h, float v) {
+  frame f;
+  f.width = w;
+  f.height = h;
+  f.rgb.assign(size_t(w) * h, glm::vec3(v));
+  return f;
+}
+
+float linear_of_byte(int b) {
+  const float s = float(b) / 255;
+  return s <= 0.04045f ? s / 12.92f : std::pow((s + 0.055f) / 1.055f, 2.4f);
+}
+
+TEST(Metrics, IdenticalFramesAreInfinitelyClose) {
+  const frame a = flat(32, 24, 0.3f);
+  const frame_comparison c = compare_frames(a, a, {32, 24, 1.0}, 16, 12);
+  EXPECT_TRUE(std::isinf(c.overall.psnr));
+  EXPECT_NEAR(c.overall.ssim, 1.0, 1e-9);
+  EXPECT_EQ(c.overall.pixels, 32u * 24u);
+}
+
+TEST(Metrics, AKnownOffsetGivesAKnownPsnr) {
+  // Displayed bytes 0 against 10 everywhere: MSE 100, PSNR = 10 log10(255^2 / 100) = 28.1308 dB.
+  const frame a = flat(32, 24, 0.0f), b = flat(32, 24, linear_of_byte(10));
+  const frame_comparison c = compare_frames(a, b, {32, 24, 1.0}, 16, 12);
+  EXPECT_NEAR(c.overall.psnr, 28.1308, 1e-3);
+  EXPECT_NEAR(c.fovea.psnr, 28.1308, 1e-3);
+}
+
+TEST(Metrics, NoiseLowersSsimAndPsnrAsExpected) {
+  // Uniform noise of +-20 display levels: MSE = 20^2 / 3 = 133.3 -> PSNR 26.88 dB.
+  frame a = flat(64, 64, linear_of_byte(128)), b = a;
+  std::mt19937 random(1);
+  std::uniform_int_distribution<int> noise(-20, 20);
+  double mse = 0;
+  for (glm::vec3& c : b.rgb)
+    for (int ch = 0; ch < 3; ++ch) {
+      const int n = noise(random);
+      c[ch] = linear_of_byte(128 + n);
+      mse += n * n;
+    }
+  mse /= 3.0 * 64 * 64;
+  const frame_comparison c = compare_frames(b, a, {64, 64, 1.0}, 32, 32);
+  EXPECT_NEAR(c.overall.psnr, 10 * std::log10(255.0 * 255.0 / mse), 1e-6);
+  EXPECT_NEAR(c.overall.psnr, 26.88, 0.3);
+  EXPECT_LT(c.overall.ssim, 0.9);
+  EXPECT_GT(c.overall.ssim, 0.0);
+}
+
+TEST(Metrics, EccentricityBandsOnATinyScreen) {
+  // 100 px wide at v = 1: 5 deg at 8.75 px, 30 deg at 57.7 px from the gaze.
+  const display_geometry d{100, 100, 1.0};
+  EXPECT_NEAR(pixel_eccentricity_deg(d, 0.5, 0.5, 0, 0), 0.0, 1e-12);
+  EXPECT_NEAR(pixel_eccentricity_deg(d, 0.5, 0.5, 100 - 1, 0), std::atan(99.0 / 100) * 180 / M_PI, 1e-9);
+  const frame a = flat(100, 100, 0.2f);
+  const frame_comparison c = compare_frames(a, a, d, 0, 0);
+  // Count pixel centres within 8.749 px and 57.735 px of the corner gaze.
+  uint64_t fovea = 0, mid = 0;
+  for (int y = 0; y < 100; ++y)
+    for (int x = 0; x < 100; ++x) {
+      const double r = std::hypot(x + 0.5, y + 0.5);
+      fovea += r < 100 * std::tan(5 * M_PI / 180);
+      mid += r >= 100 * std::tan(5 * M_PI / 180) && r < 100 * std::tan(30 * M_PI / 180);
+    }
+  EXPECT_EQ(c.fovea.pixels, fovea);
+  EXPECT_EQ(c.mid.pixels, mid);
+  EXPECT_EQ(c.fovea.pixels + c.mid.pixels + c.periphery.pixels, 10000u);
+  EXPECT_GT(c.periphery.pixels, 0u);
+}
+
+TEST(Metrics, MismatchedSizesAreRejected) {
+  EXPECT_THROW(compare_frames(flat(4, 4, 0), flat(4, 5, 0), {4, 4, 1.0}, 2, 2), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace fov
