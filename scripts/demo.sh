@@ -1,11 +1,13 @@
 #!/usr/bin/env bash
-# Installs dependencies, builds, generates the default point set (FOVE, s = 1.0)
-# and writes its pictures and a summary to out/demo/.
+# Installs dependencies, builds, generates the default point set (FOVE, s = 1.0), renders
+# the built-in scene foveated and at full resolution, and writes images and a
+# timing/quality summary to out/demo/.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 "$root/scripts/install-deps.sh"
 build=$("$root/scripts/build.sh" | tail -n 1)
 fovgen="$build/apps/fovgen"
+fovrender="$build/apps/fovrender"
 out="$root/out/demo"
 set_file="$root/precomputed/fove-s1.00.fovset"
 mkdir -p "$out"
@@ -18,21 +20,36 @@ fi
 "$fovgen" info "$set_file" --gaze corner --json > "$out/set-corner.json"
 "$fovgen" plot "$set_file" -o "$out/points.png"
 "$fovgen" plot "$set_file" --gaze centre -o "$out/points-gaze-centre.png"
-"$fovgen" plot "$set_file" --gaze corner -o "$out/points-gaze-corner.png"
+
+echo "rendering the built-in scene at 1280x1440, 32 rays per pixel (reference) and per point (foveated) ..."
+"$fovrender" --reference --points "$set_file" --spp 32 -o "$out/reference.exr" -o "$out/reference.png" --json > "$out/reference.json"
+for m in nn shepard; do
+  k=5; [[ $m == nn ]] && k=1
+  "$fovrender" --points "$set_file" --gaze centre --method $m --k $k --spp 32 \
+      -o "$out/foveated-$m.png" --compare "$out/reference.exr" --json > "$out/foveated-$m.json"
+done
 
 python3 - "$out" > "$out/summary.txt" <<'PY'
 import json, sys
 out = sys.argv[1]
 c = json.load(open(f"{out}/set-centre.json")); k = json.load(open(f"{out}/set-corner.json"))
-gen = c.get("generation_seconds")
+ref = json.load(open(f"{out}/reference.json"))
 print(f"point set        {c['file']}")
 print(f"screen           {c['width']}x{c['height']}, v = {c['viewing_distance']}, s = {c['scale']}, k = {c['k']}")
 print(f"points           {c['points_total']} (free area left {c['free_fraction']:.2e}, spacing violations {c['spacing_violations']})")
 print(f"traced, centred  {c['points_traced']} ({100*c['traced_fraction']:.2f} %)   thesis Table 1: 420,248 (72.86 %)")
 print(f"traced, corner   {k['points_traced']} ({100*k['traced_fraction']:.2f} %)   thesis Table 1: 153,857 (26.68 %)")
-print(f"generation       {gen:.1f} s" if gen is not None else "generation       (time not recorded: set made elsewhere)")
-print(f"file             {c['file_bytes']/1e6:.1f} MB")
-print(f"pictures         {out}/points.png, points-gaze-centre.png, points-gaze-corner.png")
+print()
+print(f"built-in scene, centred gaze, 32 rays per sample; times from this run (one frame each)")
+print(f"{'':12} {'rays':>10} {'trace ms':>9} {'recon ms':>9} {'speedup':>8} {'PSNR dB':>8} {'SSIM':>6} {'PSNR <5deg':>10} {'5-30deg':>8} {'>30deg':>7}")
+print(f"{'reference':12} {ref['rays']:>10} {ref['trace_ms']:>9.0f} {'':>9} {'1.00':>8}")
+for m in ("nn", "shepard"):
+    f = json.load(open(f"{out}/foveated-{m}.json")); mt = f["metrics"]
+    speed = ref["total_ms"] / f["total_ms"]
+    print(f"{m + ' k=' + str(f['k']):12} {f['rays']:>10} {f['trace_ms']:>9.0f} {f['reconstruct_ms']:>9.0f} {speed:>8.2f} "
+          f"{mt['psnr']:>8.2f} {mt['ssim']:>6.3f} {mt['psnr_fovea']:>10.2f} {mt['psnr_mid']:>8.2f} {mt['psnr_periphery']:>7.2f}")
+print()
+print(f"images           {out}/reference.png, foveated-nn.png, foveated-shepard.png, points*.png")
+print("not yet: RBF, OpenCL kernels, temporal anti-aliasing (issue 4)")
 PY
 cat "$out/summary.txt"
-echo "(the renderer is not built yet: images of a scene will follow with fovrender)"

@@ -30,7 +30,8 @@ json band_json(const fov::band_metrics& m) {
 
 int main(int argc, char** argv) {
   CLI::App app{"fovrender: render one frame foveated (or at full resolution) and measure it"};
-  std::string scene_spec = "builtin", points_file, gaze_text = "centre", method_text = "shepard", output, compare;
+  std::string scene_spec = "builtin", points_file, gaze_text = "centre", method_text = "shepard", compare;
+  std::vector<std::string> outputs;
   uint32_t k = 5, spp = 32;
   uint64_t seed = 1;
   int width = 1280, height = 1440;
@@ -49,7 +50,7 @@ int main(int argc, char** argv) {
   app.add_option("--height", height, "Screen height without --points");
   app.add_option("--hfov", hfov, "Horizontal field of view in degrees (default: the scene's camera, else 90)");
   app.add_flag("--no-shadows", no_shadows, "Skip shadow rays");
-  app.add_option("-o,--output", output, "Output image (.exr linear, .png sRGB)");
+  app.add_option("-o,--output", outputs, "Output image (.exr linear, .png sRGB); may be repeated");
   app.add_option("--compare", compare, "Reference image: print PSNR/SSIM overall and by eccentricity band");
   app.add_flag("--json", as_json, "Print JSON");
   try {
@@ -59,7 +60,7 @@ int main(int argc, char** argv) {
       throw usage_error(fmt::format("--method: unknown '{}' (nn, shepard; rbf is not implemented yet)", method_text));
     if (spp < 1 || spp > 65535) throw usage_error(fmt::format("--spp must lie in 1..65535 (got {})", spp));
     if (hfov != 0 && !(hfov > 0 && hfov < 180)) throw usage_error(fmt::format("--hfov must lie in (0, 180) (got {})", hfov));
-    if (output.empty() && compare.empty()) throw usage_error("nothing to do: give -o and/or --compare");
+    if (outputs.empty() && compare.empty()) throw usage_error("nothing to do: give -o and/or --compare");
     if (!reference && points_file.empty()) throw usage_error("--points is required unless --reference");
 
     fov::pointset set;
@@ -116,7 +117,7 @@ int main(int argc, char** argv) {
     j["method"] = reference ? "reference" : fov::method_name(how);
     if (!reference) j["k"] = k;
 
-    if (!output.empty()) fov::write_frame(image, output);
+    for (const std::string& output : outputs) fov::write_frame(image, output);
     if (!compare.empty()) {
       const fov::frame ref = fov::read_frame(compare);
       if (ref.width != image.width || ref.height != image.height)
