@@ -50,6 +50,6 @@ for m in ("nn", "shepard"):
           f"{mt['psnr']:>8.2f} {mt['ssim']:>6.3f} {mt['psnr_fovea']:>10.2f} {mt['psnr_mid']:>8.2f} {mt['psnr_periphery']:>7.2f}")
 print()
 print(f"images           {out}/reference.png, foveated-nn.png, foveated-shepard.png, points*.png")
-print("not yet: RBF, OpenCL kernels, temporal anti-aliasing (issue 4)")
+print("RBF: fovrender --method rbf (slow on this C++ path; see docs/reconstruction.md). Not yet: OpenCL kernels, TAA")
 PY
 cat "$out/summary.txt"

@@ -196,3 +196,95 @@ TEST(Metrics, MismatchedSizesAreRejected) {
 
 }  // namespace
 }  // namespace fov
+
+namespace fov {
+namespace {
+
+TEST(Rbf, ReproducesAConstantFieldAtEveryKWithBothKernels) {
+  const glm::vec3 c(0.25f, 0.5f, 0.75f);
+  fixture fx(40, 36, 20, 18, [&](float, float) { return c; });
+  for (rbf_kernel kernel : {rbf_kernel::multiquadric, rbf_kernel::gaussian})
+    for (uint32_t k : {1u, 2u, 5u, 10u, 20u, 32u}) {
+      reconstruct_params rp;
+      rp.how = method::rbf;
+      rp.k = k;
+      rp.kernel = kernel;
+      rbf_stats stats;
+      const frame f = reconstruct(fx.set, fx.samples, rp, &stats);
+      for (size_t i = 0; i < f.rgb.size(); ++i)
+        for (int ch = 0; ch < 3; ++ch) ASSERT_NEAR(f.rgb[i][ch], c[ch], 1e-5 * c[ch]) << "k=" << k << " pixel " << i;
+      EXPECT_EQ(stats.pixels, 40u * 36u);
+      EXPECT_GT(stats.sampled, 0u);
+      EXPECT_TRUE(std::isfinite(stats.worst_condition));
+      EXPECT_GE(stats.worst_condition, 1.0);
+    }
+}
+
+TEST(Rbf, InterpolatesExactlyAtThePoints) {
+  const double x[4] = {0, 1.3, 0.2, 2.0}, y[4] = {0, 0.1, 1.7, 1.1};
+  double w[4];
+  for (int at = 0; at < 4; ++at) {
+    ASSERT_TRUE(rbf_weights(x, y, 4, x[at], y[at], 0.8, rbf_kernel::multiquadric, w));
+    for (int i = 0; i < 4; ++i) EXPECT_NEAR(w[i], i == at ? 1.0 : 0.0, 1e-9);
+  }
+}
+
+// The thesis's form: solve [A 1; 1' 0] [lambda; mu] = [f; 0] and evaluate
+// s(x) = sum lambda_i phi(|x - x_i|) + mu, by Gauss-Jordan elimination.
+double rbf_by_coefficients(const double* x, const double* y, const double* f, int k, double px, double py, double c) {
+  const int n = k + 1;
+  std::vector<double> m(size_t(n) * (n + 1));
+  auto at = [&](int r, int col) -> double& { return m[size_t(r) * (n + 1) + col]; };
+  for (int i = 0; i < k; ++i) {
+    for (int j = 0; j < k; ++j) at(i, j) = std::sqrt(std::pow(std::hypot(x[i] - x[j], y[i] - y[j]), 2) + c * c);
+    at(i, k) = at(k, i) = 1;
+    at(i, n) = f[i];
+  }
+  at(k, k) = 0;
+  at(k, n) = 0;
+  for (int col = 0; col < n; ++col) {
+    int best = col;
+    for (int r = col + 1; r < n; ++r)
+      if (std::fabs(at(r, col)) > std::fabs(at(best, col))) best = r;
+    for (int j = 0; j <= n; ++j) std::swap(at(col, j), at(best, j));
+    for (int r = 0; r < n; ++r) {
+      if (r == col) continue;
+      const double g = at(r, col) / at(col, col);
+      for (int j = col; j <= n; ++j) at(r, j) -= g * at(col, j);
+    }
+  }
+  double s = at(k, n) / at(k, k);
+  for (int i = 0; i < k; ++i) s += at(i, n) / at(i, i) * std::sqrt(std::pow(std::hypot(px - x[i], py - y[i]), 2) + c * c);
+  return s;
+}
+
+TEST(Rbf, WeightsAgreeWithSolvingForCoefficients) {
+  std::mt19937 random(5);
+  std::uniform_real_distribution<double> u(0, 4);
+  for (int k : {1, 3, 5, 10, 20, 32}) {
+    std::vector<double> x(k), y(k), f(k), w(k);
+    for (int i = 0; i < k; ++i) x[i] = u(random), y[i] = u(random), f[i] = u(random);
+    const double px = u(random), py = u(random);
+    ASSERT_TRUE(rbf_weights(x.data(), y.data(), uint32_t(k), px, py, 1.1, rbf_kernel::multiquadric, w.data()));
+    double s = 0;
+    for (int i = 0; i < k; ++i) s += w[i] * f[i];
+    EXPECT_NEAR(s, rbf_by_coefficients(x.data(), y.data(), f.data(), k, px, py, 1.1), 1e-7) << "k=" << k;
+  }
+}
+
+TEST(Rbf, DuplicatePointsFallBackToShepard) {
+  const double x[3] = {1, 1, 2}, y[3] = {1, 1, 0};
+  double w[3];
+  EXPECT_FALSE(rbf_weights(x, y, 3, 0.5, 0.5, 1.0, rbf_kernel::multiquadric, w));
+}
+
+TEST(Rbf, RejectsANonPositiveShape) {
+  fixture fx(16, 16, 8, 8, [](float, float) { return glm::vec3(1); });
+  reconstruct_params rp;
+  rp.how = method::rbf;
+  rp.shape = 0;
+  EXPECT_THROW(reconstruct(fx.set, fx.samples, rp), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace fov

@@ -33,6 +33,8 @@ int main(int argc, char** argv) {
   std::string scene_spec = "builtin", points_file, gaze_text = "centre", method_text = "shepard", compare;
   std::vector<std::string> outputs;
   uint32_t k = 5, spp = 32;
+  std::string kernel_text = "multiquadric";
+  double shape = 1.0;
   uint64_t seed = 1;
   int width = 1280, height = 1440;
   double hfov = 0;
@@ -40,9 +42,11 @@ int main(int argc, char** argv) {
   app.add_option("--scene", scene_spec, "builtin, a glTF/OBJ file, or env:IMAGE");
   app.add_option("--points", points_file, "Point set (.fovset); gives the screen size");
   app.add_option("--gaze", gaze_text, "X,Y in screen pixels, centre or corner");
-  app.add_option("--method", method_text, "nn or shepard");
+  app.add_option("--method", method_text, "nn, shepard or rbf");
   app.add_option("--k", k, "Neighbours each pixel reads (1..the set's k)");
   app.add_flag("--renka", renka, "Shepard with Renka's squared weights");
+  app.add_option("--rbf-kernel", kernel_text, "RBF kernel: multiquadric or gaussian");
+  app.add_option("--rbf-shape", shape, "RBF shape c in units of the neighbours' mean spacing p");
   app.add_option("--spp", spp, "Rays per point (foveated) or per pixel (reference)");
   app.add_option("--seed", seed, "Seed of the ray positions");
   app.add_flag("--reference", reference, "Render at full resolution instead");
@@ -57,7 +61,10 @@ int main(int argc, char** argv) {
     app.parse(argc, argv);
     fov::method how;
     if (!fov::parse_method(method_text, how))
-      throw usage_error(fmt::format("--method: unknown '{}' (nn, shepard; rbf is not implemented yet)", method_text));
+      throw usage_error(fmt::format("--method: unknown '{}' (nn, shepard, rbf)", method_text));
+    if (kernel_text != "multiquadric" && kernel_text != "gaussian")
+      throw usage_error(fmt::format("--rbf-kernel: unknown '{}' (multiquadric, gaussian)", kernel_text));
+    if (!(shape > 0) || !std::isfinite(shape)) throw usage_error(fmt::format("--rbf-shape must be positive (got {})", shape));
     if (spp < 1 || spp > 65535) throw usage_error(fmt::format("--spp must lie in 1..65535 (got {})", spp));
     if (hfov != 0 && !(hfov > 0 && hfov < 180)) throw usage_error(fmt::format("--hfov must lie in (0, 180) (got {})", hfov));
     if (outputs.empty() && compare.empty()) throw usage_error("nothing to do: give -o and/or --compare");
@@ -103,8 +110,14 @@ int main(int argc, char** argv) {
       rp.how = how;
       rp.k = k;
       rp.renka = renka;
-      image = fov::reconstruct(set, samples, rp);
+      rp.kernel = kernel_text == "gaussian" ? fov::rbf_kernel::gaussian : fov::rbf_kernel::multiquadric;
+      rp.shape = shape;
+      fov::rbf_stats rbf;
+      image = fov::reconstruct(set, samples, rp, how == fov::method::rbf ? &rbf : nullptr);
       j["reconstruct_ms"] = ms_since(rebuilt);
+      if (how == fov::method::rbf)
+        j["rbf"] = {{"kernel", kernel_text}, {"shape", shape}, {"fallbacks", rbf.fallbacks},
+                    {"worst_condition", rbf.worst_condition}, {"condition_sampled_pixels", rbf.sampled}};
       j["rays"] = samples.rays;
       j["points_traced"] = samples.traced.size();
     }

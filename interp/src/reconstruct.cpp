@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <limits>
+#include <mutex>
 #include <stdexcept>
 
 #include <fmt/format.h>
@@ -27,6 +28,7 @@ const char* method_name(method m) {
   switch (m) {
     case method::nn: return "nn";
     case method::shepard: return "shepard";
+    case method::rbf: return "rbf";
   }
   return "unknown";
 }
@@ -34,14 +36,98 @@ const char* method_name(method m) {
 bool parse_method(const std::string& name, method& out) {
   if (name == "nn") { out = method::nn; return true; }
   if (name == "shepard") { out = method::shepard; return true; }
+  if (name == "rbf") { out = method::rbf; return true; }
   return false;
 }
 
-frame reconstruct(const pointset& set, const point_samples& samples, const reconstruct_params& params) {
+namespace {
+
+double phi(double r, double c, rbf_kernel kernel) {
+  return kernel == rbf_kernel::multiquadric ? std::sqrt(r * r + c * c) : std::exp(-(r * r) / (c * c));
+}
+
+// In-place LU with partial pivoting of the n x n row-major matrix m; false if singular.
+bool lu_factor(double* m, int n, int* pivot) {
+  double scale = 0;
+  for (int i = 0; i < n * n; ++i) scale = std::max(scale, std::fabs(m[i]));
+  for (int col = 0; col < n; ++col) {
+    int best = col;
+    for (int r = col + 1; r < n; ++r)
+      if (std::fabs(m[r * n + col]) > std::fabs(m[best * n + col])) best = r;
+    if (!(std::fabs(m[best * n + col]) > 1e-13 * scale)) return false;
+    pivot[col] = best;
+    if (best != col)
+      for (int j = 0; j < n; ++j) std::swap(m[col * n + j], m[best * n + j]);
+    for (int r = col + 1; r < n; ++r) {
+      const double f = m[r * n + col] /= m[col * n + col];
+      for (int j = col + 1; j < n; ++j) m[r * n + j] -= f * m[col * n + j];
+    }
+  }
+  return true;
+}
+
+void lu_solve(const double* m, int n, const int* pivot, double* b) {
+  for (int i = 0; i < n; ++i) {
+    std::swap(b[i], b[pivot[i]]);
+    for (int j = 0; j < i; ++j) b[i] -= m[i * n + j] * b[j];
+  }
+  for (int i = n - 1; i >= 0; --i) {
+    for (int j = i + 1; j < n; ++j) b[i] -= m[i * n + j] * b[j];
+    b[i] /= m[i * n + i];
+  }
+}
+
+constexpr int max_system = 33;  // 32 neighbours + the constant term
+
+}  // namespace
+
+bool rbf_weights(const double* px, const double* py, uint32_t k, double x, double y, double c, rbf_kernel kernel,
+                 double* w, double* condition) {
+  const int n = int(k) + 1;
+  double m[max_system * max_system];
+  int pivot[max_system];
+  for (uint32_t i = 0; i < k; ++i) {
+    for (uint32_t j = 0; j < k; ++j) m[i * n + j] = phi(std::hypot(px[i] - px[j], py[i] - py[j]), c, kernel);
+    m[i * n + k] = m[k * n + i] = 1;
+  }
+  m[k * n + k] = 0;
+  double norm = 0;  // 1-norm of the system, for the condition number
+  if (condition)
+    for (int j = 0; j < n; ++j) {
+      double col = 0;
+      for (int i = 0; i < n; ++i) col += std::fabs(m[i * n + j]);
+      norm = std::max(norm, col);
+    }
+  if (!lu_factor(m, n, pivot)) return false;
+  double b[max_system];
+  for (uint32_t i = 0; i < k; ++i) b[i] = phi(std::hypot(x - px[i], y - py[i]), c, kernel);
+  b[k] = 1;
+  lu_solve(m, n, pivot, b);
+  for (uint32_t i = 0; i < k; ++i) w[i] = b[i];
+  if (condition) {  // ||M^-1||_1 from the inverse's columns
+    double inverse_norm = 0;
+    for (int j = 0; j < n; ++j) {
+      double e[max_system] = {};
+      e[j] = 1;
+      lu_solve(m, n, pivot, e);
+      double col = 0;
+      for (int i = 0; i < n; ++i) col += std::fabs(e[i]);
+      inverse_norm = std::max(inverse_norm, col);
+    }
+    *condition = norm * inverse_norm;
+  }
+  return true;
+}
+
+frame reconstruct(const pointset& set, const point_samples& samples, const reconstruct_params& params,
+                  rbf_stats* stats) {
   const knn_table& t = set.table;
   if (params.k < 1 || params.k > t.k)
     throw std::invalid_argument(fmt::format("k must lie in 1..{} (the set's k), got {}", t.k, params.k));
   if (samples.colour.size() != set.points.size()) throw std::invalid_argument("samples do not belong to this set");
+  if (params.how == method::rbf && !(params.shape > 0 && std::isfinite(params.shape)))
+    throw std::invalid_argument("RBF shape must be positive");
+  std::mutex stats_lock;
   const int w = set.model.display.width, h = set.model.display.height;
   const canvas_offset o = samples.offset;
   frame out;
@@ -53,7 +139,9 @@ frame reconstruct(const pointset& set, const point_samples& samples, const recon
   constexpr float infinity = std::numeric_limits<float>::infinity();
   tbb::parallel_for(tbb::blocked_range<int>(0, h, 8), [&](const tbb::blocked_range<int>& rows) {
     double dist[max_neighbours], dist_hit[max_neighbours], depth[max_neighbours];
+    double xs[max_neighbours], ys[max_neighbours], spacing_of[max_neighbours], rbf_w[max_neighbours];
     rgbd value[max_neighbours];
+    rbf_stats local;
     for (int sy = rows.begin(); sy < rows.end(); ++sy) {
       const uint64_t row = uint64_t(sy + o.y) * t.width + uint64_t(o.x);
       const double py = sy + o.y + 0.5;
@@ -71,14 +159,37 @@ frame reconstruct(const pointset& set, const point_samples& samples, const recon
           const uint32_t i = t.entries[t.offset(row + sx, j)];
           const point& p = set.points[i];
           dist[j] = std::hypot(double(p.x) - px, double(p.y) - py);
+          xs[j] = p.x, ys[j] = p.y, spacing_of[j] = p.spacing;
           const glm::vec3& c = samples.colour[i];
           value[j] = {c.r, c.g, c.b};
           if (std::isfinite(samples.depth[i])) dist_hit[hits] = dist[j], depth[hits++] = samples.depth[i];
         }
-        const rgbd c = shepard_weighted(dist, value, k, params.renka);
+        rgbd c;
+        bool done = false;
+        if (params.how == method::rbf) {
+          double spacing = 0;
+          for (uint32_t j = 0; j < k; ++j) spacing += spacing_of[j];
+          const bool sample = stats && ((sy * 131 + sx) % 257 == 0);
+          double condition = 0;
+          ++local.pixels;
+          if (rbf_weights(xs, ys, k, px, py, params.shape * spacing / k, params.kernel, rbf_w,
+                          sample ? &condition : nullptr)) {
+            for (uint32_t j = 0; j < k; ++j) c = c + value[j] * rbf_w[j];
+            done = true;
+            if (sample) ++local.sampled, local.worst_condition = std::max(local.worst_condition, condition);
+          } else {
+            ++local.fallbacks;
+          }
+        }
+        if (!done) c = shepard_weighted(dist, value, k, params.renka);
         out.rgb[at] = glm::vec3(float(c.r), float(c.g), float(c.b));
         out.depth[at] = hits ? float(shepard_weighted(dist_hit, depth, hits, params.renka)) : infinity;
       }
+    }
+    if (stats) {
+      std::lock_guard<std::mutex> guard(stats_lock);
+      stats->pixels += local.pixels, stats->fallbacks += local.fallbacks, stats->sampled += local.sampled;
+      stats->worst_condition = std::max(stats->worst_condition, local.worst_condition);
     }
   });
   return out;
