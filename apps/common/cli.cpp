@@ -3,9 +3,33 @@
 #include <cmath>
 #include <cstdlib>
 
+#include <iostream>
+
 #include <fmt/format.h>
 
 namespace fov {
+
+int run_tool(const char* tool, CLI::App& app, int argc, char** argv, const std::function<int()>& body) {
+  try {
+    app.parse(argc, argv);
+    return body();
+  } catch (const CLI::CallForHelp&) {
+    std::cout << app.help();
+    return 0;
+  } catch (const CLI::CallForAllHelp&) {
+    std::cout << app.help("", CLI::AppFormatMode::All);
+    return 0;
+  } catch (const CLI::ParseError& e) {
+    std::cerr << tool << ": " << e.what() << " (see --help)\n";
+    return 2;
+  } catch (const usage_error& e) {
+    std::cerr << tool << ": " << e.what() << "\n";
+    return 2;
+  } catch (const std::exception& e) {
+    std::cerr << tool << ": " << e.what() << "\n";
+    return 1;
+  }
+}
 
 bool parse_gaze(const std::string& text, const display_geometry& d, double xy[2]) {
   if (text == "centre" || text == "center") { xy[0] = 0.5 * d.width; xy[1] = 0.5 * d.height; return true; }

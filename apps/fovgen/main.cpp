@@ -300,8 +300,7 @@ int main(int argc, char** argv) {
   sweep->add_option("-o,--output", sweep_dir, "Output directory")->required();
   sweep->add_flag("--skip-existing", skip_existing, "Keep sets already in the directory that load cleanly");
 
-  try {
-    app.parse(argc, argv);
+  return fov::run_tool("fovgen", app, argc, argv, [&] {
     if (*info) return run_info(info_file, info_gaze, info_k, info_json);
     if (*plot) {
       fov::load_params lp;
@@ -370,23 +369,5 @@ int main(int argc, char** argv) {
       return 0;
     }
     return run_generate(app, gen, output);
-  } catch (const CLI::CallForHelp&) {
-    std::cout << app.help();
-    return 0;
-  } catch (const CLI::CallForAllHelp&) {
-    std::cout << app.help("", CLI::AppFormatMode::All);
-    return 0;
-  } catch (const CLI::ParseError& e) {
-    std::cerr << "fovgen: " << e.what() << " (see --help)\n";
-    return 2;
-  } catch (const usage_error& e) {
-    std::cerr << "fovgen: " << e.what() << "\n";
-    return 2;
-  } catch (const fov::file_error& e) {
-    std::cerr << "fovgen: " << e.what() << "\n";
-    return 1;
-  } catch (const std::exception& e) {
-    std::cerr << "fovgen: " << e.what() << "\n";
-    return 1;
-  }
+  });
 }

@@ -57,8 +57,7 @@ int main(int argc, char** argv) {
   app.add_option("-o,--output", outputs, "Output image (.exr linear, .png sRGB); may be repeated");
   app.add_option("--compare", compare, "Reference image: print PSNR/SSIM overall and by eccentricity band");
   app.add_flag("--json", as_json, "Print JSON");
-  try {
-    app.parse(argc, argv);
+  return fov::run_tool("fovrender", app, argc, argv, [&] {
     fov::method how;
     if (!fov::parse_method(method_text, how))
       throw usage_error(fmt::format("--method: unknown '{}' (nn, shepard, rbf)", method_text));
@@ -158,17 +157,5 @@ int main(int argc, char** argv) {
       }
     }
     return 0;
-  } catch (const CLI::CallForHelp&) {
-    std::cout << app.help();
-    return 0;
-  } catch (const CLI::ParseError& e) {
-    std::cerr << "fovrender: " << e.what() << " (see --help)\n";
-    return 2;
-  } catch (const usage_error& e) {
-    std::cerr << "fovrender: " << e.what() << "\n";
-    return 2;
-  } catch (const std::exception& e) {
-    std::cerr << "fovrender: " << e.what() << "\n";
-    return 1;
-  }
+  });
 }
