@@ -50,6 +50,7 @@ for m in ("nn", "shepard"):
           f"{mt['psnr']:>8.2f} {mt['ssim']:>6.3f} {mt['psnr_fovea']:>10.2f} {mt['psnr_mid']:>8.2f} {mt['psnr_periphery']:>7.2f}")
 print()
 print(f"images           {out}/reference.png, foveated-nn.png, foveated-shepard.png, points*.png")
-print("RBF: fovrender --method rbf (slow on this C++ path; see docs/reconstruction.md). Not yet: OpenCL kernels, TAA")
+print("reconstruction ran on:", json.load(open(f"{out}/foveated-shepard.json"))["device"])
+print("RBF: fovrender --method rbf (C++ path only so far; see docs/reconstruction.md). Not yet: TAA")
 PY
 cat "$out/summary.txt"

@@ -20,6 +20,8 @@ check "gaze off screen"    2 -- "$fovrender" "${set[@]}" --gaze 100,10 -o "$dir/
 check "bad rbf kernel"     2 -- "$fovrender" "${set[@]}" --method rbf --rbf-kernel cubic -o "$dir/a.png"
 check "bad rbf shape"      2 -- "$fovrender" "${set[@]}" --method rbf --rbf-shape -1 -o "$dir/a.png"
 check "rbf"                0 -- "$fovrender" "${set[@]}" --spp 2 --method rbf --k 8 -o "$dir/rbf.png"
+check "bad device"         2 -- "$fovrender" "${set[@]}" --device tpu -o "$dir/a.png"
+check "cpp device"         0 -- "$fovrender" "${set[@]}" --spp 2 --device cpp -o "$dir/cpp.png"
 check "bad hfov"           2 -- "$fovrender" "${set[@]}" --hfov 200 -o "$dir/a.png"
 check "bad size"           2 -- "$fovrender" --reference --width 0 -o "$dir/a.png"
 check "missing set"        1 -- "$fovrender" --points "$dir/none.fovset" -o "$dir/a.png"

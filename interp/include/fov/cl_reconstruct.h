@@ -1,0 +1,37 @@
+// Reconstruction on an OpenCL device (PoCL on the CPU here), with the C++ path behind it.
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include "fov/reconstruct.h"
+
+namespace fov {
+
+class cl_reconstructor {
+ public:
+  // Builds the kernels and uploads the set's points and table once. Never throws for a
+  // missing or failing OpenCL platform: available() is then false and reason() says why.
+  // The table is copied to the device once (on PoCL that is a second copy in host
+  // memory); the set must outlive the reconstructor, which falls back to it.
+  explicit cl_reconstructor(const pointset& set);
+  ~cl_reconstructor();
+  cl_reconstructor(const cl_reconstructor&) = delete;
+  cl_reconstructor& operator=(const cl_reconstructor&) = delete;
+
+  bool available() const;
+  const std::string& device() const;  // platform and device names
+  const std::string& reason() const;  // why unavailable
+
+  // nn and shepard run on the device; rbf (not yet a kernel) and everything when the
+  // device is unavailable run on the C++ path. `on_device` tells which ran.
+  frame run(const point_samples& samples, const reconstruct_params& params, bool* on_device = nullptr,
+            rbf_stats* stats = nullptr);
+
+ private:
+  struct impl;
+  std::unique_ptr<impl> impl_;
+  const pointset& set_;
+};
+
+}  // namespace fov

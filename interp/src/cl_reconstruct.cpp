@@ -1,0 +1,185 @@
+#define CL_TARGET_OPENCL_VERSION 120
+#include "fov/cl_reconstruct.h"
+
+#include <CL/cl.h>
+
+#include <cmath>
+#include <stdexcept>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "fov/kernel_sources.h"
+
+namespace fov {
+
+namespace {
+
+struct cl_failure : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+void check(cl_int status, const char* what) {
+  if (status != CL_SUCCESS) throw cl_failure(fmt::format("{} failed (OpenCL error {})", what, status));
+}
+
+std::string info_string(cl_platform_id p, cl_platform_info what) {
+  size_t n = 0;
+  clGetPlatformInfo(p, what, 0, nullptr, &n);
+  std::string s(n, '\0');
+  clGetPlatformInfo(p, what, n, s.data(), nullptr);
+  while (!s.empty() && s.back() == '\0') s.pop_back();
+  return s;
+}
+
+std::string device_string(cl_device_id d, cl_device_info what) {
+  size_t n = 0;
+  clGetDeviceInfo(d, what, 0, nullptr, &n);
+  std::string s(n, '\0');
+  clGetDeviceInfo(d, what, n, s.data(), nullptr);
+  while (!s.empty() && s.back() == '\0') s.pop_back();
+  return s;
+}
+
+}  // namespace
+
+struct cl_reconstructor::impl {
+  bool ok = false;
+  std::string device, reason;
+  cl_context context = nullptr;
+  cl_command_queue queue = nullptr;
+  cl_program program = nullptr;
+  cl_kernel nn = nullptr, shepard = nullptr;
+  cl_mem table = nullptr, position = nullptr, colour = nullptr, depth = nullptr, out_rgb = nullptr, out_depth = nullptr;
+  std::vector<cl_float4> colour_host;
+  std::vector<float> out_host;
+
+  ~impl() {
+    for (cl_mem m : {table, position, colour, depth, out_rgb, out_depth})
+      if (m) clReleaseMemObject(m);
+    for (cl_kernel k : {nn, shepard})
+      if (k) clReleaseKernel(k);
+    if (program) clReleaseProgram(program);
+    if (queue) clReleaseCommandQueue(queue);
+    if (context) clReleaseContext(context);
+  }
+
+  void setup(const pointset& set) {
+    cl_uint platforms = 0;
+    if (clGetPlatformIDs(0, nullptr, &platforms) != CL_SUCCESS || platforms == 0) throw cl_failure("no OpenCL platform");
+    std::vector<cl_platform_id> ids(platforms);
+    check(clGetPlatformIDs(platforms, ids.data(), nullptr), "clGetPlatformIDs");
+    cl_device_id dev = nullptr;
+    for (cl_platform_id p : ids) {
+      cl_uint n = 0;
+      if (clGetDeviceIDs(p, CL_DEVICE_TYPE_ALL, 1, &dev, &n) == CL_SUCCESS && n > 0) {
+        device = info_string(p, CL_PLATFORM_NAME) + " / " + device_string(dev, CL_DEVICE_NAME);
+        break;
+      }
+      dev = nullptr;
+    }
+    if (!dev) throw cl_failure("no OpenCL device");
+    cl_int status = 0;
+    context = clCreateContext(nullptr, 1, &dev, nullptr, nullptr, &status);
+    check(status, "clCreateContext");
+    queue = clCreateCommandQueue(context, dev, 0, &status);
+    check(status, "clCreateCommandQueue");
+    const char* source = kernel_sources::reconstruct;
+    program = clCreateProgramWithSource(context, 1, &source, nullptr, &status);
+    check(status, "clCreateProgramWithSource");
+    if (clBuildProgram(program, 1, &dev, "-cl-std=CL1.2", nullptr, nullptr) != CL_SUCCESS) {
+      size_t n = 0;
+      clGetProgramBuildInfo(program, dev, CL_PROGRAM_BUILD_LOG, 0, nullptr, &n);
+      std::string log(n, '\0');
+      clGetProgramBuildInfo(program, dev, CL_PROGRAM_BUILD_LOG, n, log.data(), nullptr);
+      throw cl_failure("kernel build failed: " + log.substr(0, 300));
+    }
+    nn = clCreateKernel(program, "reconstruct_nn", &status);
+    check(status, "clCreateKernel(reconstruct_nn)");
+    shepard = clCreateKernel(program, "reconstruct_shepard", &status);
+    check(status, "clCreateKernel(reconstruct_shepard)");
+
+    const knn_table& t = set.table;
+    table = clCreateBuffer(context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, t.entries.size() * sizeof(uint32_t),
+                           const_cast<uint32_t*>(t.entries.data()), &status);
+    check(status, "table buffer");
+    std::vector<cl_float2> xy(set.points.size());
+    for (size_t i = 0; i < xy.size(); ++i) xy[i] = {{set.points[i].x, set.points[i].y}};
+    position = clCreateBuffer(context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, xy.size() * sizeof(cl_float2),
+                              xy.data(), &status);
+    check(status, "position buffer");
+    colour = clCreateBuffer(context, CL_MEM_READ_ONLY, set.points.size() * sizeof(cl_float4), nullptr, &status);
+    check(status, "colour buffer");
+    depth = clCreateBuffer(context, CL_MEM_READ_ONLY, set.points.size() * sizeof(float), nullptr, &status);
+    check(status, "depth buffer");
+    const size_t pixels = size_t(set.model.display.width) * set.model.display.height;
+    out_rgb = clCreateBuffer(context, CL_MEM_WRITE_ONLY, pixels * sizeof(cl_float4), nullptr, &status);
+    check(status, "image buffer");
+    out_depth = clCreateBuffer(context, CL_MEM_WRITE_ONLY, pixels * sizeof(float), nullptr, &status);
+    check(status, "depth image buffer");
+    ok = true;
+  }
+};
+
+cl_reconstructor::cl_reconstructor(const pointset& set) : impl_(std::make_unique<impl>()), set_(set) {
+  try {
+    impl_->setup(set);
+  } catch (const cl_failure& e) {
+    impl_->ok = false;
+    impl_->reason = e.what();
+  }
+}
+
+cl_reconstructor::~cl_reconstructor() = default;
+bool cl_reconstructor::available() const { return impl_->ok; }
+const std::string& cl_reconstructor::device() const { return impl_->device; }
+const std::string& cl_reconstructor::reason() const { return impl_->reason; }
+
+frame cl_reconstructor::run(const point_samples& samples, const reconstruct_params& params, bool* on_device,
+                            rbf_stats* stats) {
+  impl& d = *impl_;
+  const bool device_method = params.how == method::nn || params.how == method::shepard;
+  if (on_device) *on_device = d.ok && device_method;
+  if (!d.ok || !device_method) return reconstruct(set_, samples, params, stats);
+  const knn_table& t = set_.table;
+  if (params.k < 1 || params.k > t.k)
+    throw std::invalid_argument(fmt::format("k must lie in 1..{} (the set's k), got {}", t.k, params.k));
+  if (samples.colour.size() != set_.points.size()) throw std::invalid_argument("samples do not belong to this set");
+
+  d.colour_host.resize(samples.colour.size());
+  for (size_t i = 0; i < samples.colour.size(); ++i)
+    d.colour_host[i] = {{samples.colour[i].r, samples.colour[i].g, samples.colour[i].b, 1.0f}};
+  check(clEnqueueWriteBuffer(d.queue, d.colour, CL_FALSE, 0, d.colour_host.size() * sizeof(cl_float4),
+                             d.colour_host.data(), 0, nullptr, nullptr), "colour upload");
+  check(clEnqueueWriteBuffer(d.queue, d.depth, CL_FALSE, 0, samples.depth.size() * sizeof(float), samples.depth.data(),
+                             0, nullptr, nullptr), "depth upload");
+
+  const cl_uint canvas_width = t.width, k_stored = t.k, group = t.group, width = cl_uint(set_.model.display.width);
+  const cl_ulong pixel_count = t.pixel_count();
+  const cl_int ox = samples.offset.x, oy = samples.offset.y;
+  const cl_uint k = params.k, renka = params.renka ? 1 : 0;
+  cl_kernel kernel = params.how == method::nn ? d.nn : d.shepard;
+  cl_uint a = 0;
+  auto arg = [&](const auto& value) { check(clSetKernelArg(kernel, a++, sizeof(value), &value), "clSetKernelArg"); };
+  arg(d.table), arg(canvas_width), arg(k_stored), arg(group), arg(pixel_count), arg(ox), arg(oy), arg(width);
+  if (params.how == method::shepard) arg(d.position), arg(k), arg(renka);
+  arg(d.colour), arg(d.depth), arg(d.out_rgb), arg(d.out_depth);
+  const size_t global[2] = {size_t(set_.model.display.width), size_t(set_.model.display.height)};
+  check(clEnqueueNDRangeKernel(d.queue, kernel, 2, nullptr, global, nullptr, 0, nullptr, nullptr), "kernel launch");
+
+  frame out;
+  out.width = set_.model.display.width;
+  out.height = set_.model.display.height;
+  const size_t pixels = size_t(out.width) * out.height;
+  d.out_host.resize(pixels * 4);
+  out.depth.resize(pixels);
+  check(clEnqueueReadBuffer(d.queue, d.out_rgb, CL_FALSE, 0, pixels * sizeof(cl_float4), d.out_host.data(), 0, nullptr,
+                            nullptr), "image download");
+  check(clEnqueueReadBuffer(d.queue, d.out_depth, CL_TRUE, 0, pixels * sizeof(float), out.depth.data(), 0, nullptr,
+                            nullptr), "depth download");
+  out.rgb.resize(pixels);
+  for (size_t i = 0; i < pixels; ++i) out.rgb[i] = {d.out_host[4 * i], d.out_host[4 * i + 1], d.out_host[4 * i + 2]};
+  return out;
+}
+
+}  // namespace fov

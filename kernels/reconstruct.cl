@@ -1,0 +1,83 @@
+// Reconstruction kernels (thesis Sec. 4.3): each work item rebuilds one screen pixel from
+// the k nearest points its canvas pixel lists in the point set's table. Same rules as the
+// C++ path (interp/include/fov/reconstruct.h), in float.
+
+#define MAX_K 32
+
+// Offset of rank j of a canvas pixel in the grouped-plane table (docs/pointset-format.md).
+inline ulong table_offset(ulong pixel, uint j, uint k_stored, uint group, ulong pixel_count) {
+  const uint g = j / group;
+  const uint width_g = min(group, k_stored - g * group);
+  return (ulong)g * group * pixel_count + pixel * width_g + (j - g * group);
+}
+
+__kernel void reconstruct_nn(__global const uint* table, uint canvas_width, uint k_stored, uint group,
+                             ulong pixel_count, int offset_x, int offset_y, uint width,
+                             __global const float4* colour, __global const float* depth,
+                             __global float4* out_rgb, __global float* out_depth) {
+  const int sx = get_global_id(0), sy = get_global_id(1);
+  const ulong pixel = (ulong)(sy + offset_y) * canvas_width + (ulong)(sx + offset_x);
+  const uint i = table[table_offset(pixel, 0, k_stored, group, pixel_count)];
+  out_rgb[sy * width + sx] = colour[i];
+  out_depth[sy * width + sx] = depth[i];
+}
+
+// Modified Shepard: w = (R - h) / (R h), R the k-th neighbour's distance; a pixel on a
+// point takes its value; all weights zero gives the mean. Depth uses the neighbours that
+// hit something (finite depth), with their own R.
+__kernel void reconstruct_shepard(__global const uint* table, uint canvas_width, uint k_stored, uint group,
+                                  ulong pixel_count, int offset_x, int offset_y, uint width,
+                                  __global const float2* position, uint k, uint renka,
+                                  __global const float4* colour, __global const float* depth,
+                                  __global float4* out_rgb, __global float* out_depth) {
+  const int sx = get_global_id(0), sy = get_global_id(1);
+  const ulong pixel = (ulong)(sy + offset_y) * canvas_width + (ulong)(sx + offset_x);
+  const float2 centre = (float2)((float)(sx + offset_x) + 0.5f, (float)(sy + offset_y) + 0.5f);
+  float h[MAX_K];
+  uint idx[MAX_K];
+  for (uint j = 0; j < k; ++j) {
+    idx[j] = table[table_offset(pixel, j, k_stored, group, pixel_count)];
+    h[j] = distance(position[idx[j]], centre);
+  }
+  const size_t at = (size_t)sy * width + sx;
+
+  float4 acc = (float4)(0.0f);
+  float wsum = 0.0f;
+  int exact = -1;
+  const float r = h[k - 1];
+  for (uint j = 0; j < k && exact < 0; ++j) {
+    if (h[j] == 0.0f) { exact = (int)j; break; }
+    float w = (r - h[j]) / (r * h[j]);
+    if (renka) w *= w;
+    acc += w * colour[idx[j]];
+    wsum += w;
+  }
+  if (exact >= 0) {
+    out_rgb[at] = colour[idx[exact]];
+  } else if (wsum > 0.0f) {
+    out_rgb[at] = acc / wsum;
+  } else {
+    float4 mean = (float4)(0.0f);
+    for (uint j = 0; j < k; ++j) mean += colour[idx[j]];
+    out_rgb[at] = mean / (float)k;
+  }
+
+  // Depth over the neighbours that hit something.
+  float r_hit = -1.0f;
+  uint hits = 0;
+  for (uint j = 0; j < k; ++j)
+    if (isfinite(depth[idx[j]])) { r_hit = h[j]; ++hits; }
+  if (hits == 0) { out_depth[at] = INFINITY; return; }
+  float dacc = 0.0f, dw = 0.0f, dmean = 0.0f;
+  for (uint j = 0; j < k; ++j) {
+    const float d = depth[idx[j]];
+    if (!isfinite(d)) continue;
+    if (h[j] == 0.0f) { out_depth[at] = d; return; }
+    float w = (r_hit - h[j]) / (r_hit * h[j]);
+    if (renka) w *= w;
+    dacc += w * d;
+    dw += w;
+    dmean += d;
+  }
+  out_depth[at] = dw > 0.0f ? dacc / dw : dmean / (float)hits;
+}

@@ -1,0 +1,74 @@
+// Reconstruction cost per frame (docs/reconstruction.md; thesis Table 2 remade): NN,
+// Shepard and RBF at k = 5, 10, 15, 20 on the FOVE s = 1.0 set (precomputed/, generated
+// in memory when missing), centred gaze, on the OpenCL device (PoCL here) and on the C++
+// path. Colours are synthetic: the cost does not depend on them. Device setup (kernel
+// build, table upload) happens once, outside the timed loop.
+#include <filesystem>
+#include <memory>
+
+#include <benchmark/benchmark.h>
+
+#include "fov/cl_reconstruct.h"
+#include "fov/knn_table.h"
+#include "fov/pointset_io.h"
+
+namespace {
+
+const fov::pointset& bench_set() {
+  static const fov::pointset set = [] {
+    const std::string file = FOV_SOURCE_DIR "/precomputed/fove-s1.00.fovset";
+    if (std::filesystem::exists(file)) return fov::load_pointset(file);
+    return fov::generate_pointset(fov::spacing_model{}, {}, {});
+  }();
+  return set;
+}
+
+const fov::point_samples& bench_samples() {
+  static const fov::point_samples s = [] {
+    fov::point_samples out;
+    const fov::pointset& set = bench_set();
+    out.offset = fov::offset_for_gaze(set.model.display, 0.5 * set.model.display.width, 0.5 * set.model.display.height);
+    out.colour.resize(set.points.size());
+    out.depth.assign(set.points.size(), 3.0f);
+    for (size_t i = 0; i < out.colour.size(); ++i) out.colour[i] = glm::vec3((i % 13) / 13.f, (i % 7) / 7.f, 0.3f);
+    return out;
+  }();
+  return s;
+}
+
+fov::cl_reconstructor& device() {
+  static fov::cl_reconstructor d(bench_set());
+  return d;
+}
+
+// args: method (0 nn, 1 shepard, 2 rbf), k, device (1 OpenCL, 0 C++)
+void BM_Reconstruct(benchmark::State& state) {
+  fov::reconstruct_params rp;
+  rp.how = fov::method(state.range(0));
+  rp.k = uint32_t(state.range(1));
+  const bool on_device = state.range(2) == 1;
+  if (on_device && !device().available()) return state.SkipWithError(device().reason().c_str());
+  if (on_device) device().run(bench_samples(), rp);  // warm-up: PoCL compiles for the launch shape
+  bool ran_on_device = false;
+  for (auto _ : state) {
+    const fov::frame f = on_device ? device().run(bench_samples(), rp, &ran_on_device)
+                                   : fov::reconstruct(bench_set(), bench_samples(), rp);
+    benchmark::DoNotOptimize(f.rgb.data());
+  }
+  state.counters["on_device"] = ran_on_device ? 1 : 0;
+}
+BENCHMARK(BM_Reconstruct)
+    ->ArgNames({"method", "k", "opencl"})
+    ->ArgsProduct({{0, 1}, {5, 10, 15, 20}, {1, 0}})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+BENCHMARK(BM_Reconstruct)
+    ->ArgNames({"method", "k", "opencl"})
+    ->ArgsProduct({{2}, {5, 10}, {0}})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->Iterations(1);
+
+}  // namespace
+
+BENCHMARK_MAIN();
