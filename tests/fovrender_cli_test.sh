@@ -22,6 +22,12 @@ check "bad rbf shape"      2 -- "$fovrender" "${set[@]}" --method rbf --rbf-shap
 check "rbf"                0 -- "$fovrender" "${set[@]}" --spp 2 --method rbf --k 8 -o "$dir/rbf.png"
 check "bad device"         2 -- "$fovrender" "${set[@]}" --device tpu -o "$dir/a.png"
 check "cpp device"         0 -- "$fovrender" "${set[@]}" --spp 2 --device cpp -o "$dir/cpp.png"
+check "bad debug view"     2 -- "$fovrender" "${set[@]}" --debug-view heat -o "$dir/a.png"
+check "debug view no out"  2 -- "$fovrender" "${set[@]}" --debug-view points --compare "$dir/ref.exr"
+for view in points density eccentricity; do
+  check "debug $view"      0 -- "$fovrender" "${set[@]}" --spp 1 --debug-view $view -o "$dir/d.png"
+  [[ -s "$dir/d-$view.png" ]] || { echo "FAIL --debug-view $view wrote no d-$view.png"; failures=$((failures + 1)); }
+done
 check "bad hfov"           2 -- "$fovrender" "${set[@]}" --hfov 200 -o "$dir/a.png"
 check "bad size"           2 -- "$fovrender" --reference --width 0 -o "$dir/a.png"
 check "missing set"        1 -- "$fovrender" --points "$dir/none.fovset" -o "$dir/a.png"

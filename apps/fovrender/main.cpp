@@ -1,5 +1,6 @@
 // fovrender: renders one frame headless, foveated or at full resolution, and compares.
 #include <chrono>
+#include <filesystem>
 #include <cmath>
 #include <iostream>
 
@@ -8,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "../common/cli.h"
+#include "../common/debug_views.h"
 #include "../common/image_io.h"
 #include "fov/cl_reconstruct.h"
 #include "fov/metrics.h"
@@ -34,7 +36,7 @@ int main(int argc, char** argv) {
   std::string scene_spec = "builtin", points_file, gaze_text = "centre", method_text = "shepard", compare;
   std::vector<std::string> outputs;
   uint32_t k = 5, spp = 32;
-  std::string kernel_text = "multiquadric", device_text = "opencl";
+  std::string kernel_text = "multiquadric", device_text = "opencl", debug_view, debug_output;
   double shape = 1.0;
   uint64_t seed = 1;
   int width = 1280, height = 1440;
@@ -57,6 +59,8 @@ int main(int argc, char** argv) {
   app.add_flag("--no-shadows", no_shadows, "Skip shadow rays");
   app.add_option("--device", device_text, "Reconstruct with opencl (default; falls back with a warning) or cpp");
   app.add_option("-o,--output", outputs, "Output image (.exr linear, .png sRGB); may be repeated");
+  app.add_option("--debug-view", debug_view, "points, density or eccentricity: write that overlay too");
+  app.add_option("--debug-output", debug_output, "File for the overlay (default: the first -o with '-VIEW' before the extension)");
   app.add_option("--compare", compare, "Reference image: print PSNR/SSIM overall and by eccentricity band");
   app.add_flag("--json", as_json, "Print JSON");
   return fov::run_tool("fovrender", app, argc, argv, [&] {
@@ -66,6 +70,10 @@ int main(int argc, char** argv) {
     if (kernel_text != "multiquadric" && kernel_text != "gaussian")
       throw usage_error(fmt::format("--rbf-kernel: unknown '{}' (multiquadric, gaussian)", kernel_text));
     if (!(shape > 0) || !std::isfinite(shape)) throw usage_error(fmt::format("--rbf-shape must be positive (got {})", shape));
+    if (!debug_view.empty() && debug_view != "points" && debug_view != "density" && debug_view != "eccentricity")
+      throw usage_error(fmt::format("--debug-view: unknown '{}' (points, density, eccentricity)", debug_view));
+    if (!debug_view.empty() && debug_output.empty() && outputs.empty())
+      throw usage_error("--debug-view needs -o or --debug-output");
     if (device_text != "opencl" && device_text != "cpp")
       throw usage_error(fmt::format("--device: unknown '{}' (opencl, cpp)", device_text));
     if (spp < 1 || spp > 65535) throw usage_error(fmt::format("--spp must lie in 1..65535 (got {})", spp));
@@ -156,6 +164,13 @@ int main(int argc, char** argv) {
     if (!reference) j["k"] = k;
 
     for (const std::string& output : outputs) fov::write_frame(image, output);
+    if (!debug_view.empty()) {
+      if (debug_output.empty()) {
+        const std::filesystem::path first(outputs.front());
+        debug_output = (first.parent_path() / (first.stem().string() + "-" + debug_view)).string() + ".png";
+      }
+      fov::write_frame(fov::debug_overlay(debug_view, image, reference ? nullptr : &set, gaze), debug_output);
+    }
     if (!compare.empty()) {
       const fov::frame ref = fov::read_frame(compare);
       if (ref.width != image.width || ref.height != image.height)
