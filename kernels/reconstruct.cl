@@ -81,3 +81,9 @@ __kernel void reconstruct_shepard(__global const uint* table, uint canvas_width,
   }
   out_depth[at] = dw > 0.0f ? dacc / dw : dmean / (float)hits;
 }
+
+// The bandwidth yardstick: a plain copy, one float4 per work item.
+__kernel void copy_float4(__global const float4* in, __global float4* out) {
+  const size_t i = get_global_id(0);
+  out[i] = in[i];
+}

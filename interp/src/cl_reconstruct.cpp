@@ -41,6 +41,14 @@ std::string device_string(cl_device_id d, cl_device_info what) {
   return s;
 }
 
+// Milliseconds between a finished event's start and end.
+double event_ms(cl_event e) {
+  cl_ulong start = 0, end = 0;
+  clGetEventProfilingInfo(e, CL_PROFILING_COMMAND_START, sizeof(start), &start, nullptr);
+  clGetEventProfilingInfo(e, CL_PROFILING_COMMAND_END, sizeof(end), &end, nullptr);
+  return double(end - start) * 1e-6;
+}
+
 }  // namespace
 
 struct cl_reconstructor::impl {
@@ -49,7 +57,8 @@ struct cl_reconstructor::impl {
   cl_context context = nullptr;
   cl_command_queue queue = nullptr;
   cl_program program = nullptr;
-  cl_kernel nn = nullptr, shepard = nullptr;
+  cl_kernel nn = nullptr, shepard = nullptr, copy = nullptr;
+  double last_kernel_ms = 0;
   cl_mem table = nullptr, position = nullptr, colour = nullptr, depth = nullptr, out_rgb = nullptr, out_depth = nullptr;
   std::vector<cl_float4> colour_host;
   std::vector<float> out_host;
@@ -57,7 +66,7 @@ struct cl_reconstructor::impl {
   ~impl() {
     for (cl_mem m : {table, position, colour, depth, out_rgb, out_depth})
       if (m) clReleaseMemObject(m);
-    for (cl_kernel k : {nn, shepard})
+    for (cl_kernel k : {nn, shepard, copy})
       if (k) clReleaseKernel(k);
     if (program) clReleaseProgram(program);
     if (queue) clReleaseCommandQueue(queue);
@@ -82,7 +91,7 @@ struct cl_reconstructor::impl {
     cl_int status = 0;
     context = clCreateContext(nullptr, 1, &dev, nullptr, nullptr, &status);
     check(status, "clCreateContext");
-    queue = clCreateCommandQueue(context, dev, 0, &status);
+    queue = clCreateCommandQueue(context, dev, CL_QUEUE_PROFILING_ENABLE, &status);
     check(status, "clCreateCommandQueue");
     const char* source = kernel_sources::reconstruct;
     program = clCreateProgramWithSource(context, 1, &source, nullptr, &status);
@@ -98,6 +107,8 @@ struct cl_reconstructor::impl {
     check(status, "clCreateKernel(reconstruct_nn)");
     shepard = clCreateKernel(program, "reconstruct_shepard", &status);
     check(status, "clCreateKernel(reconstruct_shepard)");
+    copy = clCreateKernel(program, "copy_float4", &status);
+    check(status, "clCreateKernel(copy_float4)");
 
     const knn_table& t = set.table;
     table = clCreateBuffer(context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, t.entries.size() * sizeof(uint32_t),
@@ -165,7 +176,8 @@ frame cl_reconstructor::run(const point_samples& samples, const reconstruct_para
   if (params.how == method::shepard) arg(d.position), arg(k), arg(renka);
   arg(d.colour), arg(d.depth), arg(d.out_rgb), arg(d.out_depth);
   const size_t global[2] = {size_t(set_.model.display.width), size_t(set_.model.display.height)};
-  check(clEnqueueNDRangeKernel(d.queue, kernel, 2, nullptr, global, nullptr, 0, nullptr, nullptr), "kernel launch");
+  cl_event done = nullptr;
+  check(clEnqueueNDRangeKernel(d.queue, kernel, 2, nullptr, global, nullptr, 0, nullptr, &done), "kernel launch");
 
   frame out;
   out.width = set_.model.display.width;
@@ -179,7 +191,37 @@ frame cl_reconstructor::run(const point_samples& samples, const reconstruct_para
                             nullptr), "depth download");
   out.rgb.resize(pixels);
   for (size_t i = 0; i < pixels; ++i) out.rgb[i] = {d.out_host[4 * i], d.out_host[4 * i + 1], d.out_host[4 * i + 2]};
+  d.last_kernel_ms = event_ms(done);
+  clReleaseEvent(done);
   return out;
+}
+
+double cl_reconstructor::last_kernel_ms() const { return impl_->last_kernel_ms; }
+
+double cl_reconstructor::copy_gigabytes_per_second(size_t bytes, int repeats) {
+  impl& d = *impl_;
+  if (!d.ok) return 0;
+  const size_t n = std::max<size_t>(1, bytes / 2 / sizeof(cl_float4));  // half read, half written
+  cl_int status = 0;
+  cl_mem in = clCreateBuffer(d.context, CL_MEM_READ_WRITE, n * sizeof(cl_float4), nullptr, &status);
+  check(status, "copy buffer");
+  cl_mem out = clCreateBuffer(d.context, CL_MEM_READ_WRITE, n * sizeof(cl_float4), nullptr, &status);
+  check(status, "copy buffer");
+  const cl_float4 zero = {{0, 0, 0, 0}};
+  check(clEnqueueFillBuffer(d.queue, in, &zero, sizeof(zero), 0, n * sizeof(cl_float4), 0, nullptr, nullptr), "fill");
+  check(clSetKernelArg(d.copy, 0, sizeof(cl_mem), &in), "clSetKernelArg");
+  check(clSetKernelArg(d.copy, 1, sizeof(cl_mem), &out), "clSetKernelArg");
+  double best = 1e30;
+  for (int r = 0; r < repeats + 1; ++r) {  // the first launch compiles
+    cl_event done = nullptr;
+    check(clEnqueueNDRangeKernel(d.queue, d.copy, 1, nullptr, &n, nullptr, 0, nullptr, &done), "copy launch");
+    check(clWaitForEvents(1, &done), "copy wait");
+    if (r > 0) best = std::min(best, event_ms(done));
+    clReleaseEvent(done);
+  }
+  clReleaseMemObject(in);
+  clReleaseMemObject(out);
+  return 2.0 * double(n) * sizeof(cl_float4) / (best * 1e-3) / 1e9;
 }
 
 }  // namespace fov

@@ -3,6 +3,7 @@
 // in memory when missing), centred gaze, on the OpenCL device (PoCL here) and on the C++
 // path. Colours are synthetic: the cost does not depend on them. Device setup (kernel
 // build, table upload) happens once, outside the timed loop.
+#include <algorithm>
 #include <filesystem>
 #include <memory>
 
@@ -50,12 +51,26 @@ void BM_Reconstruct(benchmark::State& state) {
   if (on_device && !device().available()) return state.SkipWithError(device().reason().c_str());
   if (on_device) device().run(bench_samples(), rp);  // warm-up: PoCL compiles for the launch shape
   bool ran_on_device = false;
+  double kernel_ms = 1e30;
   for (auto _ : state) {
     const fov::frame f = on_device ? device().run(bench_samples(), rp, &ran_on_device)
                                    : fov::reconstruct(bench_set(), bench_samples(), rp);
+    if (ran_on_device) kernel_ms = std::min(kernel_ms, device().last_kernel_ms());
     benchmark::DoNotOptimize(f.rgb.data());
   }
   state.counters["on_device"] = ran_on_device ? 1 : 0;
+  if (!ran_on_device) return;
+  // The least a kernel must move per pixel: k table entries (4 B) and, per neighbour,
+  // its colour (16 B), depth (4 B) and for Shepard its position (8 B); writes 16 + 4 B.
+  const fov::display_geometry& d = bench_set().model.display;
+  const double per_neighbour = rp.how == fov::method::nn ? 4 + 16 + 4 : 4 + 16 + 4 + 8;
+  const double bytes = double(d.width) * d.height * (per_neighbour * (rp.how == fov::method::nn ? 1 : rp.k) + 20);
+  static const double copy_gbps = device().copy_gigabytes_per_second(size_t(256) << 20);
+  const double bound_ms = bytes / (copy_gbps * 1e9) * 1e3;
+  state.counters["kernel_ms"] = kernel_ms;
+  state.counters["bound_ms"] = bound_ms;
+  state.counters["kernel_over_bound"] = kernel_ms / bound_ms;
+  state.counters["copy_GBps"] = copy_gbps;
 }
 BENCHMARK(BM_Reconstruct)
     ->ArgNames({"method", "k", "opencl"})

@@ -28,6 +28,11 @@ class cl_reconstructor {
   frame run(const point_samples& samples, const reconstruct_params& params, bool* on_device = nullptr,
             rbf_stats* stats = nullptr);
 
+  // Device time of the last kernel run() launched (profiling events; transfers excluded).
+  double last_kernel_ms() const;
+  // Bandwidth of a plain copy kernel over `bytes` (read + write counted), best of `repeats`.
+  double copy_gigabytes_per_second(size_t bytes, int repeats = 5);
+
  private:
   struct impl;
   std::unique_ptr<impl> impl_;
