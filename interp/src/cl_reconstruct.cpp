@@ -23,20 +23,13 @@ void check(cl_int status, const char* what) {
   if (status != CL_SUCCESS) throw cl_failure(fmt::format("{} failed (OpenCL error {})", what, status));
 }
 
-std::string info_string(cl_platform_id p, cl_platform_info what) {
+// A string property of a platform or device: query(size, buffer, &needed).
+template <class Query>
+std::string info_text(Query&& query) {
   size_t n = 0;
-  clGetPlatformInfo(p, what, 0, nullptr, &n);
+  query(0, nullptr, &n);
   std::string s(n, '\0');
-  clGetPlatformInfo(p, what, n, s.data(), nullptr);
-  while (!s.empty() && s.back() == '\0') s.pop_back();
-  return s;
-}
-
-std::string device_string(cl_device_id d, cl_device_info what) {
-  size_t n = 0;
-  clGetDeviceInfo(d, what, 0, nullptr, &n);
-  std::string s(n, '\0');
-  clGetDeviceInfo(d, what, n, s.data(), nullptr);
+  query(n, s.data(), nullptr);
   while (!s.empty() && s.back() == '\0') s.pop_back();
   return s;
 }
@@ -82,7 +75,8 @@ struct cl_reconstructor::impl {
     for (cl_platform_id p : ids) {
       cl_uint n = 0;
       if (clGetDeviceIDs(p, CL_DEVICE_TYPE_ALL, 1, &dev, &n) == CL_SUCCESS && n > 0) {
-        device = info_string(p, CL_PLATFORM_NAME) + " / " + device_string(dev, CL_DEVICE_NAME);
+        device = info_text([&](size_t n, void* b, size_t* need) { return clGetPlatformInfo(p, CL_PLATFORM_NAME, n, b, need); }) +
+                 " / " + info_text([&](size_t n, void* b, size_t* need) { return clGetDeviceInfo(dev, CL_DEVICE_NAME, n, b, need); });
         break;
       }
       dev = nullptr;
