@@ -246,6 +246,7 @@ int run_info(const std::string& file, const std::string& gaze_text, uint32_t k_u
     j["points_on_screen"] = t.on_screen;
     j["points_referenced_off_screen"] = t.referenced_off_screen;
     j["points_traced"] = t.total();
+    j["knn_max_radius"] = set.table.max_radius;  // farthest k-th neighbour of any canvas pixel
     j["traced_fraction"] = double(t.total()) / double(set.points.size());
     // The thesis's rule for comparison: on-screen points plus a fixed 10-pixel margin.
     const fov::canvas_offset o = fov::offset_for_gaze(set.model.display, xy[0], xy[1]);

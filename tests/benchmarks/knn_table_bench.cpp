@@ -115,6 +115,16 @@ void BM_CopyTableBytes(benchmark::State& state) {
 }
 BENCHMARK(BM_CopyTableBytes)->ArgName("k")->Arg(5)->Arg(20)->Unit(benchmark::kMillisecond)->UseRealTime();
 
+// Choosing the points to trace for a centred gaze (every frame of trace_points).
+void BM_TracedPointMask(benchmark::State& state) {
+  const fov::pointset& set = bench_set();
+  for (auto _ : state)
+    benchmark::DoNotOptimize(
+        fov::traced_point_mask(set, 0.5 * set.model.display.width, 0.5 * set.model.display.height, set.table.k).data());
+  state.counters["max_radius_px"] = set.table.max_radius;
+}
+BENCHMARK(BM_TracedPointMask)->Unit(benchmark::kMillisecond)->UseRealTime();
+
 // Load time (read, verify, decode) of the whole set in each stored encoding.
 void BM_LoadSet(benchmark::State& state) {
   const auto encoding = fov::table_encoding(state.range(0));

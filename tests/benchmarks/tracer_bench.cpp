@@ -162,6 +162,26 @@ void BM_TracePoints(benchmark::State& state) {
   });
 }
 
+// args: scene, gaze (0 centre, 1 top-left corner, 2 bottom-right corner); 4 spp, s = 1.0.
+// Where the fovea lands changes what the dense rays see, and so their shading cost.
+void BM_TracePointsByGaze(benchmark::State& state) {
+  if (scene_specs().at(size_t(state.range(0))).empty()) return state.SkipWithError("scene absent");
+  const fov::scene& s = get_scene(size_t(state.range(0)));
+  const fov::pointset& set = get_set(1.0);
+  const double gx[3] = {width / 2.0, 0, double(width)}, gy[3] = {height / 2.0, 0, double(height)};
+  const int g = int(state.range(1));
+  fov::trace_params tp;
+  tp.spp = 4;
+  uint64_t rays = 0;
+  for (auto _ : state) rays += fov::trace_points(s, bench_camera(s), set, gx[g], gy[g], set.table.k, tp).rays;
+  state.counters["rays"] = double(rays) / double(state.iterations());
+  report_stages(state, [&](fov::trace_timing* t) {
+    tp.timing = t;
+    return fov::trace_points(s, bench_camera(s), set, gx[g], gy[g], set.table.k, tp).rays;
+  });
+}
+BENCHMARK(BM_TracePointsByGaze)->ArgNames({"scene", "gaze"})->ArgsProduct({{0, 1}, {0, 1, 2}})->Unit(benchmark::kMillisecond)->UseRealTime();
+
 BENCHMARK(BM_BareEmbree)->ArgName("scene")->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_TraceReference)->ArgNames({"scene", "spp"})->ArgsProduct({{0, 1, 2}, {1, 4, 32}})->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_TracePoints)->ArgNames({"scene", "spp", "s100"})->ArgsProduct({{0, 1, 2}, {4, 32}, {100, 175}})->Unit(benchmark::kMillisecond)->UseRealTime();
