@@ -118,6 +118,9 @@ TEST(Reconstruct, RejectsKBeyondTheTable) {
   EXPECT_THROW(reconstruct(fx.set, fx.samples, rp), std::invalid_argument);
   rp.k = 0;
   EXPECT_THROW(reconstruct(fx.set, fx.samples, rp), std::invalid_argument);
+  rp.k = 5;
+  fx.set.table.entries.clear();  // a set loaded without its table
+  EXPECT_THROW(reconstruct(fx.set, fx.samples, rp), std::invalid_argument);
 }
 
 frame flat(int w, int h, float v) {

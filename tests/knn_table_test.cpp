@@ -167,6 +167,22 @@ TEST(TracedPoints, EveryPixelReadsOnlyTracedPoints) {
   }
 }
 
+TEST(TracedPoints, ASetWithoutItsTableIsRefused) {
+  pointset set;
+  set.model.display = {32, 24, 1.0};
+  set.points = throw_darts(set.model, quick_darts());
+  try {
+    count_traced_points(set, 16, 12, 20);
+    FAIL() << "no table, yet counted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("table is not loaded"), std::string::npos);
+  }
+  set.table = build_knn_table(set.points, 64, 48, {});
+  EXPECT_NO_THROW(count_traced_points(set, 16, 12, 20));
+  set.table.entries.clear();  // the shape of a header-only load
+  EXPECT_THROW(traced_point_mask(set, 16, 12, 20), std::invalid_argument);
+}
+
 TEST(TracedPoints, GazeShiftRoundsHalfUpAndClamps) {
   const display_geometry d{100, 50, 1.0};
   EXPECT_EQ(offset_for_gaze(d, 50, 25).x, 50);

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
+#include <stdexcept>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_reduce.h>
@@ -84,7 +85,15 @@ float max_knn_radius(const knn_table& t, const std::vector<point>& points) {
       [](float a, float b) { return std::max(a, b); });
 }
 
+void require_table(const pointset& set) {
+  const knn_table& t = set.table;
+  if (t.k == 0 || t.width != set.canvas_width() || t.height != set.canvas_height() ||
+      t.entries.size() != t.pixel_count() * t.k)
+    throw std::invalid_argument("the point set's k-NN table is not loaded");
+}
+
 std::vector<uint8_t> traced_point_mask(const pointset& set, double gaze_x, double gaze_y, uint32_t k_used) {
+  require_table(set);
   const display_geometry& d = set.model.display;
   const canvas_offset o = offset_for_gaze(d, gaze_x, gaze_y);
   std::vector<uint8_t> mask(set.points.size(), 0);

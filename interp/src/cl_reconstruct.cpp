@@ -127,6 +127,7 @@ struct cl_reconstructor::impl {
 };
 
 cl_reconstructor::cl_reconstructor(const pointset& set) : impl_(std::make_unique<impl>()), set_(set) {
+  require_table(set);
   try {
     impl_->setup(set);
   } catch (const cl_failure& e) {

@@ -121,6 +121,7 @@ bool rbf_weights(const double* px, const double* py, uint32_t k, double x, doubl
 
 frame reconstruct(const pointset& set, const point_samples& samples, const reconstruct_params& params,
                   rbf_stats* stats) {
+  require_table(set);
   const knn_table& t = set.table;
   if (params.k < 1 || params.k > t.k)
     throw std::invalid_argument(fmt::format("k must lie in 1..{} (the set's k), got {}", t.k, params.k));

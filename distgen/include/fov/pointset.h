@@ -123,6 +123,10 @@ uint64_t morton_code(float x, float y);
 uint64_t count_spacing_violations(const std::vector<point>& points, uint32_t canvas_width,
                                   uint32_t canvas_height);
 
+// Throws std::invalid_argument unless the set's table is loaded and matches its canvas
+// (a set read with load_params::table = false has none).
+void require_table(const pointset& set);
+
 // The largest distance from any pixel centre to its k-th (farthest stored) neighbour.
 float max_knn_radius(const knn_table& table, const std::vector<point>& points);
 
