@@ -344,7 +344,12 @@ int main(int argc, char** argv) {
             fov::load_params lp;
             lp.table = false;
             const fov::pointset old = fov::load_pointset(path, lp);
-            reuse = old.model.scale == s && old.darts.seed == sweep_gen.seed;
+            // Reuse only a set these exact flags would write again (the file is deterministic).
+            reuse = old.model.scale == s && old.darts.seed == sweep_gen.seed &&
+                    old.darts.saturation_rejections == sweep_gen.saturation && old.table.k == sweep_gen.k &&
+                    old.table.group == std::clamp<uint32_t>(sweep_gen.group, 1, sweep_gen.k) &&
+                    old.model.display.width == m.display.width && old.model.display.height == m.display.height &&
+                    old.model.display.viewing_distance == m.display.viewing_distance;
           } catch (const fov::file_error&) {
           }
         }
