@@ -21,6 +21,7 @@ packages=(
   libfmt-dev                 # formatting
   libgtest-dev libbenchmark-dev
   assimp-testmodels          # tests: every glTF2/OBJ sample must load or fail cleanly
+  python3                    # scripts/demo.sh writes its summary table with it
   libzstd-dev                # k-NN table compression on disk (see README, Dependencies)
 )
 
