@@ -41,7 +41,7 @@ int main(int argc, char** argv) {
   uint64_t seed = 1;
   int width = 1280, height = 1440;
   double hfov = 0;
-  bool reference = false, renka = false, as_json = false, no_shadows = false;
+  bool reference = false, renka = false, as_json = false, no_shadows = false, no_warmup = false;
   app.add_option("--scene", scene_spec, "builtin, a glTF/OBJ file, or env:IMAGE");
   app.add_option("--points", points_file, "Point set (.fovset); gives the screen size");
   app.add_option("--gaze", gaze_text, "X,Y in screen pixels, centre or corner");
@@ -57,6 +57,7 @@ int main(int argc, char** argv) {
   app.add_option("--height", height, "Screen height without --points");
   app.add_option("--hfov", hfov, "Horizontal field of view in degrees (default: the scene's camera, else 90)");
   app.add_flag("--no-shadows", no_shadows, "Skip shadow rays");
+  app.add_flag("--no-warmup", no_warmup, "Time the first frame, texture loading included");
   app.add_option("--device", device_text, "Reconstruct with opencl (default; falls back with a warning) or cpp");
   app.add_option("-o,--output", outputs, "Output image (.exr linear, .png sRGB); may be repeated");
   app.add_option("--debug-view", debug_view, "points, density or eccentricity: write that overlay too");
@@ -105,6 +106,15 @@ int main(int argc, char** argv) {
     tp.shadows = !no_shadows;
 
     json j;
+    if (!no_warmup) {
+      // Untimed: OpenImageIO reads textures and builds their MIP levels on first use, once
+      // per process; a full-resolution pass touches the levels the timed frame will read.
+      const auto warm = std::chrono::steady_clock::now();
+      fov::trace_params once = tp;
+      once.spp = 1;
+      fov::trace_reference(*scene, cam, display.width, display.height, once);
+      j["warmup_ms"] = ms_since(warm);
+    }
     fov::frame image;
     const auto traced = std::chrono::steady_clock::now();
     if (reference) {
