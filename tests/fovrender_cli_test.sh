@@ -28,6 +28,10 @@ for view in points density eccentricity; do
   check "debug $view"      0 -- "$fovrender" "${set[@]}" --spp 1 --debug-view $view -o "$dir/d.png"
   [[ -s "$dir/d-$view.png" ]] || { echo "FAIL --debug-view $view wrote no d-$view.png"; failures=$((failures + 1)); }
 done
+check "taa with reference"  2 -- "$fovrender" --reference "${set[@]}" --taa-frames 4 -o "$dir/a.png"
+check "taa frames"         0 -- "$fovrender" "${set[@]}" --spp 2 --taa-frames 4 -o "$dir/taa.png"
+"$fovrender" "${set[@]}" --spp 2 --taa-frames 3 -o "$dir/taa3.png" --json | grep -q '"taa_ms": [0-9]' \
+  || { echo "FAIL --taa-frames did not report taa_ms"; failures=$((failures + 1)); }
 check "bad hfov"           2 -- "$fovrender" "${set[@]}" --hfov 200 -o "$dir/a.png"
 check "bad size"           2 -- "$fovrender" --reference --width 0 -o "$dir/a.png"
 check "missing set"        1 -- "$fovrender" --points "$dir/none.fovset" -o "$dir/a.png"

@@ -3,6 +3,7 @@
 #include <filesystem>
 #include <cmath>
 #include <iostream>
+#include <memory>
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
@@ -13,6 +14,7 @@
 #include "../common/image_io.h"
 #include "fov/cl_reconstruct.h"
 #include "fov/metrics.h"
+#include "fov/taa.h"
 #include "fov/pointset_io.h"
 #include "fov/reconstruct.h"
 
@@ -35,7 +37,7 @@ int main(int argc, char** argv) {
   CLI::App app{"fovrender: render one frame foveated (or at full resolution) and measure it"};
   std::string scene_spec = "builtin", points_file, gaze_text = "centre", method_text = "shepard", compare;
   std::vector<std::string> outputs;
-  uint32_t k = 5, spp = 32;
+  uint32_t k = 5, spp = 32, taa_frames = 0;
   std::string kernel_text = "multiquadric", device_text = "opencl", debug_view, debug_output;
   double shape = 1.0;
   uint64_t seed = 1;
@@ -57,6 +59,7 @@ int main(int argc, char** argv) {
   app.add_option("--height", height, "Screen height without --points");
   app.add_option("--hfov", hfov, "Horizontal field of view in degrees (default: the scene's camera, else 90)");
   app.add_flag("--no-shadows", no_shadows, "Skip shadow rays");
+  app.add_option("--taa-frames", taa_frames, "Render this many frames of the view with TAA (new rays each frame)");
   app.add_flag("--no-warmup", no_warmup, "Time the first frame, texture loading included");
   app.add_option("--device", device_text, "Reconstruct with opencl (default; falls back with a warning) or cpp");
   app.add_option("-o,--output", outputs, "Output image (.exr linear, .png sRGB); may be repeated");
@@ -81,6 +84,8 @@ int main(int argc, char** argv) {
     if (hfov != 0 && !(hfov > 0 && hfov < 180)) throw usage_error(fmt::format("--hfov must lie in (0, 180) (got {})", hfov));
     if (outputs.empty() && compare.empty()) throw usage_error("nothing to do: give -o and/or --compare");
     if (!reference && points_file.empty()) throw usage_error("--points is required unless --reference");
+    if (reference && taa_frames > 0) throw usage_error("--taa-frames applies to foveated frames, not --reference");
+    if (taa_frames > 10000) throw usage_error(fmt::format("--taa-frames must lie in 0..10000 (got {})", taa_frames));
 
     fov::pointset set;
     fov::display_geometry display{width, height, 1.0};
@@ -124,8 +129,6 @@ int main(int argc, char** argv) {
       j["rays"] = image.rays;
       j["points_traced"] = nullptr;
     } else {
-      const fov::point_samples samples = fov::trace_points(*scene, cam, set, gaze[0], gaze[1], k, tp);
-      j["trace_ms"] = ms_since(traced);
       fov::reconstruct_params rp;
       rp.how = how;
       rp.k = k;
@@ -134,38 +137,53 @@ int main(int argc, char** argv) {
       rp.shape = shape;
       fov::rbf_stats rbf;
       fov::rbf_stats* rbf_out = how == fov::method::rbf ? &rbf : nullptr;
-      bool on_device = false;
+      std::unique_ptr<fov::cl_reconstructor> device;
       if (device_text == "opencl") {
         const auto setup = std::chrono::steady_clock::now();
-        fov::cl_reconstructor device(set);
+        device = std::make_unique<fov::cl_reconstructor>(set);
         j["device_setup_ms"] = ms_since(setup);
-        if (!device.available()) std::cerr << "fovrender: warning: " << device.reason() << "; using the C++ path\n";
-        if (device.available() && how != fov::method::rbf) {
+        if (!device->available()) std::cerr << "fovrender: warning: " << device->reason() << "; using the C++ path\n";
+      }
+      // With --taa-frames N: N frames of the same view, each with new ray positions (seed +
+      // frame; fixed positions would repeat the same image), blended by TAA. The JSON
+      // reports the last frame's costs.
+      fov::taa_state taa;
+      fov::point_samples samples;
+      bool on_device = false;
+      for (uint32_t frame_index = 0; frame_index < std::max<uint32_t>(1, taa_frames); ++frame_index) {
+        fov::trace_params this_frame = tp;
+        if (taa_frames > 0) this_frame.seed = seed + frame_index;
+        const auto traced_at = std::chrono::steady_clock::now();
+        samples = fov::trace_points(*scene, cam, set, gaze[0], gaze[1], k, this_frame);
+        j["trace_ms"] = ms_since(traced_at);
+        if (frame_index == 0 && device && device->available() && how != fov::method::rbf) {
           // The first launch compiles the kernel for its launch shape (PoCL): reported apart,
           // so reconstruct_ms is what every later frame costs.
           const auto first = std::chrono::steady_clock::now();
-          device.run(samples, rp);
+          device->run(samples, rp);
           j["device_first_launch_ms"] = ms_since(first);
         }
         const auto rebuilt = std::chrono::steady_clock::now();
-        image = device.run(samples, rp, &on_device, rbf_out);
+        image = device ? device->run(samples, rp, &on_device, rbf_out) : fov::reconstruct(set, samples, rp, rbf_out);
         j["reconstruct_ms"] = ms_since(rebuilt);
-        if (on_device) j["device"] = device.device();
-      } else {
-        const auto rebuilt = std::chrono::steady_clock::now();
-        image = fov::reconstruct(set, samples, rp, rbf_out);
-        j["reconstruct_ms"] = ms_since(rebuilt);
+        if (taa_frames > 0) {
+          const auto blended = std::chrono::steady_clock::now();
+          image = fov::taa_resolve(taa, image, cam, display, gaze);
+          j["taa_ms"] = ms_since(blended);
+        }
       }
-      if (!on_device) j["device"] = "C++ (TBB)";
+      j["device"] = on_device ? device->device() : std::string("C++ (TBB)");
       if (how == fov::method::rbf)
         j["rbf"] = {{"kernel", kernel_text}, {"shape", shape}, {"fallbacks", rbf.fallbacks},
                     {"worst_condition", rbf.worst_condition}, {"condition_sampled_pixels", rbf.sampled}};
       j["rays"] = samples.rays;
       j["points_traced"] = samples.traced.size();
+      if (taa_frames > 0) j["taa_frames"] = taa_frames;
     }
-    j["taa_ms"] = nullptr;  // temporal anti-aliasing is not implemented yet
-    // A frame's cost: tracing and reconstruction (one-time device setup and scene loading are reported apart).
-    j["total_ms"] = j["trace_ms"].get<double>() + j["reconstruct_ms"].get<double>();
+    if (!j.contains("taa_ms")) j["taa_ms"] = nullptr;  // no TAA in this run
+    // A frame's cost: tracing, reconstruction and TAA (one-time device setup and scene loading are reported apart).
+    j["total_ms"] = j["trace_ms"].get<double>() + j["reconstruct_ms"].get<double>() +
+                    (j["taa_ms"].is_number() ? j["taa_ms"].get<double>() : 0.0);
     j["scene_load_ms"] = std::chrono::duration<double, std::milli>(traced - start).count();
     j["width"] = display.width;
     j["height"] = display.height;
