@@ -56,8 +56,7 @@ void plot_points(const pointset& set, const std::string& path, const double* gaz
     const point& p = set.points[i];
     cv::Vec3b colour(0, 0, 0);
     if (gaze_xy) {
-      const bool on = p.x >= o.x && p.x < o.x + d.width && p.y >= o.y && p.y < o.y + d.height;
-      colour = on ? cv::Vec3b(0, 0, 0) : traced[i] ? cv::Vec3b(0, 0, 220) : cv::Vec3b(170, 170, 170);
+      colour = on_screen(p, d, o) ? cv::Vec3b(0, 0, 0) : traced[i] ? cv::Vec3b(0, 0, 220) : cv::Vec3b(170, 170, 170);
     }
     image.at<cv::Vec3b>(int(p.y), int(p.x)) = colour;
   }

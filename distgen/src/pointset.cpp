@@ -114,8 +114,7 @@ std::vector<uint8_t> traced_point_mask(const pointset& set, double gaze_x, doubl
             if (!edge_row && sx == band && d.width - band > band) sx = d.width - band;  // skip the interior
             for (uint32_t j = 0; j < k_used; ++j) {
               const uint32_t i = t.entries[t.offset(row + sx, j)];
-              const point& p = set.points[i];
-              if (!(p.x >= o.x && p.x < o.x + d.width && p.y >= o.y && p.y < o.y + d.height)) acc.push_back(i);
+              if (!on_screen(set.points[i], d, o)) acc.push_back(i);
             }
           }
         }
@@ -125,10 +124,8 @@ std::vector<uint8_t> traced_point_mask(const pointset& set, double gaze_x, doubl
         a.insert(a.end(), b.begin(), b.end());
         return a;
       });
-  for (size_t i = 0; i < set.points.size(); ++i) {
-    const point& p = set.points[i];
-    if (p.x >= o.x && p.x < o.x + d.width && p.y >= o.y && p.y < o.y + d.height) mask[i] = 1;
-  }
+  for (size_t i = 0; i < set.points.size(); ++i)
+    if (on_screen(set.points[i], d, o)) mask[i] = 1;
   for (uint32_t i : referenced) mask[i] = 1;
   return mask;
 }
@@ -140,9 +137,7 @@ traced_set count_traced_points(const pointset& set, double gaze_x, double gaze_y
   traced_set out;
   for (size_t i = 0; i < set.points.size(); ++i) {
     if (!mask[i]) continue;
-    const point& p = set.points[i];
-    const bool on = p.x >= o.x && p.x < o.x + d.width && p.y >= o.y && p.y < o.y + d.height;
-    (on ? out.on_screen : out.referenced_off_screen)++;
+    (on_screen(set.points[i], d, o) ? out.on_screen : out.referenced_off_screen)++;
   }
   return out;
 }

@@ -115,6 +115,11 @@ struct canvas_offset {
 };
 canvas_offset offset_for_gaze(const display_geometry& display, double gaze_x, double gaze_y);
 
+// True when a canvas point falls on the screen placed at `offset` (canvas = screen + offset).
+inline bool on_screen(const point& p, const display_geometry& display, canvas_offset offset) {
+  return p.x >= offset.x && p.x < offset.x + display.width && p.y >= offset.y && p.y < offset.y + display.height;
+}
+
 // 64-bit Morton (Z-order) code of a canvas position, at 1/64-pixel resolution.
 uint64_t morton_code(float x, float y);
 
