@@ -180,6 +180,23 @@ void trace_rays(const scene::impl& d, const camera_frame& f, const sample_ray* r
   }
 }
 
+// A ray sink for trace_rays: averages each run of `spp` consecutive rays, which belong to
+// one owner (a point or a pixel), and hands emit(owner, mean colour, mean depth of the
+// rays that hit or +inf, hits) the result.
+template <class Emit>
+auto per_owner_mean(uint32_t spp, Emit emit) {
+  return [spp, emit, sum = glm::vec3(0), depth_sum = 0.0, hits = uint32_t(0), seen = uint32_t(0)](
+             const sample_ray& ray, glm::vec3 c, float depth, bool hit) mutable {
+    sum += c;
+    if (hit) depth_sum += depth, ++hits;
+    if (++seen < spp) return;
+    emit(ray.owner, sum / float(spp), hits ? float(depth_sum / hits) : infinity, hits);
+    sum = glm::vec3(0);
+    depth_sum = 0;
+    hits = seen = 0;
+  };
+}
+
 void check(const trace_params& p, int width, int height) {
   if (p.spp < 1 || p.spp > 65535) throw std::invalid_argument("spp must lie in 1..65535");
   if (width < 1 || height < 1) throw std::invalid_argument("screen size must be positive");
@@ -226,23 +243,12 @@ point_samples trace_points(const scene& sc, const camera& cam, const pointset& s
         rays.push_back({cx + p.spacing * u, cy + p.spacing * v, p.spacing * radius_scale, i});
       }
     }
-    std::vector<glm::vec3> sum(r.end() - r.begin(), glm::vec3(0));
-    std::vector<double> depth_sum(r.end() - r.begin(), 0.0);
-    std::vector<uint32_t> hits(r.end() - r.begin(), 0);
-    size_t local = 0;
-    uint32_t seen = 0;
-    trace_rays(d, f, rays.data(), rays.size(), params.shadows, timing, [&](const sample_ray&, glm::vec3 c, float depth, bool hit) {
-      sum[local] += c;
-      if (hit) depth_sum[local] += depth, ++hits[local];
-      if (++seen == spp) seen = 0, ++local;
-    });
-    for (size_t k = r.begin(); k < r.end(); ++k) {
-      const uint32_t i = out.traced[k];
-      const size_t local = k - r.begin();
-      out.colour[i] = sum[local] / float(spp);
-      out.hits[i] = uint16_t(hits[local]);
-      out.depth[i] = hits[local] ? float(depth_sum[local] / hits[local]) : infinity;
-    }
+    trace_rays(d, f, rays.data(), rays.size(), params.shadows, timing,
+               per_owner_mean(spp, [&](uint32_t i, glm::vec3 c, float depth, uint32_t hits) {
+                 out.colour[i] = c;
+                 out.depth[i] = depth;
+                 out.hits[i] = uint16_t(hits);
+               }));
   });
   out.rays = uint64_t(out.traced.size()) * spp;
   return out;
@@ -274,20 +280,11 @@ frame trace_reference(const scene& sc, const camera& cam, int width, int height,
           for (uint32_t s = 0; s < spp; ++s)
             rays.push_back({float(x) + float(random.uniform()), float(y) + float(random.uniform()), radius, pixel});
         }
-      glm::vec3 sum(0);
-      double depth_sum = 0;
-      uint32_t hits = 0, seen = 0;
-      trace_rays(d, f, rays.data(), rays.size(), params.shadows, timing, [&](const sample_ray& ray, glm::vec3 c, float depth, bool hit) {
-        sum += c;
-        if (hit) depth_sum += depth, ++hits;
-        if (++seen == spp) {
-          out.rgb[ray.owner] = sum / float(spp);
-          out.depth[ray.owner] = hits ? float(depth_sum / hits) : infinity;
-          sum = glm::vec3(0);
-          depth_sum = 0;
-          hits = seen = 0;
-        }
-      });
+      trace_rays(d, f, rays.data(), rays.size(), params.shadows, timing,
+                 per_owner_mean(spp, [&](uint32_t pixel, glm::vec3 c, float depth, uint32_t) {
+                   out.rgb[pixel] = c;
+                   out.depth[pixel] = depth;
+                 }));
     }
   });
   out.rays = uint64_t(width) * height * spp;
