@@ -147,10 +147,8 @@ frame cl_reconstructor::run(const point_samples& samples, const reconstruct_para
   const bool device_method = params.how == method::nn || params.how == method::shepard;
   if (on_device) *on_device = d.ok && device_method;
   if (!d.ok || !device_method) return reconstruct(set_, samples, params, stats);
+  check_reconstruct_inputs(set_, samples, params);
   const knn_table& t = set_.table;
-  if (params.k < 1 || params.k > t.k)
-    throw std::invalid_argument(fmt::format("k must lie in 1..{} (the set's k), got {}", t.k, params.k));
-  if (samples.colour.size() != set_.points.size()) throw std::invalid_argument("samples do not belong to this set");
 
   d.colour_host.resize(samples.colour.size());
   for (size_t i = 0; i < samples.colour.size(); ++i)

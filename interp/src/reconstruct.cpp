@@ -119,15 +119,19 @@ bool rbf_weights(const double* px, const double* py, uint32_t k, double x, doubl
   return true;
 }
 
-frame reconstruct(const pointset& set, const point_samples& samples, const reconstruct_params& params,
-                  rbf_stats* stats) {
+void check_reconstruct_inputs(const pointset& set, const point_samples& samples, const reconstruct_params& params) {
   require_table(set);
-  const knn_table& t = set.table;
-  if (params.k < 1 || params.k > t.k)
-    throw std::invalid_argument(fmt::format("k must lie in 1..{} (the set's k), got {}", t.k, params.k));
+  if (params.k < 1 || params.k > set.table.k)
+    throw std::invalid_argument(fmt::format("k must lie in 1..{} (the set's k), got {}", set.table.k, params.k));
   if (samples.colour.size() != set.points.size()) throw std::invalid_argument("samples do not belong to this set");
   if (params.how == method::rbf && !(params.shape > 0 && std::isfinite(params.shape)))
     throw std::invalid_argument("RBF shape must be positive");
+}
+
+frame reconstruct(const pointset& set, const point_samples& samples, const reconstruct_params& params,
+                  rbf_stats* stats) {
+  check_reconstruct_inputs(set, samples, params);
+  const knn_table& t = set.table;
   std::mutex stats_lock;
   const int w = set.model.display.width, h = set.model.display.height;
   const canvas_offset o = samples.offset;
@@ -140,7 +144,7 @@ frame reconstruct(const pointset& set, const point_samples& samples, const recon
   constexpr float infinity = std::numeric_limits<float>::infinity();
   tbb::parallel_for(tbb::blocked_range<int>(0, h, 8), [&](const tbb::blocked_range<int>& rows) {
     double dist[max_neighbours], dist_hit[max_neighbours], depth[max_neighbours];
-    double xs[max_neighbours], ys[max_neighbours], spacing_of[max_neighbours], rbf_w[max_neighbours];
+    double xs[max_neighbours], ys[max_neighbours], rbf_w[max_neighbours];
     rgbd value[max_neighbours];
     rbf_stats local;
     for (int sy = rows.begin(); sy < rows.end(); ++sy) {
@@ -156,11 +160,12 @@ frame reconstruct(const pointset& set, const point_samples& samples, const recon
         }
         const double px = sx + o.x + 0.5;
         uint32_t hits = 0;
+        double spacing = 0;  // summed over the neighbours: RBF's c scales with their mean
         for (uint32_t j = 0; j < k; ++j) {
           const uint32_t i = t.entries[t.offset(row + sx, j)];
           const point& p = set.points[i];
           dist[j] = std::hypot(double(p.x) - px, double(p.y) - py);
-          xs[j] = p.x, ys[j] = p.y, spacing_of[j] = p.spacing;
+          xs[j] = p.x, ys[j] = p.y, spacing += p.spacing;
           const glm::vec3& c = samples.colour[i];
           value[j] = {c.r, c.g, c.b};
           if (std::isfinite(samples.depth[i])) dist_hit[hits] = dist[j], depth[hits++] = samples.depth[i];
@@ -168,8 +173,6 @@ frame reconstruct(const pointset& set, const point_samples& samples, const recon
         rgbd c;
         bool done = false;
         if (params.how == method::rbf) {
-          double spacing = 0;
-          for (uint32_t j = 0; j < k; ++j) spacing += spacing_of[j];
           const bool sample = stats && ((sy * 131 + sx) % 257 == 0);
           double condition = 0;
           ++local.pixels;

@@ -68,6 +68,10 @@ T shepard_weighted(const double* h, const T* f, uint32_t k, bool renka) {
   return mean * (1.0 / k);
 }
 
+// Throws std::invalid_argument when the set's table is not loaded, k lies outside 1..the
+// set's k, the samples belong to another set, or an RBF shape is not positive.
+void check_reconstruct_inputs(const pointset& set, const point_samples& samples, const reconstruct_params& params);
+
 // Rebuilds the screen (the set's display size) for the samples' gaze offset. Depth is
 // reconstructed from the same weights over neighbours that hit something (+inf if none).
 frame reconstruct(const pointset& set, const point_samples& samples, const reconstruct_params& params,
