@@ -10,19 +10,10 @@
 #include <OpenImageIO/imageio.h>
 #include <unistd.h>
 
+#include "fov/colour.h"
 #include "fov/pointset_io.h"
 
 namespace fov {
-
-namespace {
-
-float encode_srgb(float v) {
-  v = std::clamp(v, 0.0f, 1.0f);
-  return v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1 / 2.4f) - 0.055f;
-}
-float decode_srgb(float v) { return v <= 0.04045f ? v / 12.92f : std::pow((v + 0.055f) / 1.055f, 2.4f); }
-
-}  // namespace
 
 void write_frame(const frame& f, const std::string& path) {
   const std::string ext = std::filesystem::path(path).extension().string();
@@ -34,7 +25,7 @@ void write_frame(const frame& f, const std::string& path) {
   OIIO::ImageSpec spec(f.width, f.height, 3, linear ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8);
   std::vector<float> px(size_t(f.width) * f.height * 3);
   for (size_t i = 0; i < f.rgb.size(); ++i)
-    for (int c = 0; c < 3; ++c) px[3 * i + c] = linear ? f.rgb[i][c] : encode_srgb(f.rgb[i][c]);
+    for (int c = 0; c < 3; ++c) px[3 * i + c] = linear ? f.rgb[i][c] : srgb_encode(f.rgb[i][c]);
   if (!linear) spec.attribute("oiio:ColorSpace", "sRGB");
   const bool ok = out->open(tmp, spec) && out->write_image(OIIO::TypeDesc::FLOAT, px.data()) && out->close();
   if (!ok || std::rename(tmp.c_str(), path.c_str()) != 0) {
@@ -59,7 +50,7 @@ frame read_frame(const std::string& path) {
   for (size_t i = 0; i < f.rgb.size(); ++i)
     for (int c = 0; c < 3; ++c) {
       const float v = px[i * spec.nchannels + c];
-      f.rgb[i][c] = encoded ? decode_srgb(v) : v;
+      f.rgb[i][c] = encoded ? srgb_decode(v) : v;
     }
   return f;
 }

@@ -1,5 +1,7 @@
 #include "fov/metrics.h"
 
+#include "fov/colour.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -14,11 +16,7 @@ namespace {
 
 constexpr double pi = 3.14159265358979323846;
 
-uint8_t display_byte(float linear) {
-  const float v = std::clamp(linear, 0.0f, 1.0f);
-  const float s = v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1 / 2.4f) - 0.055f;
-  return uint8_t(std::lround(255 * s));
-}
+uint8_t display_byte(float linear) { return uint8_t(std::lround(255 * srgb_encode(linear))); }
 
 cv::Mat to_display(const frame& f) {
   cv::Mat m(f.height, f.width, CV_8UC3);

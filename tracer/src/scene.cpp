@@ -106,7 +106,7 @@ glm::vec4 scene::impl::base_colour(const material& mat, glm::vec2 uv, float duv)
     float t[4];
     if (texture4(handles_of(mat).base, uv, duv, t)) {
       glm::vec3 rgb(t[0], t[1], t[2]);
-      if (mat.base_texture.srgb) rgb = srgb_to_linear(rgb);
+      if (mat.base_texture.srgb) rgb = srgb_decode(rgb);
       c *= glm::vec4(rgb, t[3]);
     }
   }
@@ -133,7 +133,7 @@ glm::vec3 scene::impl::emission(const material& mat, glm::vec2 uv, float duv) co
   glm::vec3 e = mat.emissive;
   if (!mat.emissive_texture.file.empty() && e != glm::vec3(0)) {
     float t[4];
-    if (texture4(handles_of(mat).emissive, uv, duv, t)) e *= srgb_to_linear(glm::vec3(t[0], t[1], t[2]));
+    if (texture4(handles_of(mat).emissive, uv, duv, t)) e *= srgb_decode(glm::vec3(t[0], t[1], t[2]));
   }
   return e;
 }

@@ -4,6 +4,7 @@
 #include <embree3/rtcore.h>
 #include <OpenImageIO/texture.h>
 
+#include "fov/colour.h"
 #include "fov/scene.h"
 
 namespace fov {
@@ -63,10 +64,5 @@ struct scene::impl {
 float filtered_checker(glm::vec2 p, float w);
 float filtered_glyphs(glm::vec2 p, float w);
 float leaf_alpha(glm::vec2 uv);
-
-inline glm::vec3 srgb_to_linear(glm::vec3 c) {
-  auto f = [](float v) { return v <= 0.04045f ? v / 12.92f : std::pow((v + 0.055f) / 1.055f, 2.4f); };
-  return {f(c.r), f(c.g), f(c.b)};
-}
 
 }  // namespace fov
