@@ -22,6 +22,28 @@ __kernel void reconstruct_nn(__global const uint* table, uint canvas_width, uint
   out_depth[sy * width + sx] = depth[i];
 }
 
+// Depth by Shepard over the neighbours that hit something (finite depth), with their own R;
+// +inf when none did.
+inline float shepard_depth(const float* h, const uint* idx, uint k, uint renka, __global const float* depth) {
+  float r_hit = -1.0f;
+  uint hits = 0;
+  for (uint j = 0; j < k; ++j)
+    if (isfinite(depth[idx[j]])) { r_hit = h[j]; ++hits; }
+  if (hits == 0) return INFINITY;
+  float dacc = 0.0f, dw = 0.0f, dmean = 0.0f;
+  for (uint j = 0; j < k; ++j) {
+    const float d = depth[idx[j]];
+    if (!isfinite(d)) continue;
+    if (h[j] == 0.0f) return d;
+    float w = (r_hit - h[j]) / (r_hit * h[j]);
+    if (renka) w *= w;
+    dacc += w * d;
+    dw += w;
+    dmean += d;
+  }
+  return dw > 0.0f ? dacc / dw : dmean / (float)hits;
+}
+
 // Modified Shepard: w = (R - h) / (R h), R the k-th neighbour's distance; a pixel on a
 // point takes its value; all weights zero gives the mean. Depth uses the neighbours that
 // hit something (finite depth), with their own R.
@@ -62,24 +84,34 @@ __kernel void reconstruct_shepard(__global const uint* table, uint canvas_width,
     out_rgb[at] = mean / (float)k;
   }
 
-  // Depth over the neighbours that hit something.
-  float r_hit = -1.0f;
-  uint hits = 0;
-  for (uint j = 0; j < k; ++j)
-    if (isfinite(depth[idx[j]])) { r_hit = h[j]; ++hits; }
-  if (hits == 0) { out_depth[at] = INFINITY; return; }
-  float dacc = 0.0f, dw = 0.0f, dmean = 0.0f;
+  out_depth[at] = shepard_depth(h, idx, k, renka, depth);
+}
+
+// Precomputed linear weights (RBF, interp/include/fov/rbf_cache.h): colour = sum w_j f_j with
+// the canvas pixel's k weights, stored tile-major (64 x 64 canvas pixels per tile); depth
+// as Shepard's.
+__kernel void reconstruct_weighted(__global const uint* table, uint canvas_width, uint k_stored, uint group,
+                                   ulong pixel_count, int offset_x, int offset_y, uint width,
+                                   __global const float2* position, uint k, uint renka, __global const float* weights,
+                                   uint tiles_x, __global const float4* colour, __global const float* depth,
+                                   __global float4* out_rgb, __global float* out_depth) {
+  const int sx = get_global_id(0), sy = get_global_id(1);
+  const uint cx = (uint)(sx + offset_x), cy = (uint)(sy + offset_y);
+  const ulong pixel = (ulong)cy * canvas_width + cx;
+  const float2 centre = (float2)((float)cx + 0.5f, (float)cy + 0.5f);
+  __global const float* w = weights + ((ulong)(cy / 64) * tiles_x + cx / 64) * (64 * 64 * (ulong)k) +
+                            ((ulong)(cy % 64) * 64 + cx % 64) * k;
+  float h[MAX_K];
+  uint idx[MAX_K];
+  float4 acc = (float4)(0.0f);
   for (uint j = 0; j < k; ++j) {
-    const float d = depth[idx[j]];
-    if (!isfinite(d)) continue;
-    if (h[j] == 0.0f) { out_depth[at] = d; return; }
-    float w = (r_hit - h[j]) / (r_hit * h[j]);
-    if (renka) w *= w;
-    dacc += w * d;
-    dw += w;
-    dmean += d;
+    idx[j] = table[table_offset(pixel, j, k_stored, group, pixel_count)];
+    h[j] = distance(position[idx[j]], centre);
+    acc += w[j] * colour[idx[j]];
   }
-  out_depth[at] = dw > 0.0f ? dacc / dw : dmean / (float)hits;
+  const size_t at = (size_t)sy * width + sx;
+  out_rgb[at] = acc;
+  out_depth[at] = shepard_depth(h, idx, k, renka, depth);
 }
 
 // The bandwidth yardstick: a plain copy, one float4 per work item.

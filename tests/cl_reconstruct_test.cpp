@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "fov/cl_reconstruct.h"
+#include "fov/rbf_cache.h"
 #include "fov/dart_throwing.h"
 #include "fov/knn_table.h"
 
@@ -37,10 +38,10 @@ TEST_F(device_fixture, KernelsMatchTheCppPathOnRandomFields) {
   cl_reconstructor device(set);
   if (!device.available()) GTEST_SKIP() << "no OpenCL device: " << device.reason();
   std::cout << "OpenCL device: " << device.device() << "\n";
-  for (method m : {method::nn, method::shepard})
+  for (method m : {method::nn, method::shepard, method::rbf})
     for (uint32_t k : {1u, 5u, 10u, 20u, 32u})
       for (bool renka : {false, true}) {
-        if (m == method::nn && (k != 1 || renka)) continue;
+        if ((m == method::nn && (k != 1 || renka)) || (m == method::rbf && renka)) continue;
         reconstruct_params rp;
         rp.how = m;
         rp.k = k;
@@ -66,25 +67,43 @@ TEST_F(device_fixture, KernelsReproduceAConstantField) {
   cl_reconstructor device(set);
   if (!device.available()) GTEST_SKIP() << "no OpenCL device: " << device.reason();
   for (glm::vec3& c : samples.colour) c = {0.25f, 0.5f, 0.75f};
+  for (method m : {method::nn, method::shepard, method::rbf})
   for (uint32_t k : {1u, 2u, 5u, 10u, 20u, 32u}) {
     reconstruct_params rp;
+    rp.how = m;
     rp.k = k;
     const frame f = device.run(samples, rp);
     for (const glm::vec3& c : f.rgb) {
-      ASSERT_NEAR(c.r, 0.25f, 1e-5 * 0.25f) << "k=" << k;
-      ASSERT_NEAR(c.b, 0.75f, 1e-5 * 0.75f) << "k=" << k;
+      ASSERT_NEAR(c.r, 0.25f, 1e-5 * 0.25f) << method_name(m) << " k=" << k;
+      ASSERT_NEAR(c.b, 0.75f, 1e-5 * 0.75f) << method_name(m) << " k=" << k;
     }
   }
 }
 
-TEST_F(device_fixture, RbfRunsOnTheCppPath) {
+TEST_F(device_fixture, RbfWeightsAreComputedOncePerTileAndReused) {
   cl_reconstructor device(set);
+  if (!device.available()) GTEST_SKIP() << "no OpenCL device: " << device.reason();
   reconstruct_params rp;
   rp.how = method::rbf;
-  bool on_device = true;
-  const frame a = device.run(samples, rp, &on_device);
-  EXPECT_FALSE(on_device);
-  EXPECT_EQ(a.rgb, reconstruct(set, samples, rp).rgb);
+  rp.k = 10;
+  rbf_stats stats;
+  const frame first = device.run(samples, rp, nullptr, &stats);
+  ASSERT_NE(device.rbf_cache(), nullptr);
+  const size_t tiles = device.rbf_cache()->tiles_ready();
+  EXPECT_EQ(tiles, 4u);  // the screen at offset (36, 18) touches all four tiles of the 112 x 96 canvas
+  EXPECT_EQ(stats.pixels, 112u * 96u);  // one solve per canvas pixel, none past the canvas edge
+  // New colours, same geometry: no new tiles, and the sums use the new colours.
+  for (glm::vec3& c : samples.colour) c = glm::vec3(1) - c;
+  const frame second = device.run(samples, rp);
+  EXPECT_EQ(device.rbf_cache()->tiles_ready(), tiles);
+  const frame expected = reconstruct(set, samples, rp);
+  for (size_t i = 0; i < second.rgb.size(); ++i) ASSERT_NEAR(second.rgb[i].g, expected.rgb[i].g, 1e-4) << i;
+  EXPECT_NE(first.rgb, second.rgb);
+  // Another shape: a new cache.
+  rp.shape = 2;
+  device.run(samples, rp);
+  EXPECT_EQ(device.rbf_cache()->tiles_ready(), tiles);
+  EXPECT_TRUE(device.rbf_cache()->serves(rp));
 }
 
 }  // namespace

@@ -6,6 +6,7 @@
 #include "fov/dart_throwing.h"
 #include "fov/knn_table.h"
 #include "fov/metrics.h"
+#include "fov/rbf_cache.h"
 #include "fov/reconstruct.h"
 
 namespace fov {
@@ -221,6 +222,59 @@ TEST(Rbf, ReproducesAConstantFieldAtEveryKWithBothKernels) {
       EXPECT_TRUE(std::isfinite(stats.worst_condition));
       EXPECT_GE(stats.worst_condition, 1.0);
     }
+}
+
+TEST(Shepard, LinearWeightsGiveTheSameValues) {
+  const double h[4] = {0.5, 1.0, 2.0, 4.0}, f[4] = {3.0, -1.0, 2.0, 8.0};
+  double w[4], s = 0, sum = 0;
+  for (bool renka : {false, true}) {
+    shepard_weights(h, 4, renka, w);
+    s = sum = 0;
+    for (int i = 0; i < 4; ++i) s += w[i] * f[i], sum += w[i];
+    EXPECT_NEAR(s, shepard_weighted(h, f, 4, renka), 1e-12);
+    EXPECT_NEAR(sum, 1.0, 1e-12);
+  }
+  const double on_point[3] = {1.0, 0.0, 2.0};  // one-hot on an exact hit
+  shepard_weights(on_point, 3, false, w);
+  EXPECT_EQ(w[0], 0.0);
+  EXPECT_EQ(w[1], 1.0);
+  const double equal[3] = {2.0, 2.0, 2.0};  // all weights zero: the mean
+  shepard_weights(equal, 3, false, w);
+  EXPECT_DOUBLE_EQ(w[2], 1.0 / 3);
+}
+
+TEST(RbfCache, CachedWeightsGiveTheDirectSolveAndComputeEachTileOnce) {
+  std::mt19937 random(3);
+  std::uniform_real_distribution<float> u(0, 1);
+  fixture fx(90, 70, 30, 50, [&](float, float) { return glm::vec3(u(random), u(random), u(random)); });
+  for (rbf_kernel kernel : {rbf_kernel::multiquadric, rbf_kernel::gaussian})
+    for (uint32_t k : {1u, 5u, 20u, 32u}) {
+      reconstruct_params rp;
+      rp.how = method::rbf;
+      rp.k = k;
+      rp.kernel = kernel;
+      rbf_weight_cache cache(fx.set, rp);
+      EXPECT_EQ(cache.tiles_ready(), 0u);
+      const frame cached = reconstruct(fx.set, fx.samples, rp, nullptr, &cache);
+      const frame direct = reconstruct(fx.set, fx.samples, rp);
+      for (size_t i = 0; i < cached.rgb.size(); ++i)
+        for (int ch = 0; ch < 3; ++ch) ASSERT_NEAR(cached.rgb[i][ch], direct.rgb[i][ch], 1e-5) << "k=" << k << " pixel " << i;
+      EXPECT_EQ(cached.depth, direct.depth);
+      // The 90 x 70 screen at offset (60, 20) on the 180 x 140 canvas covers tiles x 0..2, y 0..1.
+      EXPECT_EQ(cache.tiles_ready(), 6u);
+      EXPECT_TRUE(cache.prepare(fx.samples.offset).empty());  // nothing left to compute
+      point_samples moved = fx.samples;
+      moved.offset = {0, 0};
+      EXPECT_EQ(cache.prepare(moved.offset).size(), 0u);  // tiles x 0..1, y 0..1: all ready
+      moved.offset = {90, 70};
+      EXPECT_EQ(cache.prepare(moved.offset).size(), 2u);  // tiles x 1..2, y 1..2: row y = 2 is new
+    }
+  reconstruct_params other;
+  other.how = method::rbf;
+  rbf_weight_cache cache(fx.set, other);
+  other.shape = 2;
+  EXPECT_FALSE(cache.serves(other));
+  EXPECT_THROW(reconstruct(fx.set, fx.samples, other, nullptr, &cache), std::invalid_argument);
 }
 
 TEST(Rbf, InterpolatesExactlyAtThePoints) {

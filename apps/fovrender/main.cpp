@@ -13,6 +13,7 @@
 #include "../common/debug_views.h"
 #include "../common/image_io.h"
 #include "fov/cl_reconstruct.h"
+#include "fov/rbf_cache.h"
 #include "fov/metrics.h"
 #include "fov/taa.h"
 #include "fov/pointset_io.h"
@@ -138,6 +139,7 @@ int main(int argc, char** argv) {
       fov::rbf_stats rbf;
       fov::rbf_stats* rbf_out = how == fov::method::rbf ? &rbf : nullptr;
       std::unique_ptr<fov::cl_reconstructor> device;
+      std::unique_ptr<fov::rbf_weight_cache> cpu_cache;  // RBF on the C++ path
       if (device_text == "opencl") {
         const auto setup = std::chrono::steady_clock::now();
         device = std::make_unique<fov::cl_reconstructor>(set);
@@ -156,15 +158,24 @@ int main(int argc, char** argv) {
         const auto traced_at = std::chrono::steady_clock::now();
         samples = fov::trace_points(*scene, cam, set, gaze[0], gaze[1], k, this_frame);
         j["trace_ms"] = ms_since(traced_at);
-        if (frame_index == 0 && device && device->available() && how != fov::method::rbf) {
-          // The first launch compiles the kernel for its launch shape (PoCL): reported apart,
-          // so reconstruct_ms is what every later frame costs.
+        if (frame_index == 0 && (how == fov::method::rbf || (device && device->available()))) {
+          // The first launch compiles the kernel for its launch shape (PoCL) and, for RBF,
+          // solves the weights of every canvas pixel the screen covers: reported apart, so
+          // reconstruct_ms is what every later frame at this gaze costs.
           const auto first = std::chrono::steady_clock::now();
-          device->run(samples, rp);
+          if (device) {
+            device->run(samples, rp);
+          } else {
+            cpu_cache = std::make_unique<fov::rbf_weight_cache>(set, rp);
+            cpu_cache->prepare(samples.offset);
+          }
           j["device_first_launch_ms"] = ms_since(first);
+          if (how == fov::method::rbf)
+            j["rbf_weights_ms"] = 1e3 * (device ? device->rbf_cache()->seconds() : cpu_cache->seconds());
         }
         const auto rebuilt = std::chrono::steady_clock::now();
-        image = device ? device->run(samples, rp, &on_device, rbf_out) : fov::reconstruct(set, samples, rp, rbf_out);
+        image = device ? device->run(samples, rp, &on_device, rbf_out)
+                       : fov::reconstruct(set, samples, rp, rbf_out, cpu_cache.get());
         j["reconstruct_ms"] = ms_since(rebuilt);
         if (taa_frames > 0) {
           const auto blended = std::chrono::steady_clock::now();

@@ -10,6 +10,7 @@
 #include <fmt/format.h>
 
 #include "fov/kernel_sources.h"
+#include "fov/rbf_cache.h"
 
 namespace fov {
 
@@ -50,16 +51,18 @@ struct cl_reconstructor::impl {
   cl_context context = nullptr;
   cl_command_queue queue = nullptr;
   cl_program program = nullptr;
-  cl_kernel nn = nullptr, shepard = nullptr, copy = nullptr;
+  cl_kernel nn = nullptr, shepard = nullptr, weighted = nullptr, copy = nullptr;
   double last_kernel_ms = 0;
   cl_mem table = nullptr, position = nullptr, colour = nullptr, depth = nullptr, out_rgb = nullptr, out_depth = nullptr;
+  std::unique_ptr<rbf_weight_cache> cache;  // RBF weights, built on the first RBF run
+  cl_mem weights = nullptr;                 // the cache's tiles on the device
   std::vector<cl_float4> colour_host;
   std::vector<float> out_host;
 
   ~impl() {
-    for (cl_mem m : {table, position, colour, depth, out_rgb, out_depth})
+    for (cl_mem m : {table, position, colour, depth, out_rgb, out_depth, weights})
       if (m) clReleaseMemObject(m);
-    for (cl_kernel k : {nn, shepard, copy})
+    for (cl_kernel k : {nn, shepard, weighted, copy})
       if (k) clReleaseKernel(k);
     if (program) clReleaseProgram(program);
     if (queue) clReleaseCommandQueue(queue);
@@ -101,6 +104,8 @@ struct cl_reconstructor::impl {
     check(status, "clCreateKernel(reconstruct_nn)");
     shepard = clCreateKernel(program, "reconstruct_shepard", &status);
     check(status, "clCreateKernel(reconstruct_shepard)");
+    weighted = clCreateKernel(program, "reconstruct_weighted", &status);
+    check(status, "clCreateKernel(reconstruct_weighted)");
     copy = clCreateKernel(program, "copy_float4", &status);
     check(status, "clCreateKernel(copy_float4)");
 
@@ -144,11 +149,28 @@ const std::string& cl_reconstructor::reason() const { return impl_->reason; }
 frame cl_reconstructor::run(const point_samples& samples, const reconstruct_params& params, bool* on_device,
                             rbf_stats* stats) {
   impl& d = *impl_;
-  const bool device_method = params.how == method::nn || params.how == method::shepard;
-  if (on_device) *on_device = d.ok && device_method;
-  if (!d.ok || !device_method) return reconstruct(set_, samples, params, stats);
   check_reconstruct_inputs(set_, samples, params);
+  const bool rbf = params.how == method::rbf;
+  if (rbf && !(d.cache && d.cache->serves(params))) {
+    d.cache = std::make_unique<rbf_weight_cache>(set_, params);
+    if (d.weights) clReleaseMemObject(d.weights), d.weights = nullptr;
+  }
+  if (on_device) *on_device = d.ok;
+  if (!d.ok) return reconstruct(set_, samples, params, stats, rbf ? d.cache.get() : nullptr);
   const knn_table& t = set_.table;
+  if (rbf) {  // compute the weights the screen needs and copy the new tiles to the device
+    cl_int status = 0;
+    if (!d.weights) {
+      d.weights = clCreateBuffer(d.context, CL_MEM_READ_ONLY, d.cache->floats() * sizeof(float), nullptr, &status);
+      check(status, "RBF weight buffer");
+    }
+    const size_t tile_bytes = d.cache->tile_floats() * sizeof(float);
+    for (uint32_t index : d.cache->prepare(samples.offset))
+      check(clEnqueueWriteBuffer(d.queue, d.weights, CL_FALSE, index * tile_bytes, tile_bytes,
+                                 d.cache->data() + size_t(index) * d.cache->tile_floats(), 0, nullptr, nullptr),
+            "RBF weight upload");
+    if (stats) *stats = d.cache->stats();
+  }
 
   d.colour_host.resize(samples.colour.size());
   for (size_t i = 0; i < samples.colour.size(); ++i)
@@ -162,11 +184,13 @@ frame cl_reconstructor::run(const point_samples& samples, const reconstruct_para
   const cl_ulong pixel_count = t.pixel_count();
   const cl_int ox = samples.offset.x, oy = samples.offset.y;
   const cl_uint k = params.k, renka = params.renka ? 1 : 0;
-  cl_kernel kernel = params.how == method::nn ? d.nn : d.shepard;
+  cl_kernel kernel = params.how == method::nn ? d.nn : params.how == method::shepard ? d.shepard : d.weighted;
+  const cl_uint tiles_x = rbf ? d.cache->tiles_x() : 0;
   cl_uint a = 0;
   auto arg = [&](const auto& value) { check(clSetKernelArg(kernel, a++, sizeof(value), &value), "clSetKernelArg"); };
   arg(d.table), arg(canvas_width), arg(k_stored), arg(group), arg(pixel_count), arg(ox), arg(oy), arg(width);
   if (params.how == method::shepard) arg(d.position), arg(k), arg(renka);
+  if (rbf) arg(d.position), arg(k), arg(renka), arg(d.weights), arg(tiles_x);
   arg(d.colour), arg(d.depth), arg(d.out_rgb), arg(d.out_depth);
   const size_t global[2] = {size_t(set_.model.display.width), size_t(set_.model.display.height)};
   cl_event done = nullptr;
@@ -190,6 +214,7 @@ frame cl_reconstructor::run(const point_samples& samples, const reconstruct_para
 }
 
 double cl_reconstructor::last_kernel_ms() const { return impl_->last_kernel_ms; }
+const rbf_weight_cache* cl_reconstructor::rbf_cache() const { return impl_->cache.get(); }
 
 double cl_reconstructor::copy_gigabytes_per_second(size_t bytes, int repeats) {
   impl& d = *impl_;

@@ -1,5 +1,7 @@
 #include "fov/reconstruct.h"
 
+#include "fov/rbf_cache.h"
+
 #include <cmath>
 #include <limits>
 #include <mutex>
@@ -119,6 +121,47 @@ bool rbf_weights(const double* px, const double* py, uint32_t k, double x, doubl
   return true;
 }
 
+void shepard_weights(const double* h, uint32_t k, bool renka, double* w) {
+  const double r = h[k - 1];
+  double wsum = 0;
+  for (uint32_t i = 0; i < k; ++i) {
+    if (h[i] == 0) {
+      for (uint32_t j = 0; j < k; ++j) w[j] = j == i ? 1 : 0;
+      return;
+    }
+    w[i] = (r - h[i]) / (r * h[i]);
+    if (renka) w[i] *= w[i];
+    wsum += w[i];
+  }
+  for (uint32_t i = 0; i < k; ++i) w[i] = wsum > 0 ? w[i] / wsum : 1.0 / k;
+}
+
+void pixel_weights(const pointset& set, const reconstruct_params& params, uint32_t cx, uint32_t cy, double* w,
+                   rbf_stats* stats) {
+  const knn_table& t = set.table;
+  const uint32_t k = params.k;
+  const uint64_t pixel = uint64_t(cy) * t.width + cx;
+  const double x = cx + 0.5, y = cy + 0.5;
+  double xs[max_neighbours], ys[max_neighbours], dist[max_neighbours];
+  double spacing = 0;  // RBF's c scales with the neighbours' mean spacing
+  for (uint32_t j = 0; j < k; ++j) {
+    const point& p = set.points[t.entries[t.offset(pixel, j)]];
+    xs[j] = p.x, ys[j] = p.y, spacing += p.spacing;
+    dist[j] = std::hypot(double(p.x) - x, double(p.y) - y);
+  }
+  if (params.how == method::rbf) {
+    const bool sample = stats && (cy * 131 + cx) % 257 == 0;
+    double condition = 0;
+    if (stats) ++stats->pixels;
+    if (rbf_weights(xs, ys, k, x, y, params.shape * spacing / k, params.kernel, w, sample ? &condition : nullptr)) {
+      if (sample) ++stats->sampled, stats->worst_condition = std::max(stats->worst_condition, condition);
+      return;
+    }
+    if (stats) ++stats->fallbacks;
+  }
+  shepard_weights(dist, k, params.renka, w);
+}
+
 void check_reconstruct_inputs(const pointset& set, const point_samples& samples, const reconstruct_params& params) {
   require_table(set);
   if (params.k < 1 || params.k > set.table.k)
@@ -129,8 +172,14 @@ void check_reconstruct_inputs(const pointset& set, const point_samples& samples,
 }
 
 frame reconstruct(const pointset& set, const point_samples& samples, const reconstruct_params& params,
-                  rbf_stats* stats) {
+                  rbf_stats* stats, rbf_weight_cache* cache) {
   check_reconstruct_inputs(set, samples, params);
+  const bool rbf = params.how == method::rbf;
+  if (rbf && cache) {
+    if (!cache->serves(params)) throw std::invalid_argument("the RBF weight cache was built for other parameters");
+    cache->prepare(samples.offset);
+    if (stats) *stats = cache->stats();
+  }
   const knn_table& t = set.table;
   std::mutex stats_lock;
   const int w = set.model.display.width, h = set.model.display.height;
@@ -143,13 +192,13 @@ frame reconstruct(const pointset& set, const point_samples& samples, const recon
   const uint32_t k = params.k;
   constexpr float infinity = std::numeric_limits<float>::infinity();
   tbb::parallel_for(tbb::blocked_range<int>(0, h, 8), [&](const tbb::blocked_range<int>& rows) {
-    double dist[max_neighbours], dist_hit[max_neighbours], depth[max_neighbours];
-    double xs[max_neighbours], ys[max_neighbours], rbf_w[max_neighbours];
+    double dist[max_neighbours], dist_hit[max_neighbours], depth[max_neighbours], weight[max_neighbours];
     rgbd value[max_neighbours];
     rbf_stats local;
     for (int sy = rows.begin(); sy < rows.end(); ++sy) {
-      const uint64_t row = uint64_t(sy + o.y) * t.width + uint64_t(o.x);
-      const double py = sy + o.y + 0.5;
+      const uint32_t cy = uint32_t(sy + o.y);
+      const uint64_t row = uint64_t(cy) * t.width + uint64_t(o.x);
+      const double py = cy + 0.5;
       for (int sx = 0; sx < w; ++sx) {
         const size_t at = size_t(sy) * w + sx;
         if (params.how == method::nn) {
@@ -158,39 +207,32 @@ frame reconstruct(const pointset& set, const point_samples& samples, const recon
           out.depth[at] = samples.depth[i];
           continue;
         }
-        const double px = sx + o.x + 0.5;
+        const uint32_t cx = uint32_t(sx + o.x);
+        const double px = cx + 0.5;
         uint32_t hits = 0;
-        double spacing = 0;  // summed over the neighbours: RBF's c scales with their mean
         for (uint32_t j = 0; j < k; ++j) {
           const uint32_t i = t.entries[t.offset(row + sx, j)];
           const point& p = set.points[i];
           dist[j] = std::hypot(double(p.x) - px, double(p.y) - py);
-          xs[j] = p.x, ys[j] = p.y, spacing += p.spacing;
           const glm::vec3& c = samples.colour[i];
           value[j] = {c.r, c.g, c.b};
           if (std::isfinite(samples.depth[i])) dist_hit[hits] = dist[j], depth[hits++] = samples.depth[i];
         }
         rgbd c;
-        bool done = false;
-        if (params.how == method::rbf) {
-          const bool sample = stats && ((sy * 131 + sx) % 257 == 0);
-          double condition = 0;
-          ++local.pixels;
-          if (rbf_weights(xs, ys, k, px, py, params.shape * spacing / k, params.kernel, rbf_w,
-                          sample ? &condition : nullptr)) {
-            for (uint32_t j = 0; j < k; ++j) c = c + value[j] * rbf_w[j];
-            done = true;
-            if (sample) ++local.sampled, local.worst_condition = std::max(local.worst_condition, condition);
-          } else {
-            ++local.fallbacks;
-          }
+        if (rbf && cache) {
+          const float* cached = cache->weights(cx, cy);
+          for (uint32_t j = 0; j < k; ++j) c = c + value[j] * double(cached[j]);
+        } else if (rbf) {
+          pixel_weights(set, params, cx, cy, weight, stats ? &local : nullptr);
+          for (uint32_t j = 0; j < k; ++j) c = c + value[j] * weight[j];
+        } else {
+          c = shepard_weighted(dist, value, k, params.renka);
         }
-        if (!done) c = shepard_weighted(dist, value, k, params.renka);
         out.rgb[at] = glm::vec3(float(c.r), float(c.g), float(c.b));
         out.depth[at] = hits ? float(shepard_weighted(dist_hit, depth, hits, params.renka)) : infinity;
       }
     }
-    if (stats) {
+    if (stats && rbf && !cache) {
       std::lock_guard<std::mutex> guard(stats_lock);
       stats->pixels += local.pixels, stats->fallbacks += local.fallbacks, stats->sampled += local.sampled;
       stats->worst_condition = std::max(stats->worst_condition, local.worst_condition);

@@ -8,6 +8,8 @@
 
 namespace fov {
 
+class rbf_weight_cache;
+
 class cl_reconstructor {
  public:
   // Builds the kernels and uploads the set's points and table once. Never throws for a
@@ -23,10 +25,16 @@ class cl_reconstructor {
   const std::string& device() const;  // platform and device names
   const std::string& reason() const;  // why unavailable
 
-  // nn and shepard run on the device; rbf (not yet a kernel) and everything when the
-  // device is unavailable run on the C++ path. `on_device` tells which ran.
+  // Every method runs on the device, or on the C++ path when the device is unavailable;
+  // `on_device` tells which ran. RBF reads geometry-only weights (rbf_cache.h) that the
+  // first RBF run for the screen's tiles computes on the host and copies to the device;
+  // later runs with the same k, kernel and shape only form weighted sums.
   frame run(const point_samples& samples, const reconstruct_params& params, bool* on_device = nullptr,
             rbf_stats* stats = nullptr);
+
+  // The RBF weights kept so far (null before the first RBF run): its seconds() is the
+  // one-time cost, its stats() the solves' fallbacks and condition numbers.
+  const rbf_weight_cache* rbf_cache() const;
 
   // Device time of the last kernel run() launched (profiling events; transfers excluded).
   double last_kernel_ms() const;

@@ -68,13 +68,27 @@ T shepard_weighted(const double* h, const T* f, uint32_t k, bool renka) {
   return mean * (1.0 / k);
 }
 
+// The same rule as linear weights: F = sum w[i] f[i] (one-hot on an exact hit, 1/k when
+// every weight is zero).
+void shepard_weights(const double* h, uint32_t k, bool renka, double* w);
+
+// The weights of canvas pixel (cx, cy) under `params` (shepard or rbf): the pixel's value is
+// sum w[j] f[j] over its k neighbours, nearest first. An RBF system too close to singular
+// falls back to Shepard's weights (counted in stats); every 257th pixel or so has its
+// condition number sampled. Inputs are not checked (see check_reconstruct_inputs).
+void pixel_weights(const pointset& set, const reconstruct_params& params, uint32_t cx, uint32_t cy, double* w,
+                   rbf_stats* stats);
+
 // Throws std::invalid_argument when the set's table is not loaded, k lies outside 1..the
 // set's k, the samples belong to another set, or an RBF shape is not positive.
 void check_reconstruct_inputs(const pointset& set, const point_samples& samples, const reconstruct_params& params);
 
 // Rebuilds the screen (the set's display size) for the samples' gaze offset. Depth is
 // reconstructed from the same weights over neighbours that hit something (+inf if none).
+// RBF solves a system per pixel unless `cache` (built for the same params) holds its
+// weights; the cache is then prepared for the samples' offset first.
+class rbf_weight_cache;
 frame reconstruct(const pointset& set, const point_samples& samples, const reconstruct_params& params,
-                  rbf_stats* stats = nullptr);
+                  rbf_stats* stats = nullptr, rbf_weight_cache* cache = nullptr);
 
 }  // namespace fov

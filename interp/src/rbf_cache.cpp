@@ -1,0 +1,67 @@
+#include "fov/rbf_cache.h"
+
+#include <algorithm>
+#include <chrono>
+#include <mutex>
+#include <stdexcept>
+
+#include <tbb/parallel_for.h>
+
+namespace fov {
+
+rbf_weight_cache::rbf_weight_cache(const pointset& set, const reconstruct_params& params)
+    : set_(set), params_(params) {
+  require_table(set);
+  if (params.how != method::rbf) throw std::invalid_argument("an RBF weight cache needs method rbf");
+  if (params.k < 1 || params.k > set.table.k) throw std::invalid_argument("RBF weight cache: k outside 1..the set's k");
+  if (!(params.shape > 0)) throw std::invalid_argument("RBF shape must be positive");
+  k_ = params.k;
+  tiles_x_ = (set.table.width + tile - 1) / tile;
+  tiles_y_ = (set.table.height + tile - 1) / tile;
+  ready_.assign(size_t(tiles_x_) * tiles_y_, 0);
+  data_.resize(ready_.size() * tile_floats());
+}
+
+bool rbf_weight_cache::serves(const reconstruct_params& p) const {
+  return p.how == method::rbf && p.k == params_.k && p.kernel == params_.kernel && p.shape == params_.shape;
+}
+
+size_t rbf_weight_cache::tiles_ready() const { return size_t(std::count(ready_.begin(), ready_.end(), 1)); }
+
+std::vector<uint32_t> rbf_weight_cache::prepare(canvas_offset o) {
+  const uint32_t w = set_.model.display.width, h = set_.model.display.height;
+  const uint32_t tx0 = uint32_t(o.x) / tile, tx1 = (uint32_t(o.x) + w - 1) / tile;
+  const uint32_t ty0 = uint32_t(o.y) / tile, ty1 = (uint32_t(o.y) + h - 1) / tile;
+  std::vector<uint32_t> todo;
+  for (uint32_t ty = ty0; ty <= ty1; ++ty)
+    for (uint32_t tx = tx0; tx <= tx1; ++tx)
+      if (!ready_[size_t(ty) * tiles_x_ + tx]) todo.push_back(ty * tiles_x_ + tx);
+  if (todo.empty()) return todo;
+  const auto start = std::chrono::steady_clock::now();
+  std::mutex lock;
+  tbb::parallel_for(size_t(0), todo.size(), [&](size_t n) {
+    const uint32_t index = todo[n], tx = index % tiles_x_, ty = index / tiles_x_;
+    float* out = data_.data() + size_t(index) * tile_floats();
+    rbf_stats local;
+    double weight[32];
+    for (uint32_t y = 0; y < tile; ++y)
+      for (uint32_t x = 0; x < tile; ++x) {
+        const uint32_t cx = tx * tile + x, cy = ty * tile + y;
+        float* dst = out + (size_t(y) * tile + x) * k_;
+        if (cx >= set_.table.width || cy >= set_.table.height) {
+          std::fill(dst, dst + k_, 0.0f);  // past the canvas edge: never read
+          continue;
+        }
+        pixel_weights(set_, params_, cx, cy, weight, &local);
+        for (uint32_t j = 0; j < k_; ++j) dst[j] = float(weight[j]);
+      }
+    std::lock_guard<std::mutex> guard(lock);
+    stats_.pixels += local.pixels, stats_.fallbacks += local.fallbacks, stats_.sampled += local.sampled;
+    stats_.worst_condition = std::max(stats_.worst_condition, local.worst_condition);
+  });
+  for (uint32_t index : todo) ready_[index] = 1;
+  seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return todo;
+}
+
+}  // namespace fov
