@@ -23,6 +23,8 @@ packages=(
   assimp-testmodels          # tests: every glTF2/OBJ sample must load or fail cleanly
   python3                    # scripts/demo.sh writes its summary table with it
   libzstd-dev                # k-NN table compression on disk (see README, Dependencies)
+  blender-data               # CC0 HDR environment maps: the env: stimulus of fovstair's thesis protocol
+  xvfb xauth                 # tests: fovview and fovstair windows run headless under xvfb-run
 )
 
 missing=()

@@ -1,0 +1,64 @@
+#include "live_renderer.h"
+
+#include <chrono>
+
+namespace fov {
+
+namespace {
+double ms_since(std::chrono::steady_clock::time_point t) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t).count();
+}
+}  // namespace
+
+live_renderer::live_renderer(std::shared_ptr<const scene> scn, const camera& cam) : scene_(std::move(scn)), cam_(cam) {}
+
+void live_renderer::use_pointset(std::shared_ptr<const pointset> set) {
+  if (set == set_) return;
+  device_.reset();  // holds a reference to the old set
+  set_ = std::move(set);
+  device_ = std::make_unique<cl_reconstructor>(*set_);
+  reset_history();
+}
+
+const std::string& live_renderer::device() const {
+  static const std::string cpp = "C++ (TBB)";
+  return device_ && device_->available() ? device_->device() : cpp;
+}
+
+frame live_renderer::foveated(double gx, double gy, const live_settings& s, live_timing* timing) {
+  trace_params tp;
+  tp.spp = s.spp;
+  tp.shadows = s.shadows;
+  tp.seed = 1 + (s.reseed ? frame_ : 0);
+  ++frame_;
+  const auto t0 = std::chrono::steady_clock::now();
+  const point_samples samples = trace_points(*scene_, cam_, *set_, gx, gy, s.reconstruct.k, tp);
+  const auto t1 = std::chrono::steady_clock::now();
+  bool on_device = false;
+  frame f = device_->run(samples, s.reconstruct, &on_device);
+  const auto t2 = std::chrono::steady_clock::now();
+  const double gaze[2] = {gx, gy};
+  if (s.taa) f = taa_resolve(taa_, f, cam_, set_->model.display, gaze);
+  else reset_history();
+  if (timing) {
+    timing->trace_ms = std::chrono::duration<double, std::milli>(t1 - t0).count();
+    timing->reconstruct_ms = std::chrono::duration<double, std::milli>(t2 - t1).count();
+    timing->taa_ms = s.taa ? ms_since(t2) : 0;
+    timing->rays = samples.rays;
+    timing->points_traced = samples.traced.size();
+    timing->on_device = on_device;
+  }
+  return f;
+}
+
+frame live_renderer::reference(int width, int height, uint32_t spp, bool shadows, live_timing* timing) {
+  trace_params tp;
+  tp.spp = spp;
+  tp.shadows = shadows;
+  const auto t0 = std::chrono::steady_clock::now();
+  frame f = trace_reference(*scene_, cam_, width, height, tp);
+  if (timing) *timing = live_timing{ms_since(t0), 0, 0, f.rays, 0, false};
+  return f;
+}
+
+}  // namespace fov

@@ -1,0 +1,46 @@
+// A desktop window that shows frames (OpenCV highgui; Qt on Debian), with the mouse
+// position and key presses. Frames are drawn 1:1 in screen pixels.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "fov/trace.h"
+
+namespace fov {
+
+// A frame as a display shows it: clamped, sRGB-encoded, 8-bit BGR.
+cv::Mat display_image(const frame& f);
+
+class view_window {
+ public:
+  // Throws std::runtime_error when no display can be opened (no X server).
+  view_window(const std::string& title, int width, int height);
+  ~view_window();
+  view_window(const view_window&) = delete;
+  view_window& operator=(const view_window&) = delete;
+
+  void show(const cv::Mat& bgr);
+  // Waits up to wait_ms (at least 1) for a key; returns it or -1.
+  int key(int wait_ms = 1);
+  bool mouse(double& x, double& y) const;  // false until the pointer has entered
+  bool closed() const;                     // the user closed the window
+  bool right_drag(double& dx, double& dy);  // movement with the right button held, since the last call
+
+ private:
+  std::string title_;
+  struct mouse_state {
+    double x = 0, y = 0, drag_x = 0, drag_y = 0, last_x = 0, last_y = 0;
+    bool seen = false, right = false;
+  } mouse_;
+  static void on_mouse(int event, int x, int y, int flags, void* self);
+};
+
+// Text lines drawn in a box in the corner of the image farthest from (gx, gy), so the
+// overlay never covers the fovea.
+void draw_overlay(cv::Mat& bgr, const std::vector<std::string>& lines, double gx, double gy);
+void draw_gaze_cursor(cv::Mat& bgr, double gx, double gy);
+
+}  // namespace fov

@@ -1,0 +1,123 @@
+#include "live_trial.h"
+
+#include <chrono>
+#include <cmath>
+
+#include <opencv2/imgproc.hpp>
+
+namespace fov {
+
+namespace {
+
+using clock_type = std::chrono::steady_clock;
+double ms_between(clock_type::time_point a, clock_type::time_point b) {
+  return std::chrono::duration<double, std::milli>(b - a).count();
+}
+
+cv::Mat message_screen(int w, int h, const std::vector<std::string>& lines) {
+  cv::Mat m(h, w, CV_8UC3, cv::Scalar(64, 64, 64));
+  for (size_t i = 0; i < lines.size(); ++i)
+    cv::putText(m, lines[i], {w / 8, h / 2 + int(i) * 40}, cv::FONT_HERSHEY_SIMPLEX, 0.9, {255, 255, 255}, 2, cv::LINE_AA);
+  return m;
+}
+
+// Waits for one of `keys` (lower case); Esc returns 27.
+int wait_for(view_window& w, const std::string& keys) {
+  for (;;) {
+    const int k = w.key(20);
+    if (k == 27) return 27;
+    if (k > 0 && k < 256 && keys.find(char(std::tolower(k))) != std::string::npos) return std::tolower(k);
+    if (w.closed()) return 'q';
+  }
+}
+
+}  // namespace
+
+trial_answer run_live_trial(live_context& ctx, const trial_plan& t, const pointset& set) {
+  const int w = set.model.display.width, h = set.model.display.height;
+  const stair_protocol& p = ctx.protocol;
+  const stair_condition& c = p.conditions[t.condition];
+  live_settings s;
+  s.reconstruct = c.reconstruct;
+  s.spp = c.spp ? c.spp : p.spp;
+  s.taa = p.taa;
+  const double fx = t.fixation_x * w, fy = t.fixation_y * h;
+  if (t.break_before) {
+    ctx.window.show(message_screen(w, h, {"Break.", "Press Space to continue."}));
+    if (wait_for(ctx.window, " q") == 'q') return {true};
+  }
+  for (;;) {  // restarts after a pause
+    trial_answer a;
+    // Fixation: a cross where to look, 600 ms.
+    cv::Mat cross = message_screen(w, h, {});
+    cv::drawMarker(cross, cv::Point(int(fx), int(fy)), {255, 255, 255}, cv::MARKER_CROSS, 30, 2);
+    ctx.window.show(cross);
+    ctx.window.key(600);
+    ctx.renderer.reset_history();
+    frame reference;
+    if (t.is_catch || p.mode == stair_mode::two_afc) reference = ctx.renderer.reference(w, h, s.spp, s.shadows);
+    const auto start = clock_type::now();
+    double sum[2] = {0, 0}, sum2[2] = {0, 0};
+    uint64_t frames = 0;
+    const uint64_t clamped_before = ctx.gaze ? ctx.gaze->clamped : 0;
+    // One stimulus interval: shows the foveated (or the reference) frames until `until`
+    // returns true; returns the key that ended it (0 when `until` did).
+    auto show = [&](bool foveated, double max_ms, const std::string& keys) -> int {
+      const auto begin = clock_type::now();
+      for (;;) {
+        double gx = fx, gy = fy;
+        if (ctx.gaze) ctx.gaze->poll(ms_between(start, clock_type::now()), gx, gy);
+        sum[0] += gx, sum[1] += gy, sum2[0] += gx * gx, sum2[1] += gy * gy;
+        ++a.gaze_samples;
+        const frame f = foveated ? ctx.renderer.foveated(gx, gy, s) : reference;
+        ++frames;
+        ctx.window.show(display_image(f));
+        const int k = ctx.window.key(1);
+        if (k == 27) return 27;
+        if (k > 0 && k < 256 && keys.find(char(std::tolower(k))) != std::string::npos) return std::tolower(k);
+        if (max_ms > 0 && ms_between(begin, clock_type::now()) >= max_ms) return 0;
+        if (ctx.window.closed()) return 'q';
+      }
+    };
+    int key = 0;
+    clock_type::time_point asked;
+    if (p.mode == stair_mode::yes_no) {
+      asked = start;
+      key = show(!t.is_catch, 0, "yn");
+    } else {
+      for (uint32_t interval = 0; interval < 2 && key == 0; ++interval) {
+        key = show(interval == t.foveated_interval && !t.is_catch, p.interval_ms, "");
+        if (key == 0 && interval == 0) ctx.window.show(message_screen(w, h, {})), ctx.window.key(400);
+      }
+      if (key == 0) {
+        ctx.window.show(message_screen(w, h, {"Which interval was foveated?", "Press 1 or 2."}));
+        asked = clock_type::now();
+        key = wait_for(ctx.window, "12");
+      }
+    }
+    if (key == 'q') return {true};
+    if (key == 27) {  // pause
+      ctx.window.show(message_screen(w, h, {"Paused.", "Any key resumes this trial; Q quits (the session can be resumed)."}));
+      for (int k = -1; k < 0;) {
+        k = ctx.window.key(50);
+        if (k == 'q' || k == 'Q' || ctx.window.closed()) return {true};
+      }
+      continue;
+    }
+    a.rt_ms = ms_between(asked, clock_type::now());
+    a.response = std::string(1, char(key));
+    if (key == 'y') a.response = "yes";
+    if (key == 'n') a.response = "no";
+    a.detected = p.mode == stair_mode::yes_no ? key == 'y' : uint32_t(key - '1') == t.foveated_interval;
+    const double n = double(std::max<uint64_t>(1, a.gaze_samples));
+    for (int i = 0; i < 2; ++i) {
+      a.gaze_mean[i] = sum[i] / n;
+      a.gaze_sd[i] = std::sqrt(std::max(0.0, sum2[i] / n - a.gaze_mean[i] * a.gaze_mean[i]));
+    }
+    a.gaze_clamped = ctx.gaze ? ctx.gaze->clamped - clamped_before : 0;
+    a.mean_frame_ms = ms_between(start, clock_type::now()) / double(std::max<uint64_t>(1, frames));
+    return a;
+  }
+}
+
+}  // namespace fov

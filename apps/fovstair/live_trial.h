@@ -1,0 +1,37 @@
+// One trial shown to a person: the stimulus in the window, the answer from the keyboard.
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include "../common/gaze_source.h"
+#include "../common/live_renderer.h"
+#include "../common/window.h"
+#include "protocol.h"
+#include "session.h"
+
+namespace fov {
+
+struct trial_answer {
+  bool quit = false;       // the person quit from the pause screen: nothing to record
+  bool detected = false;   // yes-no: "yes"; 2AFC: picked the foveated interval
+  std::string response;    // "yes"/"no" or "1"/"2"
+  double rt_ms = 0;        // from the stimulus (or the question, 2AFC) to the key
+  uint64_t gaze_samples = 0, gaze_clamped = 0;
+  double gaze_mean[2] = {0, 0}, gaze_sd[2] = {0, 0};  // pixels
+  double mean_frame_ms = 0;
+};
+
+struct live_context {
+  const stair_protocol& protocol;
+  live_renderer& renderer;
+  view_window& window;
+  gaze_source* gaze = nullptr;  // null: the gaze is the fixation target
+};
+
+// Shows a break screen when planned, a fixation cross, then the stimulus (live frames at
+// the current gaze) until Y/N (yes-no) or after two intervals until 1/2 (2AFC). Esc pauses;
+// in the pause Q quits, any other key resumes the trial from its start.
+trial_answer run_live_trial(live_context& ctx, const trial_plan& t, const pointset& set);
+
+}  // namespace fov

@@ -1,0 +1,301 @@
+#include "protocol.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+namespace fov {
+
+namespace {
+
+using json = nlohmann::json;
+
+// The line each value starts on, by JSON pointer ("/conditions/1/k"), from a scan of
+// the text (nlohmann's parser keeps no positions). Run only on text that parsed.
+class line_map {
+ public:
+  explicit line_map(const std::string& text) : s_(text) {
+    skip();
+    value("");
+  }
+  int line(const std::string& pointer) const {
+    for (std::string p = pointer;; p = p.substr(0, p.rfind('/'))) {
+      const auto it = lines_.find(p);
+      if (it != lines_.end()) return it->second;
+      if (p.empty()) return 1;
+    }
+  }
+
+ private:
+  const std::string& s_;
+  size_t at_ = 0;
+  int line_ = 1;
+  std::map<std::string, int> lines_;
+
+  void advance() {
+    if (s_[at_] == '\n') ++line_;
+    ++at_;
+  }
+  void skip() {
+    while (at_ < s_.size() && std::isspace(static_cast<unsigned char>(s_[at_]))) advance();
+  }
+  std::string string() {  // at the opening quote
+    advance();
+    std::string out;
+    while (at_ < s_.size() && s_[at_] != '"') {
+      if (s_[at_] == '\\') advance();
+      out += s_[at_];
+      advance();
+    }
+    advance();
+    return out;
+  }
+  void value(const std::string& pointer) {
+    lines_[pointer] = line_;
+    if (at_ >= s_.size()) return;
+    if (s_[at_] == '{') {
+      advance();
+      skip();
+      while (at_ < s_.size() && s_[at_] != '}') {
+        const std::string key = string();
+        skip();
+        advance();  // ':'
+        skip();
+        value(pointer + "/" + key);
+        skip();
+        if (s_[at_] == ',') advance(), skip();
+      }
+      advance();
+    } else if (s_[at_] == '[') {
+      advance();
+      skip();
+      for (int i = 0; at_ < s_.size() && s_[at_] != ']'; ++i) {
+        value(pointer + "/" + std::to_string(i));
+        skip();
+        if (s_[at_] == ',') advance(), skip();
+      }
+      advance();
+    } else if (s_[at_] == '"') {
+      string();
+    } else {
+      while (at_ < s_.size() && !std::strchr(",]} \t\r\n", s_[at_])) advance();
+    }
+  }
+};
+
+// Reads typed fields of one object, rejecting unknown keys and wrong types with the line.
+class reader {
+ public:
+  reader(const json& j, std::string pointer, const line_map& lines, const std::string& file)
+      : j_(j), pointer_(std::move(pointer)), lines_(lines), file_(file) {
+    if (!j_.is_object()) fail(pointer_, "must be an object");
+  }
+  [[noreturn]] void fail(const std::string& pointer, const std::string& why) const {
+    throw protocol_error(fmt::format("{}:{}: {}: {}", file_, lines_.line(pointer), where(pointer), why));
+  }
+  std::string at(const std::string& key) const { return pointer_ + "/" + key; }
+  bool has(const std::string& key) { known_.insert(key); return j_.contains(key); }
+  const json& raw(const std::string& key) { known_.insert(key); return j_.at(key); }
+
+  template <class T>
+  void get(const std::string& key, T& out) {
+    if (!has(key)) return;
+    const json& v = j_.at(key);
+    if constexpr (std::is_same_v<T, bool>) {
+      if (!v.is_boolean()) fail(at(key), "must be true or false");
+      out = v.get<bool>();
+    } else if constexpr (std::is_same_v<T, std::string>) {
+      if (!v.is_string()) fail(at(key), "must be a string");
+      out = v.get<std::string>();
+    } else if constexpr (std::is_integral_v<T>) {
+      if (!v.is_number_integer() || v.get<int64_t>() < 0) fail(at(key), "must be a non-negative integer");
+      out = T(v.get<uint64_t>());
+    } else {
+      if (!v.is_number() || !std::isfinite(v.get<double>())) fail(at(key), "must be a number");
+      out = v.get<double>();
+    }
+  }
+  void no_unknown_keys() const {
+    for (const auto& [key, value] : j_.items())
+      if (!known_.count(key)) fail(at(key), "unknown key (see docs/fovstair.md)");
+  }
+
+ private:
+  const json& j_;
+  std::string pointer_;
+  const line_map& lines_;
+  const std::string& file_;
+  std::set<std::string> known_;
+
+  static std::string where(const std::string& pointer) {  // "/conditions/1/k" -> "conditions[1].k"
+    std::string out;
+    std::stringstream in(pointer);
+    std::string part;
+    std::getline(in, part, '/');
+    while (std::getline(in, part, '/')) {
+      if (!part.empty() && std::all_of(part.begin(), part.end(), ::isdigit)) out += "[" + part + "]";
+      else out += (out.empty() ? "" : ".") + part;
+    }
+    return out.empty() ? "protocol" : out;
+  }
+};
+
+}  // namespace
+
+stair_protocol parse_protocol(const std::string& text, const std::string& file) {
+  json j;
+  try {
+    j = json::parse(text);
+  } catch (const json::parse_error& e) {
+    int line = 1;
+    for (size_t i = 0; i < std::min<size_t>(e.byte, text.size()); ++i) line += text[i] == '\n';
+    std::string why = e.what();
+    if (const size_t colon = why.rfind(": "); colon != std::string::npos) why = why.substr(colon + 2);
+    throw protocol_error(fmt::format("{}:{}: not valid JSON: {}", file, line, why));
+  }
+  const line_map lines(text);
+  reader top(j, "", lines, file);
+  stair_protocol p;
+  uint32_t version = 0;
+  top.get("fovstair_protocol", version);
+  if (version != 1) top.fail("/fovstair_protocol", "must be 1 (the schema version this fovstair reads)");
+  top.get("name", p.name);
+  top.get("description", p.description);
+  top.get("scene", p.scene);
+  top.get("points_dir", p.points_dir);
+  top.get("display", p.display);
+  top.get("spp", p.spp);
+  if (p.spp < 1 || p.spp > 1024) top.fail("/spp", "must lie in 1..1024");
+  top.get("taa", p.taa);
+  top.get("hfov", p.hfov);
+  if (p.hfov < 0 || p.hfov >= 180) top.fail("/hfov", "must lie in (0, 180) degrees, or 0 for the scene's");
+  top.get("order", p.order);
+  if (p.order != "latin-square" && p.order != "fixed" && p.order != "random")
+    top.fail("/order", "must be latin-square, fixed or random");
+  std::string mode = "yes-no";
+  top.get("mode", mode);
+  if (mode == "yes-no") p.mode = stair_mode::yes_no;
+  else if (mode == "2afc") p.mode = stair_mode::two_afc;
+  else top.fail("/mode", "must be yes-no or 2afc");
+  top.get("catch_rate", p.catch_rate);
+  if (!(p.catch_rate >= 0 && p.catch_rate < 1)) top.fail("/catch_rate", "must lie in [0, 1)");
+  top.get("interval_ms", p.interval_ms);
+  if (!(p.interval_ms > 0)) top.fail("/interval_ms", "must be positive");
+  top.get("break_every", p.break_every);
+  top.get("seed", p.seed);
+
+  if (!top.has("conditions")) top.fail("", "needs \"conditions\": a list of {name, method, k}");
+  const json& conditions = top.raw("conditions");
+  if (!conditions.is_array() || conditions.empty()) top.fail("/conditions", "must be a non-empty list");
+  std::set<std::string> names;
+  for (size_t i = 0; i < conditions.size(); ++i) {
+    const std::string at = "/conditions/" + std::to_string(i);
+    reader r(conditions[i], at, lines, file);
+    stair_condition c;
+    r.get("name", c.name);
+    if (c.name.empty()) r.fail(at, "needs a \"name\"");
+    if (!names.insert(c.name).second) r.fail(at + "/name", "repeats an earlier condition's name");
+    std::string method_text = "shepard";
+    r.get("method", method_text);
+    if (!parse_method(method_text, c.reconstruct.how)) r.fail(at + "/method", "must be nn, shepard or rbf");
+    r.get("k", c.reconstruct.k);
+    if (c.reconstruct.k < 1 || c.reconstruct.k > 32) r.fail(at + "/k", "must lie in 1..32");
+    r.get("renka", c.reconstruct.renka);
+    std::string kernel = "multiquadric";
+    r.get("rbf_kernel", kernel);
+    if (kernel != "multiquadric" && kernel != "gaussian") r.fail(at + "/rbf_kernel", "must be multiquadric or gaussian");
+    c.reconstruct.kernel = kernel == "gaussian" ? rbf_kernel::gaussian : rbf_kernel::multiquadric;
+    r.get("rbf_shape", c.reconstruct.shape);
+    if (!(c.reconstruct.shape > 0)) r.fail(at + "/rbf_shape", "must be positive");
+    r.get("spp", c.spp);
+    r.no_unknown_keys();
+    p.conditions.push_back(c);
+  }
+
+  if (top.has("scales")) {
+    reader r(top.raw("scales"), "/scales", lines, file);
+    r.get("min", p.scale_min);
+    r.get("max", p.scale_max);
+    p.scale_start = p.scale_min;
+    r.get("start", p.scale_start);
+    r.no_unknown_keys();
+    if (!(p.scale_min >= 0.5 && p.scale_min < p.scale_max)) r.fail("/scales/min", "must be >= 0.5 and below max");
+    if (!(p.scale_start >= p.scale_min && p.scale_start <= p.scale_max)) r.fail("/scales/start", "must lie in [min, max]");
+  }
+  if (top.has("rule")) {
+    reader r(top.raw("rule"), "/rule", lines, file);
+    stair_rule& s = p.rule;
+    r.get("up", s.up);
+    r.get("down", s.down);
+    r.get("initial_step", s.initial_step);
+    r.get("step", s.step);
+    r.get("discard_reversals", s.discard_reversals);
+    r.get("thresholds", s.thresholds);
+    r.get("max_trials", s.max_trials);
+    r.no_unknown_keys();
+    if (s.up < 1 || s.up > 4) r.fail("/rule/up", "must lie in 1..4");
+    if (s.down < 1 || s.down > 4) r.fail("/rule/down", "must lie in 1..4");
+    if (!(s.step >= 0.01)) r.fail("/rule/step", "must be at least 0.01");
+    if (!(s.initial_step >= s.step)) r.fail("/rule/initial_step", "must be at least step");
+    if (s.thresholds < 1) r.fail("/rule/thresholds", "must be at least 1");
+    if (s.max_trials < s.thresholds) r.fail("/rule/max_trials", "must be at least thresholds");
+  }
+  auto on_grid = [](double v, double unit) { return std::fabs(v / unit - std::round(v / unit)) < 1e-6; };
+  if (!on_grid(p.rule.step, 0.01) || !on_grid(p.rule.initial_step, 0.01))
+    top.fail("/rule", "steps must be multiples of 0.01 (point sets are named by scale to 2 decimals)");
+  if (top.has("fixations")) {
+    const json& f = top.raw("fixations");
+    if (!f.is_array() || f.empty()) top.fail("/fixations", "must be a non-empty list of [x, y] in 0..1");
+    p.fixations.clear();
+    for (size_t i = 0; i < f.size(); ++i) {
+      const std::string at = "/fixations/" + std::to_string(i);
+      if (!f[i].is_array() || f[i].size() != 2 || !f[i][0].is_number() || !f[i][1].is_number())
+        top.fail(at, "must be [x, y] (normalised screen coordinates)");
+      const double x = f[i][0].get<double>(), y = f[i][1].get<double>();
+      if (!(x >= 0 && x <= 1 && y >= 0 && y <= 1)) top.fail(at, "must lie in 0..1 (normalised screen coordinates)");
+      p.fixations.emplace_back(x, y);
+    }
+  }
+  top.no_unknown_keys();
+  return p;
+}
+
+stair_protocol load_protocol(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw protocol_error(fmt::format("{}: cannot open the protocol file", path));
+  std::stringstream text;
+  text << in.rdbuf();
+  return parse_protocol(text.str(), path);
+}
+
+std::vector<double> reachable_scales(const stair_protocol& p) {
+  std::set<long> hundredths;
+  const long lo = std::lround(p.scale_min * 100), hi = std::lround(p.scale_max * 100);
+  const long start = std::lround(p.scale_start * 100);
+  const long big = std::lround(p.rule.initial_step * 100), small = std::lround(p.rule.step * 100);
+  hundredths.insert(lo), hundredths.insert(hi);
+  // Initial steps from the start in both directions, then fine steps from any of those.
+  std::vector<long> seeds;
+  for (long v = start; v >= lo; v -= big) seeds.push_back(v);
+  for (long v = start; v <= hi; v += big) seeds.push_back(v);
+  seeds.push_back(lo), seeds.push_back(hi);  // clamped moves land on the ends
+  for (long s : seeds)
+    for (long v = s % small; v <= hi; v += small)
+      if (v >= lo) hundredths.insert(v);
+  std::vector<double> out;
+  for (long h : hundredths) out.push_back(h / 100.0);
+  return out;
+}
+
+std::string pointset_path(const stair_protocol& p, double scale) {
+  return fmt::format("{}/{}-s{:.2f}.fovset", p.points_dir, p.display, scale);
+}
+
+}  // namespace fov

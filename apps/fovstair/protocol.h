@@ -1,0 +1,74 @@
+// A staircase experiment, as a protocol file describes it (schema: docs/fovstair.md).
+#pragma once
+
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "fov/reconstruct.h"
+
+namespace fov {
+
+// One condition: a name and the renderer settings it uses.
+struct stair_condition {
+  std::string name;
+  reconstruct_params reconstruct;  // method, k, renka, RBF kernel and shape
+  uint32_t spp = 0;                // 0: the protocol's
+};
+
+// The transformed up-down rule. The scale goes down (less foveation) after `down`
+// consecutive detections and up after `up` consecutive misses; the thesis's method of
+// limits with a staircase is up = down = 1, starting ascending. Steps are `initial_step`
+// until the first reversal, `step` after; the first `discard_reversals` reversals give no
+// threshold; the series ends after `thresholds` recorded reversals or `max_trials` trials.
+// A series starts ascending, or descending when it starts at the top of the scale range.
+struct stair_rule {
+  uint32_t up = 1, down = 1;
+  double initial_step = 0.2, step = 0.1;
+  uint32_t discard_reversals = 1;
+  uint32_t thresholds = 4;
+  uint32_t max_trials = 80;
+};
+
+enum class stair_mode : uint8_t {
+  yes_no,  // one interval: "anything unnatural?" (the thesis)
+  two_afc  // two intervals, foveated and reference in random order: "which was foveated?"
+};
+
+struct stair_protocol {
+  std::string name, description;
+  std::string scene = "builtin";   // builtin, FILE or env:IMAGE
+  std::string points_dir = "precomputed";  // relative to the working directory
+  std::string display = "fove";    // point-set family: <display>-s<scale>.fovset
+  uint32_t spp = 4;
+  bool taa = true;
+  double hfov = 0;                 // 0: the scene's
+  std::vector<stair_condition> conditions;
+  std::string order = "latin-square";  // latin-square (by subject number), fixed, random
+  stair_mode mode = stair_mode::yes_no;
+  double scale_min = 1.0, scale_max = 3.0, scale_start = 1.0;
+  stair_rule rule;
+  double catch_rate = 0.1;         // share of trials showing the reference instead
+  std::vector<std::pair<double, double>> fixations{{0.5, 0.5}};  // normalised, in order
+  double interval_ms = 1500;       // 2AFC: each interval's length
+  uint32_t break_every = 0;        // a pause every N trials (0: only between conditions)
+  uint64_t seed = 1;
+};
+
+// "FILE:LINE: what is wrong" for a malformed or invalid protocol.
+struct protocol_error : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+// Parses and validates; every error names the file and the line of the offending value.
+stair_protocol load_protocol(const std::string& path);
+stair_protocol parse_protocol(const std::string& text, const std::string& name_for_errors);
+
+// The scales a series can visit: scale_min + i x step (and the initial steps), rounded to 0.01.
+std::vector<double> reachable_scales(const stair_protocol& p);
+
+// The point-set file for a scale: <points_dir>/<display>-s<scale, 2 decimals>.fovset.
+std::string pointset_path(const stair_protocol& p, double scale);
+
+}  // namespace fov

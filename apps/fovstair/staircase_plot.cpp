@@ -1,0 +1,77 @@
+#include "staircase_plot.h"
+
+#include <algorithm>
+#include <filesystem>
+#include <stdexcept>
+
+#include <fmt/format.h>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+namespace fov {
+
+void write_staircase_plot(const std::vector<nlohmann::json>& trials, const std::string& title, double lo, double hi,
+                          const std::string& path) {
+  const int W = 900, H = 480, left = 70, right = 20, top = 40, bottom = 60;
+  cv::Mat img(H, W, CV_8UC3, cv::Scalar(255, 255, 255));
+  const int n = std::max<int>(1, int(trials.size()));
+  auto px = [&](double i) { return left + int((W - left - right) * (i + 0.5) / n); };
+  auto py = [&](double s) { return top + int((H - top - bottom) * (hi - s) / (hi - lo)); };
+  const cv::Scalar black(0, 0, 0), grey(160, 160, 160), red(40, 40, 220), blue(200, 90, 30);
+  constexpr int font = cv::FONT_HERSHEY_SIMPLEX;
+  // Axes, ticks every 0.2 in scale and every 5 trials.
+  cv::line(img, {left, top}, {left, H - bottom}, black, 1);
+  cv::line(img, {left, H - bottom}, {W - right, H - bottom}, black, 1);
+  for (double s = lo; s <= hi + 1e-9; s += 0.2) {
+    cv::line(img, {left - 5, py(s)}, {left, py(s)}, black, 1);
+    cv::line(img, {left + 1, py(s)}, {W - right, py(s)}, cv::Scalar(235, 235, 235), 1);
+    cv::putText(img, fmt::format("{:.1f}", s), {left - 45, py(s) + 5}, font, 0.45, black, 1, cv::LINE_AA);
+  }
+  for (int i = 0; i < n; i += 5) {
+    cv::line(img, {px(i), H - bottom}, {px(i), H - bottom + 5}, black, 1);
+    cv::putText(img, std::to_string(i + 1), {px(i) - 6, H - bottom + 22}, font, 0.45, black, 1, cv::LINE_AA);
+  }
+  cv::putText(img, "trial", {W / 2 - 20, H - 15}, font, 0.55, black, 1, cv::LINE_AA);
+  cv::putText(img, "scale s", {5, top - 12}, font, 0.55, black, 1, cv::LINE_AA);
+  cv::putText(img, title, {left + 10, 25}, font, 0.6, black, 1, cv::LINE_AA);
+  // The path of the staircase, then the answers on it.
+  cv::Point previous(-1, -1);
+  double threshold_sum = 0;
+  int thresholds = 0;
+  for (int i = 0; i < int(trials.size()); ++i) {
+    const auto& t = trials[size_t(i)];
+    const cv::Point p(px(i), py(t.value("scale", lo)));
+    if (t.value("catch", false)) {
+      cv::drawMarker(img, {p.x, H - bottom - 8}, grey, cv::MARKER_TRIANGLE_UP, 8, 1);
+      continue;
+    }
+    if (previous.x >= 0) cv::line(img, previous, p, grey, 1, cv::LINE_AA);
+    previous = p;
+    const bool detected = t.value("detected", false);
+    if (detected) cv::circle(img, p, 5, red, cv::FILLED, cv::LINE_AA);
+    else cv::circle(img, p, 5, blue, 2, cv::LINE_AA);
+    if (t.value("reversal", false)) cv::circle(img, p, 10, t.value("recorded", false) ? black : grey, 1, cv::LINE_AA);
+    if (t.value("recorded", false)) threshold_sum += t.value("threshold", 0.0), ++thresholds;
+  }
+  if (thresholds > 0) {
+    const double mean = threshold_sum / thresholds;
+    for (int x = left; x < W - right; x += 12) cv::line(img, {x, py(mean)}, {x + 6, py(mean)}, black, 1);
+    cv::putText(img, fmt::format("mean of {} thresholds: {:.3f}", thresholds, mean), {W - 330, top + 18}, font, 0.5, black, 1,
+                cv::LINE_AA);
+  }
+  // Legend.
+  const int ly = H - 15;
+  cv::circle(img, {left + 10, ly - 5}, 5, red, cv::FILLED, cv::LINE_AA);
+  cv::putText(img, "detected", {left + 20, ly}, font, 0.45, black, 1, cv::LINE_AA);
+  cv::circle(img, {left + 110, ly - 5}, 5, blue, 2, cv::LINE_AA);
+  cv::putText(img, "not detected", {left + 120, ly}, font, 0.45, black, 1, cv::LINE_AA);
+  cv::circle(img, {W - 300, ly - 5}, 10, black, 1, cv::LINE_AA);
+  cv::putText(img, "recorded reversal", {W - 285, ly}, font, 0.45, black, 1, cv::LINE_AA);
+  cv::drawMarker(img, {W - 120, ly - 5}, grey, cv::MARKER_TRIANGLE_UP, 8, 1);
+  cv::putText(img, "catch", {W - 110, ly}, font, 0.45, black, 1, cv::LINE_AA);
+  const std::string temp = path + ".tmp.png";
+  if (!cv::imwrite(temp, img)) throw std::runtime_error(fmt::format("{}: cannot write the plot", path));
+  std::filesystem::rename(temp, path);
+}
+
+}  // namespace fov

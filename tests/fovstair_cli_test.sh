@@ -1,0 +1,75 @@
+#!/usr/bin/env bash
+# fovstair's command line: data safety (a crashed session resumes exactly, nothing is
+# overwritten), protocol errors with their line, analysis of the thesis's Table 5, and
+# the simulated observer.
+set -uo pipefail
+fovstair=$1
+src=$2
+dir=$(mktemp -d)
+trap 'rm -rf "$dir"' EXIT
+tool=fovstair
+source "$(dirname "$0")/cli_check.sh"
+protocol=$src/apps/fovstair/protocols/thesis.json
+observer=logistic:threshold=1.7,slope=8,lapse=0.02,false_alarm=0.1
+fail() { echo "FAIL $*"; failures=$((failures + 1)); }
+
+check "no subcommand"       2 -- "$fovstair"
+check "bad subject"         2 -- "$fovstair" run --protocol "$protocol" --subject "a b" --observer "$observer" --out "$dir/x"
+check "bad observer"        2 -- "$fovstair" run --protocol "$protocol" --subject S1 --observer "probit:1" --out "$dir/x"
+check "missing protocol"    1 -- "$fovstair" run --protocol "$dir/none.json" --subject S1 --observer "$observer" --out "$dir/x"
+printf '{\n  "fovstair_protocol": 1,\n  "conditions": [{"name": "A", "k": 99}]\n}\n' > "$dir/bad.json"
+err=$("$fovstair" validate "$dir/bad.json" 2>&1)
+[[ "$err" == "fovstair: $dir/bad.json:3: conditions[0].k: must lie in 1..32" ]] || fail "protocol error: $err"
+check "resume nothing"      1 -- "$fovstair" run --subject S1 --resume --out "$dir/empty" --observer "$observer"
+
+# An uninterrupted session, and the same session killed after 7 trials (with half a line
+# written after it, as a crash mid-write leaves) and resumed: the same trials.
+check "whole session"       0 -- "$fovstair" run --protocol "$protocol" --subject S2 --observer "$observer" --out "$dir/whole"
+"$fovstair" run --protocol "$protocol" --subject S2 --observer "$observer" --out "$dir/crash" --stop-after 7 >/dev/null 2>&1
+[[ $? -eq 3 ]] || fail "--stop-after did not stop"
+[[ $(wc -l < "$dir/crash/S2-1.jsonl") -eq 8 ]] || fail "crashed session should hold a header and 7 trials"
+printf '{"type": "trial", "ind' >> "$dir/crash/S2-1.jsonl"
+before=$(md5sum < "$dir/crash/S2-1.jsonl")
+check "never overwrite"     1 -- "$fovstair" run --protocol "$protocol" --subject S2 --session 1 --observer "$observer" --out "$dir/crash"
+[[ $(md5sum < "$dir/crash/S2-1.jsonl") == "$before" ]] || fail "an existing session was modified"
+check "resume"              0 -- "$fovstair" run --subject S2 --resume --out "$dir/crash"
+strip() { python3 -c 'import json,sys
+for line in open(sys.argv[1]):
+    r = json.loads(line); r.pop("time", None); r.pop("started", None); print(json.dumps(r, sort_keys=True))' "$1"; }
+cmp -s <(strip "$dir/whole/S2-1.jsonl") <(strip "$dir/crash/S2-1.jsonl") || fail "resumed session differs from the uninterrupted one"
+check "resume finished"     1 -- "$fovstair" run --subject S2 --resume --out "$dir/crash"
+check "next session"        0 -- "$fovstair" run --protocol "$protocol" --subject S2 --observer "$observer" --out "$dir/crash"
+[[ -s "$dir/crash/S2-2.jsonl" ]] || fail "a second run did not start session 2"
+
+# Analysis of sessions: thresholds CSV, plots, JSON.
+for s in 3 4 5; do "$fovstair" run --protocol "$protocol" --subject S$s --observer "$observer" --out "$dir/whole" >/dev/null; done
+check "analyze sessions"    0 -- "$fovstair" analyze "$dir"/whole/*.jsonl --out-csv "$dir/t.csv"
+[[ $(head -1 "$dir/t.csv") == "subject,condition,threshold" && $(wc -l < "$dir/t.csv") -eq 49 ]] || fail "thresholds CSV"
+[[ $(ls "$dir"/whole/plots/*.png | wc -l) -eq 12 ]] || fail "one staircase plot per series"
+check "analyze two files"   0 -- "$fovstair" analyze "$dir/whole/S3-1.jsonl" "$dir/whole/S4-1.jsonl"
+echo "not json" > "$dir/junk.jsonl"
+check "analyze junk"        1 -- "$fovstair" analyze "$dir/junk.jsonl"
+
+# Thesis Table 5 re-analysed: the thesis's F(2, 48) = 0.403, p = 0.670.
+"$fovstair" analyze --thresholds "$src/tests/data/thesis-table5.csv" --json > "$dir/a.json" || fail "analyze --thresholds"
+python3 - "$dir/a.json" <<'PY' || fail "Table 5 statistics"
+import json, sys
+j = json.load(open(sys.argv[1]))
+assert abs(j["anova"]["F"] - 0.403) < 5e-4 and abs(j["anova"]["p"] - 0.670) < 5e-4, j["anova"]
+assert j["anova"]["df1"] == 2 and j["anova"]["df2"] == 48
+assert j["conditions"]["NN"]["n"] == 17 and abs(j["conditions"]["RBF"]["mean"] - 1.675) < 5e-4
+assert abs(j["conditions"]["MSM"]["sd"] - 0.362) < 5e-4
+PY
+
+"$fovstair" simulate --protocol "$protocol" --observer logistic:threshold=1.7,slope=8 --runs 200 --json > "$dir/s.json" \
+  || fail "simulate"
+python3 - "$dir/s.json" <<'PY' || fail "simulate JSON"
+import json, sys
+j = json.load(open(sys.argv[1]))
+assert j["true_threshold"] == 1.7 and j["runs"] == 200, j
+assert abs(j["estimate_mean"] - 1.7) < 0.1 and 0 < j["estimate_sd"] < 0.3, j
+PY
+check "simulate no runs"    2 -- "$fovstair" simulate --protocol "$protocol" --observer logistic:threshold=1.7 --runs 0
+
+echo "$passes passed, $failures failed"
+[[ $failures -eq 0 ]]
