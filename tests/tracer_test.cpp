@@ -188,6 +188,38 @@ TEST(Tracer, EnvironmentSceneReturnsTheImageAlongEachAxis) {
   fs::remove_all(dir);
 }
 
+TEST(Tracer, EnvironmentLookupsAreFilteredByTheRayFootprint) {
+  // A 256 x 128 lat-long checker of single texels, 0 and 1 (8-bit: sRGB-decoded, still 0
+  // and 1). Sharp rays read single texels; a wide footprint reads the mean, 0.5.
+  const fs::path dir = fs::temp_directory_path() / ("fovray-envf-" + std::to_string(getpid()));
+  fs::create_directories(dir);
+  const int w = 256, h = 128;
+  std::vector<uint8_t> px(size_t(w) * h * 3);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      for (int c = 0; c < 3; ++c) px[(size_t(y) * w + x) * 3 + c] = (x + y) % 2 ? 255 : 0;
+  const std::string path = (dir / "checker.png").string();
+  auto out = OIIO::ImageOutput::create(path);
+  out->open(path, OIIO::ImageSpec(w, h, 3, OIIO::TypeDesc::UINT8));
+  out->write_image(OIIO::TypeDesc::UINT8, px.data());
+  out->close();
+  const auto s = load_scene("env:" + path);
+  trace_params tp;
+  tp.spp = 1;
+  // 8 x 4 pixels over 120 degrees: each pixel spans about 15 degrees, some 10 texels.
+  const frame wide = trace_reference(*s, look_at({0, 0, 0}, {0, 0, -1}, 120), 8, 4, tp);
+  for (const glm::vec3& c : wide.rgb) EXPECT_NEAR(c.g, 0.5f, 0.05f);
+  // 2000 pixels over 90 degrees along the centre of texel row 64: far below a texel, so
+  // bilinear between texel centres, reaching 0 and 1 (the mean would be 0.5 throughout).
+  const float below = std::tan(0.5f * 3.14159265f / h);
+  const frame sharp = trace_reference(*s, look_at({0, 0, 0}, {0, -below, -1}, 90), 2000, 1, tp);
+  float lo = 1, hi = 0;
+  for (const glm::vec3& c : sharp.rgb) lo = std::min(lo, c.g), hi = std::max(hi, c.g);
+  EXPECT_LT(lo, 0.05f);
+  EXPECT_GT(hi, 0.95f);
+  fs::remove_all(dir);
+}
+
 TEST(Tracer, MissingTexturesWarnOnceAndFallBack) {
   const fs::path dir = fs::temp_directory_path() / ("fovray-obj-" + std::to_string(getpid()));
   fs::create_directories(dir);

@@ -105,7 +105,7 @@ knn_table build_knn_table(const std::vector<point>& points, uint32_t canvas_widt
         }
     });
   }
-  table.max_radius = max_knn_radius(table, points);
+  set_knn_radii(table, points);
   return table;
 }
 
@@ -123,6 +123,7 @@ knn_table regroup(const knn_table& table, uint32_t group) {
   if (std::clamp<uint32_t>(group, 1, table.k) == table.group) return table;
   knn_table out;
   out.max_radius = table.max_radius;
+  out.radius_by_rank = table.radius_by_rank;
   out.width = table.width;
   out.height = table.height;
   out.k = table.k;

@@ -70,19 +70,29 @@ uint64_t count_spacing_violations(const std::vector<point>& points, uint32_t can
   return violations;
 }
 
-float max_knn_radius(const knn_table& t, const std::vector<point>& points) {
-  if (t.k == 0 || t.entries.empty()) return 0;
+std::vector<float> max_knn_radii(const knn_table& t, const std::vector<point>& points) {
+  if (t.k == 0 || t.entries.empty()) return {};
+  using radii = std::vector<float>;
   return tbb::parallel_reduce(
-      tbb::blocked_range<uint32_t>(0, t.height), 0.0f,
-      [&](const tbb::blocked_range<uint32_t>& rows, float r) {
+      tbb::blocked_range<uint32_t>(0, t.height), radii(t.k, 0.0f),
+      [&](const tbb::blocked_range<uint32_t>& rows, radii r) {
         for (uint32_t y = rows.begin(); y < rows.end(); ++y)
-          for (uint32_t x = 0; x < t.width; ++x) {
-            const point& p = points[t.at(x, y, t.k - 1)];
-            r = std::max(r, std::hypot(p.x - (float(x) + 0.5f), p.y - (float(y) + 0.5f)));
-          }
+          for (uint32_t x = 0; x < t.width; ++x)
+            for (uint32_t j = 0; j < t.k; ++j) {
+              const point& p = points[t.at(x, y, j)];
+              r[j] = std::max(r[j], std::hypot(p.x - (float(x) + 0.5f), p.y - (float(y) + 0.5f)));
+            }
         return r;
       },
-      [](float a, float b) { return std::max(a, b); });
+      [](radii a, const radii& b) {
+        for (size_t j = 0; j < a.size(); ++j) a[j] = std::max(a[j], b[j]);
+        return a;
+      });
+}
+
+void set_knn_radii(knn_table& t, const std::vector<point>& points) {
+  t.radius_by_rank = max_knn_radii(t, points);
+  t.max_radius = t.radius_by_rank.empty() ? 0 : t.radius_by_rank.back();
 }
 
 void require_table(const pointset& set) {
@@ -99,10 +109,11 @@ std::vector<uint8_t> traced_point_mask(const pointset& set, double gaze_x, doubl
   std::vector<uint8_t> mask(set.points.size(), 0);
   const knn_table& t = set.table;
   k_used = std::min(k_used, t.k);
-  // Only pixels within max_radius of the screen edge can read an off-screen point
-  // (without a known radius, every pixel is scanned). Rows are split over threads;
-  // each collects the points it finds, and the marks are written afterwards.
-  const int band = t.max_radius > 0 ? int(std::ceil(t.max_radius)) + 1 : std::max(d.width, d.height);
+  // Only pixels within the k_used-th neighbour's largest radius of the screen edge can
+  // read an off-screen point (without known radii, every pixel is scanned). Rows are
+  // split over threads; each collects the points it finds, and the marks are written after.
+  const float radius = t.radius_by_rank.size() == t.k ? t.radius_by_rank[k_used - 1] : t.max_radius;
+  const int band = radius > 0 ? int(std::ceil(radius)) + 1 : std::max(d.width, d.height);
   using found = std::vector<uint32_t>;
   const found referenced = tbb::parallel_reduce(
       tbb::blocked_range<int>(0, d.height, 16), found(),

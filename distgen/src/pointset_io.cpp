@@ -449,7 +449,7 @@ pointset load_pointset(const std::string& path, const load_params& params) {
       if (!e.empty()) throw fail(e);
   }
   if (params.group && params.group != t.group) t = regroup(t, params.group);
-  t.max_radius = max_knn_radius(t, set.points);
+  set_knn_radii(t, set.points);
   return set;
 }
 

@@ -120,10 +120,10 @@ void BM_TracedPointMask(benchmark::State& state) {
   const fov::pointset& set = bench_set();
   for (auto _ : state)
     benchmark::DoNotOptimize(
-        fov::traced_point_mask(set, 0.5 * set.model.display.width, 0.5 * set.model.display.height, set.table.k).data());
-  state.counters["max_radius_px"] = set.table.max_radius;
+        fov::traced_point_mask(set, 0.5 * set.model.display.width, 0.5 * set.model.display.height, uint32_t(state.range(0))).data());
+  state.counters["band_radius_px"] = set.table.radius_by_rank[size_t(state.range(0) - 1)];
 }
-BENCHMARK(BM_TracedPointMask)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_TracedPointMask)->ArgName("k_used")->Arg(5)->Arg(20)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 // Load time (read, verify, decode) of the whole set in each stored encoding.
 void BM_LoadSet(benchmark::State& state) {

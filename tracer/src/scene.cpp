@@ -4,6 +4,8 @@
 #include <stdexcept>
 
 #include <fmt/format.h>
+#include <OpenImageIO/imagebuf.h>
+#include <OpenImageIO/imagebufalgo.h>
 
 #include "fov/scene.h"
 #include "scene_impl.h"
@@ -153,13 +155,64 @@ glm::vec3 scene::impl::environment_radiance(const glm::vec3& dir, float angle) c
   // Lat-long: u = 0.5 + atan2(x, -z) / 2 pi (so -z is the image centre), v = acos(y) / pi (+y is the top row).
   const float s = 0.5f + std::atan2(dir.x, -dir.z) / (2 * pi);
   const float t = std::acos(std::clamp(dir.y, -1.0f, 1.0f)) / pi;
-  OIIO::TextureOpt opt = lookup_options();
-  opt.swrap = OIIO::TextureOpt::WrapPeriodic;
-  opt.twrap = OIIO::TextureOpt::WrapClamp;
-  float out[3] = {0, 0, 0};
-  const float ds = angle / (2 * pi), dt = angle / pi;
-  textures->texture(env_handle, textures->get_perthread_info(), opt, s, t, ds, 0, 0, dt, 3, out);
-  return glm::vec3(out[0], out[1], out[2]) * env.intensity;
+  return env_map.lookup(s, t, angle / (2 * pi), angle / pi) * env.intensity;
+}
+
+glm::vec3 env_pyramid::lookup(float s, float t, float ds, float dt) const {
+  const level& top = levels.front();
+  // The level whose texel matches the footprint (the larger of its two extents).
+  const float texels = std::max(ds * float(top.width), dt * float(top.height));
+  const float lod = std::clamp(std::log2(std::max(texels, 1e-6f)), 0.0f, float(levels.size() - 1));
+  const int l0 = int(lod);
+  const int l1 = std::min(l0 + 1, int(levels.size()) - 1);
+  auto bilinear = [&](const level& m) {
+    const float x = s * float(m.width) - 0.5f, y = std::clamp(t * float(m.height) - 0.5f, 0.0f, float(m.height - 1));
+    const float fx = std::floor(x), fy = std::floor(y);
+    const float ax = x - fx, ay = y - fy;
+    auto wrap = [&](int i) { return ((i % m.width) + m.width) % m.width; };
+    const int x0 = wrap(int(fx)), x1 = wrap(int(fx) + 1);
+    const int y0 = int(fy), y1 = std::min(y0 + 1, m.height - 1);
+    const glm::vec3* r0 = m.texels.data() + size_t(y0) * m.width;
+    const glm::vec3* r1 = m.texels.data() + size_t(y1) * m.width;
+    return glm::mix(glm::mix(r0[x0], r0[x1], ax), glm::mix(r1[x0], r1[x1], ax), ay);
+  };
+  const glm::vec3 a = bilinear(levels[size_t(l0)]);
+  return l1 == l0 ? a : glm::mix(a, bilinear(levels[size_t(l1)]), lod - float(l0));
+}
+
+env_pyramid load_env_pyramid(const std::string& file) {
+  OIIO::ImageBuf image(file);
+  if (!image.read(0, 0, true, OIIO::TypeDesc::FLOAT))
+    throw std::runtime_error(fmt::format("{}: cannot read environment image: {}", file, image.geterror()));
+  const OIIO::ImageSpec& spec = image.spec();
+  const bool srgb = !(spec.format == OIIO::TypeDesc::FLOAT || spec.format == OIIO::TypeDesc::HALF ||
+                      spec.format == OIIO::TypeDesc::DOUBLE);
+  env_pyramid out;
+  OIIO::ImageBuf current = image;
+  for (;;) {
+    const OIIO::ImageSpec& cs = current.spec();
+    env_pyramid::level l;
+    l.width = cs.width, l.height = cs.height;
+    l.texels.resize(size_t(l.width) * l.height);
+    std::vector<float> px(size_t(l.width) * l.height * size_t(cs.nchannels));
+    current.get_pixels(OIIO::ROI(0, cs.width, 0, cs.height, 0, 1, 0, cs.nchannels), OIIO::TypeDesc::FLOAT, px.data());
+    for (size_t i = 0; i < l.texels.size(); ++i)
+      for (int c = 0; c < 3; ++c) {
+        const float v = px[i * size_t(cs.nchannels) + size_t(std::min(c, cs.nchannels - 1))];
+        l.texels[i][c] = srgb && out.levels.empty() ? srgb_decode(v) : v;
+      }
+    if (srgb && out.levels.empty()) {  // filter the decoded (linear) values from here on
+      OIIO::ImageSpec linear(cs.width, cs.height, 3, OIIO::TypeDesc::FLOAT);
+      current = OIIO::ImageBuf(linear);
+      current.set_pixels(OIIO::ROI(0, cs.width, 0, cs.height, 0, 1, 0, 3), OIIO::TypeDesc::FLOAT, l.texels.data());
+    }
+    out.levels.push_back(std::move(l));
+    if (cs.width == 1 && cs.height == 1) break;
+    const int w2 = std::max(1, cs.width / 2), h2 = std::max(1, cs.height / 2);
+    current = OIIO::ImageBufAlgo::resize(current, "box", 2.0f, OIIO::ROI(0, w2, 0, h2, 0, 1, 0, current.nchannels()));
+    if (current.has_error()) throw std::runtime_error(fmt::format("{}: cannot filter: {}", file, current.geterror()));
+  }
+  return out;
 }
 
 void scene::impl::surface_at(unsigned inst, unsigned prim, float u, float v, surface& s) const {
@@ -218,7 +271,7 @@ scene::scene(scene_description description) : impl_(std::make_unique<impl>()) {
   };
   for (const material& m : d.desc.materials)
     d.handles.push_back({resolve(m.base_texture), resolve(m.emissive_texture), resolve(m.normal_texture)});
-  d.env_handle = resolve({d.desc.env.latlong_file, false});
+  if (!d.desc.env.latlong_file.empty()) d.env_map = load_env_pyramid(d.desc.env.latlong_file);
   d.top = rtcNewScene(d.device);
   rtcSetSceneBuildQuality(d.top, RTC_BUILD_QUALITY_HIGH);
 

@@ -81,6 +81,10 @@ struct knn_table {
   // Largest distance from a pixel centre to its k-th neighbour (derived, not stored in
   // files): a pixel farther than this from the screen edge reads only on-screen points.
   float max_radius = 0;
+  // The same per rank: radius_by_rank[j] is the largest distance from a pixel centre to its
+  // (j+1)-th neighbour (derived; empty when not computed). A reader of k' < k ranks needs
+  // only radius_by_rank[k' - 1] of border.
+  std::vector<float> radius_by_rank;
   std::vector<uint32_t, table_allocator<uint32_t>> entries;  // width * height * k point indices
 
   uint64_t pixel_count() const { return uint64_t(width) * height; }
@@ -132,8 +136,10 @@ uint64_t count_spacing_violations(const std::vector<point>& points, uint32_t can
 // (a set read with load_params::table = false has none).
 void require_table(const pointset& set);
 
-// The largest distance from any pixel centre to its k-th (farthest stored) neighbour.
-float max_knn_radius(const knn_table& table, const std::vector<point>& points);
+// The largest distance from any pixel centre to its j-th neighbour, for j = 1..k.
+std::vector<float> max_knn_radii(const knn_table& table, const std::vector<point>& points);
+// Sets table.radius_by_rank and table.max_radius (the k-th, farthest stored, neighbour's).
+void set_knn_radii(knn_table& table, const std::vector<point>& points);
 
 // Points the renderer must trace for a gaze: every point on the screen plus every
 // point any on-screen pixel reads among its first k_used neighbours.
