@@ -174,13 +174,21 @@ int main(int argc, char** argv) {
             j["rbf_weights_ms"] = 1e3 * (device ? device->rbf_cache()->seconds() : cpu_cache->seconds());
         }
         const auto rebuilt = std::chrono::steady_clock::now();
-        image = device ? device->run(samples, rp, &on_device, rbf_out)
-                       : fov::reconstruct(set, samples, rp, rbf_out, cpu_cache.get());
-        j["reconstruct_ms"] = ms_since(rebuilt);
-        if (taa_frames > 0) {
-          const auto blended = std::chrono::steady_clock::now();
-          image = fov::taa_resolve(taa, image, cam, display, gaze);
-          j["taa_ms"] = ms_since(blended);
+        if (taa_frames > 0 && device && device->available()) {
+          // Reconstruction and TAA on the device, the frame kept there in between; TAA's
+          // share is its kernel's time.
+          image = device->run_taa(samples, rp, taa, cam, gaze, {}, &on_device, rbf_out);
+          j["taa_ms"] = device->last_taa_kernel_ms();
+          j["reconstruct_ms"] = ms_since(rebuilt) - j["taa_ms"].get<double>();
+        } else {
+          image = device ? device->run(samples, rp, &on_device, rbf_out)
+                         : fov::reconstruct(set, samples, rp, rbf_out, cpu_cache.get());
+          j["reconstruct_ms"] = ms_since(rebuilt);
+          if (taa_frames > 0) {
+            const auto blended = std::chrono::steady_clock::now();
+            image = fov::taa_resolve(taa, image, cam, display, gaze);
+            j["taa_ms"] = ms_since(blended);
+          }
         }
       }
       j["device"] = on_device ? device->device() : std::string("C++ (TBB)");

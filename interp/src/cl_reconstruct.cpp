@@ -51,8 +51,10 @@ struct cl_reconstructor::impl {
   cl_context context = nullptr;
   cl_command_queue queue = nullptr;
   cl_program program = nullptr;
-  cl_kernel nn = nullptr, shepard = nullptr, weighted = nullptr, copy = nullptr;
-  double last_kernel_ms = 0;
+  cl_kernel nn = nullptr, shepard = nullptr, weighted = nullptr, copy = nullptr, taa = nullptr;
+  double last_kernel_ms = 0, last_taa_ms = 0;
+  cl_mem history = nullptr, taa_out = nullptr;  // TAA: the previous output and the next one
+  uint64_t history_generation = 0;              // taa_state::generation that `history` holds
   cl_mem table = nullptr, position = nullptr, colour = nullptr, depth = nullptr, out_rgb = nullptr, out_depth = nullptr;
   std::unique_ptr<rbf_weight_cache> cache;  // RBF weights, built on the first RBF run
   cl_mem weights = nullptr;                 // the cache's tiles on the device
@@ -60,9 +62,9 @@ struct cl_reconstructor::impl {
   std::vector<float> out_host;
 
   ~impl() {
-    for (cl_mem m : {table, position, colour, depth, out_rgb, out_depth, weights})
+    for (cl_mem m : {table, position, colour, depth, out_rgb, out_depth, weights, history, taa_out})
       if (m) clReleaseMemObject(m);
-    for (cl_kernel k : {nn, shepard, weighted, copy})
+    for (cl_kernel k : {nn, shepard, weighted, copy, taa})
       if (k) clReleaseKernel(k);
     if (program) clReleaseProgram(program);
     if (queue) clReleaseCommandQueue(queue);
@@ -90,8 +92,8 @@ struct cl_reconstructor::impl {
     check(status, "clCreateContext");
     queue = clCreateCommandQueue(context, dev, CL_QUEUE_PROFILING_ENABLE, &status);
     check(status, "clCreateCommandQueue");
-    const char* source = kernel_sources::reconstruct;
-    program = clCreateProgramWithSource(context, 1, &source, nullptr, &status);
+    const char* sources[2] = {kernel_sources::reconstruct, kernel_sources::taa};
+    program = clCreateProgramWithSource(context, 2, sources, nullptr, &status);
     check(status, "clCreateProgramWithSource");
     if (clBuildProgram(program, 1, &dev, "-cl-std=CL1.2", nullptr, nullptr) != CL_SUCCESS) {
       size_t n = 0;
@@ -106,6 +108,8 @@ struct cl_reconstructor::impl {
     check(status, "clCreateKernel(reconstruct_shepard)");
     weighted = clCreateKernel(program, "reconstruct_weighted", &status);
     check(status, "clCreateKernel(reconstruct_weighted)");
+    taa = clCreateKernel(program, "taa_resolve", &status);
+    check(status, "clCreateKernel(taa_resolve)");
     copy = clCreateKernel(program, "copy_float4", &status);
     check(status, "clCreateKernel(copy_float4)");
 
@@ -123,10 +127,14 @@ struct cl_reconstructor::impl {
     depth = clCreateBuffer(context, CL_MEM_READ_ONLY, set.points.size() * sizeof(float), nullptr, &status);
     check(status, "depth buffer");
     const size_t pixels = size_t(set.model.display.width) * set.model.display.height;
-    out_rgb = clCreateBuffer(context, CL_MEM_WRITE_ONLY, pixels * sizeof(cl_float4), nullptr, &status);
+    out_rgb = clCreateBuffer(context, CL_MEM_READ_WRITE, pixels * sizeof(cl_float4), nullptr, &status);
     check(status, "image buffer");
-    out_depth = clCreateBuffer(context, CL_MEM_WRITE_ONLY, pixels * sizeof(float), nullptr, &status);
+    out_depth = clCreateBuffer(context, CL_MEM_READ_WRITE, pixels * sizeof(float), nullptr, &status);
     check(status, "depth image buffer");
+    history = clCreateBuffer(context, CL_MEM_READ_WRITE, pixels * sizeof(cl_float4), nullptr, &status);
+    check(status, "TAA history buffer");
+    taa_out = clCreateBuffer(context, CL_MEM_READ_WRITE, pixels * sizeof(cl_float4), nullptr, &status);
+    check(status, "TAA output buffer");
     ok = true;
   }
 };
@@ -150,14 +158,29 @@ frame cl_reconstructor::run(const point_samples& samples, const reconstruct_para
                             rbf_stats* stats) {
   impl& d = *impl_;
   check_reconstruct_inputs(set_, samples, params);
-  const bool rbf = params.how == method::rbf;
-  if (rbf && !(d.cache && d.cache->serves(params))) {
+  if (on_device) *on_device = d.ok;
+  if (!d.ok) return reconstruct(set_, samples, params, stats, prepare_rbf(params));
+  cl_event done = launch(samples, params, stats);
+  frame out = read_back(impl_->out_rgb);
+  d.last_kernel_ms = event_ms(done);
+  clReleaseEvent(done);
+  return out;
+}
+
+rbf_weight_cache* cl_reconstructor::prepare_rbf(const reconstruct_params& params) {
+  impl& d = *impl_;
+  if (params.how != method::rbf) return nullptr;
+  if (!(d.cache && d.cache->serves(params))) {
     d.cache = std::make_unique<rbf_weight_cache>(set_, params);
     if (d.weights) clReleaseMemObject(d.weights), d.weights = nullptr;
   }
-  if (on_device) *on_device = d.ok;
-  if (!d.ok) return reconstruct(set_, samples, params, stats, rbf ? d.cache.get() : nullptr);
+  return d.cache.get();
+}
+
+cl_event cl_reconstructor::launch(const point_samples& samples, const reconstruct_params& params, rbf_stats* stats) {
+  impl& d = *impl_;
   const knn_table& t = set_.table;
+  const bool rbf = prepare_rbf(params) != nullptr;
   if (rbf) {  // compute the weights the screen needs and copy the new tiles to the device
     cl_int status = 0;
     if (!d.weights) {
@@ -195,25 +218,102 @@ frame cl_reconstructor::run(const point_samples& samples, const reconstruct_para
   const size_t global[2] = {size_t(set_.model.display.width), size_t(set_.model.display.height)};
   cl_event done = nullptr;
   check(clEnqueueNDRangeKernel(d.queue, kernel, 2, nullptr, global, nullptr, 0, nullptr, &done), "kernel launch");
+  return done;
+}
 
+frame cl_reconstructor::read_back(cl_mem rgb) {
+  impl& d = *impl_;
   frame out;
   out.width = set_.model.display.width;
   out.height = set_.model.display.height;
   const size_t pixels = size_t(out.width) * out.height;
   d.out_host.resize(pixels * 4);
   out.depth.resize(pixels);
-  check(clEnqueueReadBuffer(d.queue, d.out_rgb, CL_FALSE, 0, pixels * sizeof(cl_float4), d.out_host.data(), 0, nullptr,
-                            nullptr), "image download");
+  check(clEnqueueReadBuffer(d.queue, rgb, CL_FALSE, 0, pixels * sizeof(cl_float4), d.out_host.data(), 0, nullptr, nullptr),
+        "image download");
   check(clEnqueueReadBuffer(d.queue, d.out_depth, CL_TRUE, 0, pixels * sizeof(float), out.depth.data(), 0, nullptr,
                             nullptr), "depth download");
   out.rgb.resize(pixels);
   for (size_t i = 0; i < pixels; ++i) out.rgb[i] = {d.out_host[4 * i], d.out_host[4 * i + 1], d.out_host[4 * i + 2]};
+  return out;
+}
+
+namespace {
+
+struct alignas(16) cl_taa_camera {  // kernels/taa.cl: taa_camera
+  cl_float4 origin, right, up, forward;
+  cl_float half_width, half_height;
+};
+
+cl_taa_camera to_cl(const camera_frame& f) {
+  auto v = [](const glm::vec3& x) { return cl_float4{{x.x, x.y, x.z, 0}}; };
+  return {v(f.origin), v(f.right), v(f.up), v(f.forward), f.half_width, f.half_height};
+}
+
+}  // namespace
+
+frame cl_reconstructor::run_taa(const point_samples& samples, const reconstruct_params& params, taa_state& state,
+                                const camera& cam, const double gaze[2], const taa_params& taa, bool* on_device,
+                                rbf_stats* stats) {
+  impl& d = *impl_;
+  check_reconstruct_inputs(set_, samples, params);
+  if (!(taa.alpha > 0 && taa.alpha <= 1)) throw std::invalid_argument("TAA alpha must lie in (0, 1]");
+  const display_geometry& display = set_.model.display;
+  if (on_device) *on_device = d.ok;
+  if (!d.ok) {
+    const frame current = reconstruct(set_, samples, params, stats, prepare_rbf(params));
+    return taa_resolve(state, current, cam, display, gaze, taa);
+  }
+  const int w = display.width, h = display.height;
+  const size_t pixels = size_t(w) * h;
+  cl_event done = launch(samples, params, stats);
+  const bool usable = state.valid && state.history.width == w && state.history.height == h;
+  double taa_ms = 0;
+  if (usable) {
+    if (d.history_generation != state.generation || !d.history) {  // the history is not on the device yet
+      std::vector<cl_float4> host(pixels);
+      for (size_t i = 0; i < pixels; ++i) host[i] = {{state.history.rgb[i].r, state.history.rgb[i].g, state.history.rgb[i].b, 1}};
+      check(clEnqueueWriteBuffer(d.queue, d.history, CL_TRUE, 0, pixels * sizeof(cl_float4), host.data(), 0, nullptr,
+                                 nullptr), "history upload");
+    }
+    const camera_frame now = make_frame(cam, w, h), before = make_frame(state.cam, w, h);
+    const cl_uint still_camera = cam.position == state.cam.position && cam.forward == state.cam.forward &&
+                                 cam.up == state.cam.up && cam.hfov_deg == state.cam.hfov_deg;
+    const cl_uint still_gaze = gaze[0] == state.gaze[0] && gaze[1] == state.gaze[1];
+    const cl_taa_camera cn = to_cl(now), cb = to_cl(before);
+    const cl_int cw = w, ch = h;
+    const cl_float gx = float(gaze[0]), gy = float(gaze[1]), bx = float(state.gaze[0]), by = float(state.gaze[1]);
+    const cl_float width_v = float(double(display.width) * display.viewing_distance);
+    cl_uint a = 0;
+    auto arg = [&](const auto& value) { check(clSetKernelArg(d.taa, a++, sizeof(value), &value), "clSetKernelArg"); };
+    arg(d.out_rgb), arg(d.out_depth), arg(d.history), arg(d.taa_out), arg(cw), arg(ch), arg(cn), arg(cb), arg(still_camera);
+    arg(gx), arg(gy), arg(bx), arg(by), arg(still_gaze), arg(width_v), arg(taa.alpha), arg(taa.clip_gamma), arg(taa.focus_lag_deg);
+    const size_t global[2] = {size_t(w), size_t(h)};
+    cl_event blended = nullptr;
+    check(clEnqueueNDRangeKernel(d.queue, d.taa, 2, nullptr, global, nullptr, 0, nullptr, &blended), "TAA launch");
+    check(clWaitForEvents(1, &blended), "TAA wait");
+    taa_ms = event_ms(blended);
+    clReleaseEvent(blended);
+    std::swap(d.history, d.taa_out);  // the output is the next history
+  } else {
+    check(clEnqueueCopyBuffer(d.queue, d.out_rgb, d.history, 0, 0, pixels * sizeof(cl_float4), 0, nullptr, nullptr),
+          "history copy");
+  }
+  frame out = read_back(d.history);
   d.last_kernel_ms = event_ms(done);
+  d.last_taa_ms = taa_ms;
   clReleaseEvent(done);
+  state.history.width = w, state.history.height = h;
+  state.history.rgb = out.rgb;
+  state.cam = cam;
+  state.gaze[0] = gaze[0], state.gaze[1] = gaze[1];
+  state.valid = true;
+  d.history_generation = ++state.generation;
   return out;
 }
 
 double cl_reconstructor::last_kernel_ms() const { return impl_->last_kernel_ms; }
+double cl_reconstructor::last_taa_kernel_ms() const { return impl_->last_taa_ms; }
 const rbf_weight_cache* cl_reconstructor::rbf_cache() const { return impl_->cache.get(); }
 
 double cl_reconstructor::copy_gigabytes_per_second(size_t bytes, int repeats) {

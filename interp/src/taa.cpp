@@ -37,18 +37,29 @@ frame taa_resolve(taa_state& state, const frame& current, const camera& cam, con
   if (usable) {
     const int w = current.width, h = current.height;
     const camera_frame now = make_frame(cam, w, h), before = make_frame(state.cam, w, h);
+    // Fast paths (the same result up to float rounding): a still camera reprojects every
+    // pixel onto itself, and a
+    // still gaze changes no eccentricity.
+    const bool still_camera = cam.position == state.cam.position && cam.forward == state.cam.forward &&
+                              cam.up == state.cam.up && cam.hfov_deg == state.cam.hfov_deg;
+    const bool still_gaze = gaze[0] == state.gaze[0] && gaze[1] == state.gaze[1];
     tbb::parallel_for(tbb::blocked_range<int>(0, h, 8), [&](const tbb::blocked_range<int>& rows) {
       for (int y = rows.begin(); y < rows.end(); ++y)
         for (int x = 0; x < w; ++x) {
           const size_t i = size_t(y) * w + x;
           // 1. Where this pixel's surface was on the previous frame.
-          const glm::vec3 dir = ray_direction(now, float(x) + 0.5f, float(y) + 0.5f);
-          const float z = std::isfinite(current.depth[i]) ? current.depth[i] : far_away;
-          const glm::vec3 world = now.origin + dir * (z / glm::dot(dir, now.forward));
-          float depth_before = 0;
-          const glm::vec2 s = project(before, world, &depth_before);
-          if (!(depth_before > 0) || s.x < 0 || s.y < 0 || s.x >= float(w) || s.y >= float(h)) continue;
-          glm::vec3 hist = bilinear(state.history, s.x - 0.5f, s.y - 0.5f);
+          glm::vec3 hist;
+          if (still_camera) {
+            hist = state.history.rgb[i];
+          } else {
+            const glm::vec3 dir = ray_direction(now, float(x) + 0.5f, float(y) + 0.5f);
+            const float z = std::isfinite(current.depth[i]) ? current.depth[i] : far_away;
+            const glm::vec3 world = now.origin + dir * (z / glm::dot(dir, now.forward));
+            float depth_before = 0;
+            const glm::vec2 s = project(before, world, &depth_before);
+            if (!(depth_before > 0) || s.x < 0 || s.y < 0 || s.x >= float(w) || s.y >= float(h)) continue;
+            hist = bilinear(state.history, s.x - 0.5f, s.y - 0.5f);
+          }
           // 2. Clip the history towards the current neighbourhood's mean.
           glm::vec3 sum(0), sum2(0);
           int n = 0;
@@ -74,19 +85,22 @@ frame taa_resolve(taa_state& state, const frame& current, const camera& cam, con
           }
           hist = c + std::max(t, 0.0f) * d;
           // 3. Blend; pixels that moved towards the gaze (focus lag) prefer the current frame.
-          const double drop = pixel_eccentricity_deg(display, state.gaze[0], state.gaze[1], x, y) -
-                              pixel_eccentricity_deg(display, gaze[0], gaze[1], x, y);
+          const double drop = still_gaze ? 0.0
+                                         : pixel_eccentricity_deg(display, state.gaze[0], state.gaze[1], x, y) -
+                                               pixel_eccentricity_deg(display, gaze[0], gaze[1], x, y);
           const float lag = params.focus_lag_deg > 0 ? std::clamp(float(drop) / params.focus_lag_deg, 0.0f, 1.0f) : 0;
           const float a = params.alpha + (1 - params.alpha) * lag;
           out.rgb[i] = a * current.rgb[i] + (1 - a) * hist;
         }
     });
   }
-  state.history = out;
+  state.history.width = out.width, state.history.height = out.height;
+  state.history.rgb = out.rgb;  // reprojection reads colours only
   state.cam = cam;
   state.gaze[0] = gaze[0];
   state.gaze[1] = gaze[1];
   state.valid = true;
+  ++state.generation;
   return out;
 }
 

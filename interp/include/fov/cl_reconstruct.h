@@ -5,6 +5,10 @@
 #include <string>
 
 #include "fov/reconstruct.h"
+#include "fov/taa.h"
+
+struct _cl_event;  // OpenCL handles, declared so this header needs no CL headers
+struct _cl_mem;
 
 namespace fov {
 
@@ -32,18 +36,29 @@ class cl_reconstructor {
   frame run(const point_samples& samples, const reconstruct_params& params, bool* on_device = nullptr,
             rbf_stats* stats = nullptr);
 
+  // run() followed by taa_resolve(), with the frame kept on the device in between and the
+  // history kept there across calls (uploaded only when `state` was last advanced
+  // elsewhere). Same results as the C++ pair within float rounding; falls back to it.
+  frame run_taa(const point_samples& samples, const reconstruct_params& params, taa_state& state, const camera& cam,
+                const double gaze[2], const taa_params& taa = {}, bool* on_device = nullptr, rbf_stats* stats = nullptr);
+
   // The RBF weights kept so far (null before the first RBF run): its seconds() is the
   // one-time cost, its stats() the solves' fallbacks and condition numbers.
   const rbf_weight_cache* rbf_cache() const;
 
   // Device time of the last kernel run() launched (profiling events; transfers excluded).
   double last_kernel_ms() const;
+  // Device time of the last TAA kernel run_taa() launched (0 when it had no history).
+  double last_taa_kernel_ms() const;
   // Bandwidth of a plain copy kernel over `bytes` (read + write counted), best of `repeats`.
   double copy_gigabytes_per_second(size_t bytes, int repeats = 5);
 
  private:
   struct impl;
   std::unique_ptr<impl> impl_;
+  rbf_weight_cache* prepare_rbf(const reconstruct_params& params);  // null unless RBF
+  ::_cl_event* launch(const point_samples& samples, const reconstruct_params& params, rbf_stats* stats);
+  frame read_back(::_cl_mem* rgb);
   const pointset& set_;
 };
 

@@ -20,6 +20,7 @@ struct taa_state {
   camera cam;
   double gaze[2] = {0, 0};
   bool valid = false;
+  uint64_t generation = 0;  // advanced by every resolve (device copies of the history check it)
 };
 
 // Blends `current` (rendered with `cam`, gaze at `gaze` on `display`) with the history:

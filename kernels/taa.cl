@@ -1,0 +1,87 @@
+// Temporal anti-aliasing on the device: the same three steps as interp/src/taa.cpp
+// (reprojection by depth, clipping towards the current 3x3 neighbourhood, blending with
+// the focus-lag ramp), one work item per pixel, in float.
+
+// A camera frame: origin, right, up, forward (xyz of float4s) and half extents.
+typedef struct {
+  float4 origin, right, up, forward;
+  float half_width, half_height;
+} taa_camera;
+
+inline float3 taa_ray(const taa_camera* c, float sx, float sy, int w, int h) {
+  const float u = (2 * sx / (float)w - 1) * c->half_width;
+  const float v = (1 - 2 * sy / (float)h) * c->half_height;
+  return normalize(c->forward.xyz + u * c->right.xyz + v * c->up.xyz);
+}
+
+inline float taa_eccentricity(float gx, float gy, int x, int y, float width_v) {
+  const float d = hypot((float)x + 0.5f - gx, (float)y + 0.5f - gy);
+  return degrees(atan(d / width_v));
+}
+
+inline float4 taa_bilinear(__global const float4* f, float x, float y, int w, int h) {
+  x = clamp(x, 0.0f, (float)(w - 1));
+  y = clamp(y, 0.0f, (float)(h - 1));
+  const int x0 = (int)x, y0 = (int)y;
+  const int x1 = min(x0 + 1, w - 1), y1 = min(y0 + 1, h - 1);
+  const float tx = x - (float)x0, ty = y - (float)y0;
+  const float4 a = mix(f[y0 * w + x0], f[y0 * w + x1], tx);
+  const float4 b = mix(f[y1 * w + x0], f[y1 * w + x1], tx);
+  return mix(a, b, ty);
+}
+
+__kernel void taa_resolve(__global const float4* current, __global const float* depth, __global const float4* history,
+                          __global float4* out, int w, int h, taa_camera now, taa_camera before, uint still_camera,
+                          float gx, float gy, float gx_before, float gy_before, uint still_gaze, float width_v,
+                          float alpha, float gamma, float focus_lag) {
+  const int x = get_global_id(0), y = get_global_id(1);
+  const int i = y * w + x;
+  const float4 c = current[i];
+  // 1. Where this pixel's surface was on the previous frame.
+  float4 hist;
+  if (still_camera) {
+    hist = history[i];
+  } else {
+    const float3 dir = taa_ray(&now, (float)x + 0.5f, (float)y + 0.5f, w, h);
+    const float z = isfinite(depth[i]) ? depth[i] : 1e7f;
+    const float3 world = now.origin.xyz + dir * (z / dot(dir, now.forward.xyz));
+    const float3 d = world - before.origin.xyz;
+    const float zb = dot(d, before.forward.xyz);
+    const float sx = (dot(d, before.right.xyz) / zb / before.half_width + 1) * 0.5f * (float)w;
+    const float sy = (1 - dot(d, before.up.xyz) / zb / before.half_height) * 0.5f * (float)h;
+    if (!(zb > 0) || sx < 0 || sy < 0 || sx >= (float)w || sy >= (float)h) {
+      out[i] = c;
+      return;
+    }
+    hist = taa_bilinear(history, sx - 0.5f, sy - 0.5f, w, h);
+  }
+  // 2. Clip the history towards the current colour, into the neighbourhood's box.
+  float4 sum = (float4)(0.0f), sum2 = (float4)(0.0f);
+  for (int dy = -1; dy <= 1; ++dy)
+    for (int dx = -1; dx <= 1; ++dx) {
+      const float4 n = current[clamp(y + dy, 0, h - 1) * w + clamp(x + dx, 0, w - 1)];
+      sum += n;
+      sum2 += n * n;
+    }
+  const float4 mean = sum / 9.0f;
+  const float4 sigma = sqrt(fmax(sum2 / 9.0f - mean * mean, (float4)(0.0f)));
+  const float4 lo = fmin(mean - gamma * sigma, c), hi = fmax(mean + gamma * sigma, c);
+  const float4 d = hist - c;
+  float t = 1;
+  for (int ch = 0; ch < 3; ++ch) {
+    const float dc = ch == 0 ? d.x : ch == 1 ? d.y : d.z;
+    const float cc = ch == 0 ? c.x : ch == 1 ? c.y : c.z;
+    const float l = ch == 0 ? lo.x : ch == 1 ? lo.y : lo.z, u = ch == 0 ? hi.x : ch == 1 ? hi.y : hi.z;
+    if (dc > 0) t = min(t, (u - cc) / dc);
+    if (dc < 0) t = min(t, (l - cc) / dc);
+  }
+  hist = c + fmax(t, 0.0f) * d;
+  // 3. Blend; pixels whose eccentricity dropped (the gaze moved towards them) prefer the current frame.
+  float lag = 0;
+  if (!still_gaze && focus_lag > 0) {
+    const float drop = taa_eccentricity(gx_before, gy_before, x, y, width_v) - taa_eccentricity(gx, gy, x, y, width_v);
+    lag = clamp(drop / focus_lag, 0.0f, 1.0f);
+  }
+  const float a = alpha + (1 - alpha) * lag;
+  out[i] = a * c + (1 - a) * hist;
+}
