@@ -2,6 +2,10 @@
 
 #include <algorithm>
 #include <stdexcept>
+#include <vector>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 
 #include <opencv2/highgui.hpp>
 #include <opencv2/imgproc.hpp>
@@ -11,15 +15,22 @@
 namespace fov {
 
 cv::Mat display_image(const frame& f) {
+  // sRGB by table: 4096 steps of linear [0, 1] (finer than 8-bit output needs near black
+  // only up to 1 code value), in parallel over rows.
+  static const std::vector<uint8_t> table = [] {
+    std::vector<uint8_t> t(4097);
+    for (int i = 0; i <= 4096; ++i) t[size_t(i)] = uint8_t(std::lround(255.0f * srgb_encode(float(i) / 4096.0f)));
+    return t;
+  }();
+  auto byte = [&](float v) { return table[size_t(std::clamp(v, 0.0f, 1.0f) * 4096.0f + 0.5f)]; };
   cv::Mat out(f.height, f.width, CV_8UC3);
-  for (int y = 0; y < f.height; ++y) {
-    auto* row = out.ptr<cv::Vec3b>(y);
-    for (int x = 0; x < f.width; ++x) {
-      const glm::vec3& c = f.rgb[size_t(y) * f.width + x];
-      auto byte = [](float v) { return uint8_t(std::lround(255.0f * srgb_encode(std::clamp(v, 0.0f, 1.0f)))); };
-      row[x] = cv::Vec3b(byte(c.b), byte(c.g), byte(c.r));
+  tbb::parallel_for(tbb::blocked_range<int>(0, f.height, 16), [&](const tbb::blocked_range<int>& rows) {
+    for (int y = rows.begin(); y < rows.end(); ++y) {
+      auto* row = out.ptr<cv::Vec3b>(y);
+      const glm::vec3* in = f.rgb.data() + size_t(y) * f.width;
+      for (int x = 0; x < f.width; ++x) row[x] = cv::Vec3b(byte(in[x].b), byte(in[x].g), byte(in[x].r));
     }
-  }
+  });
   return out;
 }
 

@@ -1,0 +1,57 @@
+#include "camera_path.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+namespace fov {
+
+camera_path load_camera_path(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error(fmt::format("{}: cannot open the camera path", path));
+  std::string line;
+  std::getline(in, line);
+  if (!line.empty() && line.back() == '\r') line.pop_back();
+  if (line != "t_ms,x,y,z,tx,ty,tz") throw std::runtime_error(fmt::format("{}:1: the header must be t_ms,x,y,z,tx,ty,tz", path));
+  camera_path out;
+  for (int number = 2; std::getline(in, line); ++number) {
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    if (line.empty()) continue;
+    double v[7];
+    std::stringstream row(line);
+    std::string cell;
+    for (double& x : v) {
+      char* end = nullptr;
+      if (!std::getline(row, cell, ',') || (x = std::strtod(cell.c_str(), &end), end == cell.c_str() || *end) || !std::isfinite(x))
+        throw std::runtime_error(fmt::format("{}:{}: expected seven numbers t_ms,x,y,z,tx,ty,tz", path, number));
+    }
+    if (!out.keys.empty() && v[0] < out.keys.back().t)
+      throw std::runtime_error(fmt::format("{}:{}: time goes backwards", path, number));
+    if (v[1] == v[4] && v[2] == v[5] && v[3] == v[6])
+      throw std::runtime_error(fmt::format("{}:{}: the eye is on its target", path, number));
+    out.keys.push_back({v[0], {v[1], v[2], v[3]}, {v[4], v[5], v[6]}});
+  }
+  if (out.keys.empty()) throw std::runtime_error(fmt::format("{}: no camera keys", path));
+  return out;
+}
+
+camera camera_path::at(double t, float hfov) const {
+  size_t i = 0;
+  while (i + 1 < keys.size() && keys[i + 1].t <= t) ++i;
+  const key& a = keys[i];
+  const key& b = keys[std::min(i + 1, keys.size() - 1)];
+  const double f = b.t > a.t ? std::clamp((t - a.t) / (b.t - a.t), 0.0, 1.0) : 0.0;
+  glm::vec3 eye, target;
+  for (int c = 0; c < 3; ++c) {
+    eye[c] = float(a.eye[c] + f * (b.eye[c] - a.eye[c]));
+    target[c] = float(a.target[c] + f * (b.target[c] - a.target[c]));
+  }
+  return look_at(eye, target, hfov);
+}
+
+}  // namespace fov

@@ -1,0 +1,23 @@
+// A recorded camera path: CSV "t_ms,x,y,z,tx,ty,tz" (eye and look-at target, world units),
+// replayed in real time with linear interpolation between rows.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "fov/camera.h"
+
+namespace fov {
+
+struct camera_path {
+  struct key { double t, eye[3], target[3]; };
+  std::vector<key> keys;
+  // The camera at t_ms (clamped to the path's ends).
+  camera at(double t_ms, float hfov_deg) const;
+};
+
+// Throws std::runtime_error "FILE:LINE: reason" for a bad header, bad numbers, time going
+// backwards or an eye on its target.
+camera_path load_camera_path(const std::string& path);
+
+}  // namespace fov

@@ -1,0 +1,376 @@
+// fovview: the gaze-contingent viewer. Foveated rendering follows the gaze live; keys switch
+// methods and settings; an overlay shows what each costs.
+#include <malloc.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <map>
+
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "../common/cli.h"
+#include "../common/debug_views.h"
+#include "../common/gaze_source.h"
+#include "../common/image_io.h"
+#include "../common/live_renderer.h"
+#include "../common/window.h"
+#include "camera_path.h"
+#include "fov/metrics.h"
+#include "fov/pointset_io.h"
+#include "fov/scene.h"
+
+namespace {
+
+using json = nlohmann::json;
+using fov::usage_error;
+namespace fs = std::filesystem;
+using clock_type = std::chrono::steady_clock;
+
+double ms_between(clock_type::time_point a, clock_type::time_point b) {
+  return std::chrono::duration<double, std::milli>(b - a).count();
+}
+
+// The point sets the viewer can switch between, by scale; loaded on first use.
+struct pointset_family {
+  std::vector<std::pair<double, std::string>> files;  // scale, path; ascending
+  std::map<std::string, std::shared_ptr<const fov::pointset>> loaded;
+  std::shared_ptr<const fov::pointset> get(size_t i) {
+    auto& slot = loaded[files[i].second];
+    if (!slot) {
+      if (loaded.size() > 3) {  // keep memory bounded: a FOVE table is 0.6 GB
+        for (auto it = loaded.begin(); it != loaded.end(); ++it)
+          if (it->first != files[i].second) { loaded.erase(it); break; }
+      }
+      auto& fresh = loaded[files[i].second];
+      fresh = std::make_shared<const fov::pointset>(fov::load_pointset(files[i].second));
+      return fresh;
+    }
+    return slot;
+  }
+};
+
+pointset_family find_family(const std::string& points, const std::string& dir) {
+  pointset_family f;
+  if (!points.empty()) {
+    const fov::pointset head = fov::load_pointset(points, {false});
+    f.files.emplace_back(head.model.scale, points);
+    return f;
+  }
+  if (!fs::is_directory(dir)) throw std::runtime_error(fmt::format("--points-dir {}: not a directory", dir));
+  int width = 0, height = 0;
+  for (const auto& e : fs::directory_iterator(dir)) {
+    if (e.path().extension() != ".fovset") continue;
+    const fov::pointset head = fov::load_pointset(e.path().string(), {false});
+    if (f.files.empty()) width = head.model.display.width, height = head.model.display.height;
+    if (head.model.display.width != width || head.model.display.height != height) continue;  // another display's family
+    f.files.emplace_back(head.model.scale, e.path().string());
+  }
+  if (f.files.empty()) throw std::runtime_error(fmt::format("--points-dir {}: no .fovset files", dir));
+  std::sort(f.files.begin(), f.files.end());
+  return f;
+}
+
+const char* help_lines[] = {
+    "1/2/3  nearest neighbour / Shepard / RBF", "+/-    k",  "[ ]    previous / next point-set scale",
+    "T      TAA on/off",  "R      full-resolution reference", "V      debug view: points, density, eccentricity, error",
+    "G      gaze cursor", "P      screenshot (PNG + JSON); also S while the mouse is the gaze",
+    "WASD   move, right-drag turns (when the mouse is not the gaze)",
+    "H      this help",   "Q/Esc  quit"};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  // Every frame allocates and frees buffers of tens of MB; by default glibc returns them to
+  // the kernel (munmap, trim) and the next frame page-faults them back in, zeroed: perf
+  // showed that at a third of the frame time. Keep them in the heap instead.
+  mallopt(M_MMAP_THRESHOLD, 1 << 30);
+  mallopt(M_TRIM_THRESHOLD, 1 << 30);
+  CLI::App app{"fovview: gaze-contingent foveated rendering in a window"};
+  std::string scene_spec = "builtin", points, points_dir, method_text = "shepard", gaze_trace, camera_path_file, fixed_gaze;
+  std::vector<std::string> screenshot_at;
+  std::string screenshot_dir = ".", compare;
+  uint32_t k = 5, spp = 4, frames = 0;
+  int gaze_udp = 0;
+  double scale = 0, target_fps = 0, hfov = 0;
+  bool no_taa = false, exit_after = false, as_json = false;
+  app.add_option("--scene", scene_spec, "builtin, a glTF/OBJ file, or env:IMAGE");
+  app.add_option("--points", points, "A point set (.fovset)");
+  app.add_option("--points-dir", points_dir, "A family of point sets to switch between with [ and ]");
+  app.add_option("--scale", scale, "With --points-dir: the scale to start at (default the smallest)");
+  app.add_option("--method", method_text, "nn, shepard or rbf");
+  app.add_option("--k", k, "Neighbours per pixel");
+  app.add_option("--spp", spp, "Rays per point (the most --target-fps may use)");
+  app.add_option("--target-fps", target_fps, "Adapt rays per point to keep this frame rate");
+  app.add_flag("--no-taa", no_taa, "Start with TAA off");
+  app.add_option("--hfov", hfov, "Horizontal field of view in degrees (default: the scene's, else 90)");
+  app.add_option("--gaze-trace", gaze_trace, "Replay gaze from CSV (t_ms,x,y or t_ms,x_norm,y_norm)");
+  app.add_option("--gaze-udp", gaze_udp, "Gaze from UDP datagrams 'x y' (normalised) on 127.0.0.1:PORT");
+  app.add_option("--gaze", fixed_gaze, "A fixed gaze X,Y|centre|corner (default: the mouse)");
+  app.add_option("--camera-path", camera_path_file, "Replay a camera path (CSV t_ms,x,y,z,tx,ty,tz)");
+  app.add_option("--frames", frames, "Stop after N frames (0: run until Q)");
+  app.add_option("--screenshot-at", screenshot_at, "FRAME FILE: save frame FRAME (from 0) to FILE (.png) with FILE.json")->expected(2);
+  app.add_option("--screenshot-dir", screenshot_dir, "Where the S key saves screenshots (default .)");
+  app.add_option("--compare", compare, "A reference image: screenshots' JSON gets PSNR/SSIM by band against it");
+  app.add_flag("--exit", exit_after, "Exit after --frames without waiting (for scripts and tests)");
+  app.add_flag("--json", as_json, "At exit, print frame-time statistics as JSON (medians after 5 warm-up frames)");
+
+  return fov::run_tool("fovview", app, argc, argv, [&]() -> int {
+    fov::method how;
+    if (!fov::parse_method(method_text, how)) throw usage_error(fmt::format("--method: unknown '{}' (nn, shepard, rbf)", method_text));
+    if (points.empty() == points_dir.empty()) throw usage_error("give --points SET or --points-dir DIR");
+    if ((!gaze_trace.empty()) + (gaze_udp != 0) + (!fixed_gaze.empty()) > 1) throw usage_error("choose one gaze source");
+    if (gaze_udp < 0 || gaze_udp > 65535) throw usage_error(fmt::format("--gaze-udp {}: not a port", gaze_udp));
+    if (spp < 1 || spp > 1024) throw usage_error("--spp must lie in 1..1024");
+    if (target_fps < 0 || target_fps > 1000) throw usage_error("--target-fps must lie in 0..1000");
+    if (hfov < 0 || hfov >= 180) throw usage_error("--hfov must lie in (0, 180)");
+    if (exit_after && frames == 0) throw usage_error("--exit needs --frames N");
+    long shot_frame = -1;
+    std::string shot_file;
+    if (!screenshot_at.empty()) {
+      char* end = nullptr;
+      shot_frame = std::strtol(screenshot_at[0].c_str(), &end, 10);
+      if (*end || shot_frame < 0) throw usage_error(fmt::format("--screenshot-at: '{}' is not a frame number", screenshot_at[0]));
+      shot_file = screenshot_at[1];
+      fov::check_writable(shot_file);
+    }
+
+    pointset_family family = find_family(points, points_dir);
+    size_t level = 0;
+    if (scale > 0) {
+      while (level + 1 < family.files.size() && family.files[level].first + 1e-6 < scale) ++level;
+      if (std::fabs(family.files[level].first - scale) > 1e-6)
+        throw usage_error(fmt::format("--scale {}: no such set in {}", scale, points_dir));
+    }
+    std::shared_ptr<const fov::pointset> set = family.get(level);
+    const fov::display_geometry display = set->model.display;
+    if (k < 1 || k > set->table.k) throw usage_error(fmt::format("--k must lie in 1..{} (the set's k)", set->table.k));
+    const int w = display.width, h = display.height;
+
+    std::shared_ptr<const fov::scene> scn = fov::load_scene(scene_spec);
+    for (const std::string& warning : scn->warnings()) std::cerr << "fovview: warning: " << warning << "\n";
+    const float fov_deg = hfov > 0 ? float(hfov) : 90.0f;
+    fov::camera cam = scn->default_camera(fov_deg);
+    if (hfov > 0) cam.hfov_deg = float(hfov);
+    std::optional<fov::camera_path> path;
+    if (!camera_path_file.empty()) path = fov::load_camera_path(camera_path_file);
+    fov::frame reference_image;
+    if (!compare.empty()) {
+      reference_image = fov::read_frame(compare);
+      if (reference_image.width != w || reference_image.height != h)
+        throw usage_error(fmt::format("--compare {}: {}x{} is not the {}x{} screen", compare, reference_image.width,
+                                      reference_image.height, w, h));
+    }
+
+    std::unique_ptr<fov::gaze_source> gaze;
+    fov::mouse_gaze* mouse = nullptr;
+    if (!gaze_trace.empty()) gaze = fov::trace_gaze(gaze_trace, w, h);
+    else if (gaze_udp) gaze = fov::udp_gaze(uint16_t(gaze_udp), w, h);
+    else if (!fixed_gaze.empty()) {
+      double xy[2];
+      fov::require_gaze("--gaze", fixed_gaze, display, xy);
+      gaze = fov::fixed_gaze(w, h, xy[0], xy[1]);
+    } else {
+      auto m = std::make_unique<fov::mouse_gaze>(w, h);
+      mouse = m.get();
+      gaze = std::move(m);
+    }
+
+    fov::live_renderer renderer(scn, cam);
+    renderer.use_pointset(set);
+    fov::view_window window("fovview", w, h);
+    fov::live_settings settings;
+    settings.reconstruct.how = how;
+    settings.reconstruct.k = k;
+    settings.spp = spp;
+    settings.taa = !no_taa;
+    bool show_reference = false, show_cursor = true, show_help = false;
+    const std::vector<std::string> views = {"", "points", "density", "eccentricity", "error"};
+    size_t view = 0;
+    fov::frame error_reference;  // the full-resolution frame the error view compares with
+    fov::camera error_reference_cam;
+    const auto start = clock_type::now();
+    double fps = 0, display_ms = 0;
+    uint64_t screenshots = 0;
+    std::string status;  // one-line messages (screenshot saved, silent tracker)
+    struct frame_stats { double frame, trace, reconstruct, taa, display; uint32_t spp; };
+    std::vector<frame_stats> history;
+
+    for (uint64_t frame_index = 0; frames == 0 || frame_index < frames; ++frame_index) {
+      const auto frame_start = clock_type::now();
+      const double now_ms = ms_between(start, frame_start);
+      if (mouse) {
+        double x, y;
+        if (window.mouse(x, y)) mouse->set(x, y);
+      }
+      double gx = w / 2.0, gy = h / 2.0;
+      gaze->poll(now_ms, gx, gy);
+      if (path) renderer.cam() = path->at(now_ms, renderer.cam().hfov_deg);
+
+      fov::live_timing timing;
+      fov::frame image = show_reference ? renderer.reference(w, h, settings.spp, settings.shadows, &timing)
+                                        : renderer.foveated(gx, gy, settings, &timing);
+      const double gaze_xy[2] = {gx, gy};
+      const std::string& v = views[view];
+      fov::frame overlay;  // only the debug views draw into a copy
+      const fov::frame* shown = &image;
+      if (v == "error") {
+        overlay = image;
+        shown = &overlay;
+        const fov::camera& c = renderer.cam();
+        if (error_reference.rgb.empty() || c.position != error_reference_cam.position || c.forward != error_reference_cam.forward) {
+          error_reference = renderer.reference(w, h, std::max<uint32_t>(settings.spp, 4), settings.shadows);
+          error_reference_cam = c;
+        }
+        for (size_t i = 0; i < overlay.rgb.size(); ++i) {  // |error| x 4, grey scale
+          const glm::vec3 d = glm::abs(image.rgb[i] - error_reference.rgb[i]);
+          overlay.rgb[i] = glm::vec3(std::min(1.0f, 4.0f * (d.r + d.g + d.b) / 3.0f));
+        }
+      } else if (!v.empty()) {
+        overlay = fov::debug_overlay(v, image, show_reference ? nullptr : renderer.current_set(), gaze_xy);
+        shown = &overlay;
+      }
+      const auto display_start = clock_type::now();
+      cv::Mat bgr = fov::display_image(*shown);
+      if (show_cursor) fov::draw_gaze_cursor(bgr, gx, gy);
+      std::vector<std::string> lines = {
+          fmt::format("{:.1f} fps  trace {:.1f}  reconstruct {:.1f}  TAA {:.1f}  display {:.1f} ms", fps, timing.trace_ms,
+                      timing.reconstruct_ms, timing.taa_ms, display_ms),
+          show_reference ? fmt::format("REFERENCE {}x{}, {} rays/frame", w, h, timing.rays)
+                         : fmt::format("{} k={} s={:.2f} spp={} TAA {}  {} points, {} rays/frame",
+                                       fov::method_name(settings.reconstruct.how), settings.reconstruct.k,
+                                       renderer.current_set()->model.scale, settings.spp, settings.taa ? "on" : "off",
+                                       timing.points_traced, timing.rays),
+          fmt::format("gaze {} ({:.0f}, {:.0f}){}  view {}  device {}", gaze->name(), gx, gy,
+                      gaze->clamped ? fmt::format(" clamped {}", gaze->clamped) : "", v.empty() ? "frame" : v,
+                      timing.on_device ? "OpenCL" : "C++")};
+      if (gaze->silent(now_ms)) lines.push_back("WARNING: gaze source silent; keeping the last gaze");
+      if (!status.empty()) lines.push_back(status);
+      if (show_help) lines.insert(lines.end(), std::begin(help_lines), std::end(help_lines));
+      else lines.push_back("H: help");
+      fov::draw_overlay(bgr, lines, gx, gy);
+      window.show(bgr);
+
+      auto save_screenshot = [&](const std::string& file) {
+        fov::write_frame(image, file);  // the clean frame: no overlay, no cursor
+        json j = {{"frame", frame_index},
+                  {"time_ms", now_ms},
+                  {"scene", scene_spec},
+                  {"pointset", family.files[level].second},
+                  {"scale", renderer.current_set()->model.scale},
+                  {"method", show_reference ? "reference" : fov::method_name(settings.reconstruct.how)},
+                  {"k", settings.reconstruct.k},
+                  {"spp", settings.spp},
+                  {"taa", settings.taa},
+                  {"gaze", {gx, gy}},
+                  {"gaze_source", gaze->name()},
+                  {"camera", {{"position", {renderer.cam().position.x, renderer.cam().position.y, renderer.cam().position.z}},
+                              {"forward", {renderer.cam().forward.x, renderer.cam().forward.y, renderer.cam().forward.z}},
+                              {"hfov_deg", renderer.cam().hfov_deg}}},
+                  {"view", v.empty() ? "frame" : v},
+                  {"trace_ms", timing.trace_ms},
+                  {"reconstruct_ms", timing.reconstruct_ms},
+                  {"taa_ms", timing.taa_ms},
+                  {"rays", timing.rays},
+                  {"points_traced", timing.points_traced}};
+        if (!reference_image.rgb.empty()) {
+          const fov::frame_comparison c = fov::compare_frames(image, reference_image, display, gx, gy);
+          auto band = [](const fov::band_metrics& m) { return json{{"psnr", m.psnr}, {"ssim", m.ssim}, {"pixels", m.pixels}}; };
+          j["metrics"] = {{"overall", band(c.overall)}, {"fovea", band(c.fovea)}, {"mid", band(c.mid)}, {"periphery", band(c.periphery)}};
+        }
+        const std::string text = j.dump(2) + "\n";
+        fov::write_file_atomic(file + ".json", text.data(), text.size());
+        status = "saved " + file;
+      };
+      if (long(frame_index) == shot_frame) save_screenshot(shot_file);
+
+      const int key = window.key(1);
+      display_ms = ms_between(display_start, clock_type::now());
+      if (window.closed()) break;
+      const int c = key >= 0 && key < 256 ? std::tolower(key) : -1;
+      if (c == 'q' || key == 27) break;
+      if (c == '1' || c == '2' || c == '3') {
+        settings.reconstruct.how = c == '1' ? fov::method::nn : c == '2' ? fov::method::shepard : fov::method::rbf;
+        if (settings.reconstruct.how == fov::method::rbf) status = "RBF: solving weights once for the screen (seconds)";
+      }
+      if (c == '+' || c == '=') settings.reconstruct.k = std::min(settings.reconstruct.k + 1, renderer.current_set()->table.k);
+      if (c == '-') settings.reconstruct.k = std::max(settings.reconstruct.k - 1, 1u);
+      if ((c == '[' && level > 0) || (c == ']' && level + 1 < family.files.size())) {
+        level += c == ']' ? 1 : -1;
+        renderer.use_pointset(family.get(level));
+        settings.reconstruct.k = std::min(settings.reconstruct.k, renderer.current_set()->table.k);
+      }
+      if (c == 't') settings.taa = !settings.taa;
+      if (c == 'r') show_reference = !show_reference;
+      if (c == 'v') view = (view + 1) % views.size();
+      if (c == 'g') show_cursor = !show_cursor;
+      if (c == 'h') show_help = !show_help;
+      if (c == 'p' || (c == 's' && mouse))
+        save_screenshot((fs::path(screenshot_dir) / fmt::format("fovview-{:04d}.png", screenshots++)).string());
+      // Camera: WASD moves, right-drag turns, while the mouse is not the gaze (and no path plays).
+      fov::camera& cc = renderer.cam();
+      const glm::vec3 right = glm::normalize(glm::cross(cc.forward, cc.up));
+      const float step = 0.1f;
+      const bool free_camera = !mouse && !path;
+      if (free_camera && c == 'w') cc.position += step * cc.forward;
+      if (free_camera && c == 's') cc.position -= step * cc.forward;
+      if (free_camera && c == 'a') cc.position -= step * right;
+      if (free_camera && c == 'd') cc.position += step * right;
+      double dx = 0, dy = 0;
+      const bool dragged = window.right_drag(dx, dy);  // drained every frame
+      if (free_camera && dragged) {
+        const float yaw = float(-dx) * 0.004f, pitch = float(-dy) * 0.004f;
+        glm::vec3 f = cc.forward * std::cos(yaw) + right * std::sin(yaw);
+        f = glm::normalize(f * std::cos(pitch) + cc.up * std::sin(pitch));
+        cc.forward = f;
+      }
+      // Rays per point follow --target-fps: halve when over budget, add one when well under.
+      const double frame_ms = ms_between(frame_start, clock_type::now());
+      history.push_back({frame_ms, timing.trace_ms, timing.reconstruct_ms, timing.taa_ms, display_ms, settings.spp});
+      fps = fps == 0 ? 1000 / frame_ms : 0.9 * fps + 0.1 * (1000 / frame_ms);
+      if (target_fps > 0 && !show_reference) {
+        const double budget = 1000 / target_fps;
+        if (frame_ms > 1.15 * budget && settings.spp > 1) settings.spp = std::max(1u, settings.spp / 2);
+        else if (frame_ms < 0.6 * budget && settings.spp < spp) ++settings.spp;
+      }
+    }
+    if (as_json) {
+      const size_t skip = std::min<size_t>(5, history.size() / 2);
+      auto median = [&](auto field) {
+        std::vector<double> v;
+        for (size_t i = skip; i < history.size(); ++i) v.push_back(field(history[i]));
+        if (v.empty()) return 0.0;
+        std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+        return v[v.size() / 2];
+      };
+      const double frame_ms = median([](const frame_stats& f) { return f.frame; });
+      json j = {{"frames", history.size()},
+                {"measured_frames", history.size() - skip},
+                {"width", w},
+                {"height", h},
+                {"scene", scene_spec},
+                {"method", fov::method_name(settings.reconstruct.how)},
+                {"k", settings.reconstruct.k},
+                {"taa", settings.taa},
+                {"spp_last", settings.spp},
+                {"device", renderer.device()},
+                {"frame_ms", frame_ms},
+                {"fps", frame_ms > 0 ? 1000 / frame_ms : 0},
+                {"trace_ms", median([](const frame_stats& f) { return f.trace; })},
+                {"reconstruct_ms", median([](const frame_stats& f) { return f.reconstruct; })},
+                {"taa_ms", median([](const frame_stats& f) { return f.taa; })},
+                {"display_ms", median([](const frame_stats& f) { return f.display; })}};
+      std::cout << j.dump(2) << "\n";
+    }
+    if (gaze->clamped || gaze->malformed)
+      std::cerr << fmt::format("fovview: gaze: {} samples clamped to the screen, {} malformed\n", gaze->clamped, gaze->malformed);
+    return 0;
+  });
+}

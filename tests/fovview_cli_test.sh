@@ -1,0 +1,54 @@
+#!/usr/bin/env bash
+# fovview: bad input gives one line and a non-zero exit; the frame loop runs headless under
+# Xvfb with a replayed gaze trace, and its screenshot is foveated where the gaze was.
+set -uo pipefail
+fovview=$1
+fovgen=$2
+fovrender=$3
+dir=$(mktemp -d)
+trap 'rm -rf "$dir"' EXIT
+tool=fovview
+source "$(dirname "$0")/cli_check.sh"
+fail() { echo "FAIL $*"; failures=$((failures + 1)); }
+export XDG_RUNTIME_DIR=$dir
+
+"$fovgen" --width 256 --height 288 --k 8 -o "$dir/set.fovset" >/dev/null
+printf 't_ms,x_norm,y_norm\n0,0.5,0.5\n50,0.3,0.4\n' > "$dir/gaze.csv"
+printf 't_ms,x,y\n10,1,1\n5,1,1\n' > "$dir/backwards.csv"
+set=(--points "$dir/set.fovset")
+check "no points"          2 -- "$fovview"
+check "both point flags"   2 -- "$fovview" "${set[@]}" --points-dir "$dir"
+check "unknown method"     2 -- "$fovview" "${set[@]}" --method cubic
+check "k above the set"    2 -- "$fovview" "${set[@]}" --k 9
+check "two gaze sources"   2 -- "$fovview" "${set[@]}" --gaze-trace "$dir/gaze.csv" --gaze centre
+check "bad port"           2 -- "$fovview" "${set[@]}" --gaze-udp 70000
+check "exit without frames" 2 -- "$fovview" "${set[@]}" --exit
+check "bad screenshot frame" 2 -- "$fovview" "${set[@]}" --screenshot-at x "$dir/a.png"
+check "missing set"        1 -- "$fovview" --points "$dir/none.fovset"
+check "backwards trace"    1 -- "$fovview" "${set[@]}" --gaze-trace "$dir/backwards.csv"
+check "empty points dir"   1 -- "$fovview" --points-dir "$dir/none"
+check "no display"         1 -- env -u DISPLAY -u WAYLAND_DISPLAY "$fovview" "${set[@]}" --frames 1 --exit
+
+if ! command -v xvfb-run >/dev/null; then
+  echo "SKIP the windowed run: xvfb-run is not installed (scripts/install-deps.sh installs it)"
+else
+  "$fovrender" --reference "${set[@]}" --spp 16 -o "$dir/ref.exr" >/dev/null || fail "reference"
+  xvfb-run -a -s "-screen 0 1024x768x24" "$fovview" "${set[@]}" --gaze-trace "$dir/gaze.csv" --frames 30 \
+    --screenshot-at 29 "$dir/out.png" --exit --compare "$dir/ref.exr" 2>"$dir/err.txt" || fail "windowed run: $(cat "$dir/err.txt")"
+  python3 - "$dir/out.png" <<'PY' || fail "screenshot checks"
+import json, struct, sys
+png = open(sys.argv[1], "rb").read()
+assert png[:8] == b"\x89PNG\r\n\x1a\n", "not a PNG"
+w, h = struct.unpack(">II", png[16:24])
+assert (w, h) == (256, 288), (w, h)
+j = json.load(open(sys.argv[1] + ".json"))
+assert j["frame"] == 29 and j["method"] == "shepard" and j["k"] == 5, j
+assert abs(j["gaze"][0] - 0.3 * 256) < 1e-6 and abs(j["gaze"][1] - 0.4 * 288) < 1e-6, j["gaze"]  # the traced gaze
+m = j["metrics"]
+# Foveated where the gaze is: the fovea is closer to the reference than the periphery.
+assert m["fovea"]["psnr"] > m["periphery"]["psnr"] + 2, m
+PY
+fi
+
+echo "$passes passed, $failures failed"
+[[ $failures -eq 0 ]]
