@@ -1,4 +1,5 @@
 #include <cmath>
+#include <iostream>
 #include <random>
 
 #include <gtest/gtest.h>
@@ -192,6 +193,80 @@ TEST(Metrics, EccentricityBandsOnATinyScreen) {
   EXPECT_EQ(c.mid.pixels, mid);
   EXPECT_EQ(c.fovea.pixels + c.mid.pixels + c.periphery.pixels, 10000u);
   EXPECT_GT(c.periphery.pixels, 0u);
+}
+
+TEST(Metrics, FiveBandsProfileAndFoveatedErrorOfAKnownOffset) {
+  // Bytes 100 against 110 everywhere: every band and bin has RMSE 10/255, and so has the
+  // foveated error (a weighted mean of equal errors).
+  const display_geometry d{100, 100, 1.0};
+  spacing_model eye;
+  eye.display = d;
+  eye.scale = 2.5;  // ignored: the weight is the eye's
+  const frame a = flat(100, 100, linear_of_byte(100)), b = flat(100, 100, linear_of_byte(110));
+  const error_report r = measure_error(a, b, eye, 0, 0);
+  ASSERT_EQ(r.bands.size(), 5u);
+  uint64_t pixels = 0;
+  std::vector<uint64_t> expected(5, 0);
+  const double edges[4] = {5, 10, 20, 30};
+  for (int y = 0; y < 100; ++y)
+    for (int x = 0; x < 100; ++x) {
+      const double e = std::atan(std::hypot(x + 0.5, y + 0.5) / 100) * 180 / M_PI;
+      ++expected[size_t(std::upper_bound(edges, edges + 4, e) - edges)];
+    }
+  for (size_t i = 0; i < 5; ++i) {
+    EXPECT_EQ(r.bands[i].pixels, expected[i]) << "band " << i;
+    EXPECT_NEAR(r.bands[i].psnr, 28.1308, 1e-3) << "band " << i;
+    pixels += r.bands[i].pixels;
+  }
+  EXPECT_EQ(pixels, 10000u);
+  EXPECT_NEAR(r.foveated_error, 10.0 / 255, 1e-9);
+  EXPECT_NEAR(r.foveated_psnr, 28.1308, 1e-3);
+  ASSERT_FALSE(r.profile_rmse.empty());
+  for (size_t i = 0; i < r.profile_rmse.size(); ++i)
+    if (r.profile_pixels[i]) EXPECT_NEAR(r.profile_rmse[i], 10.0 / 255, 1e-9) << "bin " << i;
+  // The corner gaze sees 0 .. 54.7 degrees: 22 bins of 2.5 degrees.
+  EXPECT_EQ(r.profile_rmse.size(), 22u);
+}
+
+TEST(Metrics, FoveatedErrorWeighsFovealErrorsMore) {
+  // The same error next to the gaze or 45 degrees away, on a 1280-px-wide screen at v = 1
+  // (where the weight falls to about 0.17): the foveal one counts more.
+  const display_geometry d{1280, 64, 1.0};
+  spacing_model eye;
+  eye.display = d;
+  const frame ref = flat(1280, 64, linear_of_byte(100));
+  frame near_gaze = ref, far_from_gaze = ref;
+  for (int y = 0; y < 64; ++y)
+    for (int x = 0; x < 64; ++x) {
+      near_gaze.rgb[size_t(y) * 1280 + x] = glm::vec3(linear_of_byte(140));
+      far_from_gaze.rgb[size_t(y) * 1280 + 1279 - x] = glm::vec3(linear_of_byte(140));
+    }
+  const error_report a = measure_error(near_gaze, ref, eye, 0, 32), b = measure_error(far_from_gaze, ref, eye, 0, 32);
+  EXPECT_NEAR(a.overall.psnr, b.overall.psnr, 1e-9);  // equal plain error
+  EXPECT_GT(a.foveated_error, 2 * b.foveated_error);
+}
+
+TEST(Metrics, AcuityWeightIsOneInTheFoveaAndFalls) {
+  spacing_model eye;  // FOVE-like defaults: 1280 px at v = 1
+  EXPECT_DOUBLE_EQ(acuity_weight(eye, 0), 1.0);
+  double last = 1;
+  for (double e = 1; e <= 60; e += 1) {
+    const double w = acuity_weight(eye, e);
+    EXPECT_LE(w, last);
+    EXPECT_GT(w, 0);
+    last = w;
+  }
+  EXPECT_LT(acuity_weight(eye, 60), 0.2);
+  // Where fc = fd / 2 the weight is 1/2: fc = e2 ln(1/CT0) / ((e + e2) alpha).
+  const double fd = display_nyquist_cpd(eye.display), e2 = eye.acuity.e2;
+  const double e_half = e2 * std::log(1 / eye.acuity.ct0) / (eye.acuity.alpha * fd / 2) - e2;
+  EXPECT_NEAR(acuity_weight(eye, e_half), 0.5, 1e-9);
+}
+
+TEST(Metrics, LuminanceChangeOfAKnownStep) {
+  const frame a = flat(8, 8, linear_of_byte(100)), b = flat(8, 8, linear_of_byte(110));
+  EXPECT_EQ(mean_luminance_change(a, a), 0.0);
+  EXPECT_NEAR(mean_luminance_change(a, b), 10.0 / 255, 1e-6);
 }
 
 TEST(Metrics, MismatchedSizesAreRejected) {

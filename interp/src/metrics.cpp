@@ -35,17 +35,50 @@ double pixel_eccentricity_deg(const display_geometry& d, double gaze_x, double g
   return std::atan(dist / (double(d.width) * d.viewing_distance)) * 180 / pi;
 }
 
-frame_comparison compare_frames(const frame& test, const frame& reference, const display_geometry& display,
-                                double gaze_x, double gaze_y) {
+double acuity_weight(const spacing_model& eye, double e) {
+  const double fd = display_nyquist_cpd(eye.display);
+  return std::min(cutoff_frequency_cpd(eye.acuity, e), fd) / fd;
+}
+
+namespace {
+
+struct sums {
+  double squared = 0, ssim = 0;
+  uint64_t pixels = 0;
+};
+
+band_metrics finish(const sums& s) {
+  band_metrics m;
+  m.pixels = s.pixels;
+  if (!s.pixels) return m;
+  const double mse = s.squared / (3.0 * double(s.pixels));
+  m.psnr = mse > 0 ? 10 * std::log10(255.0 * 255.0 / mse) : std::numeric_limits<double>::infinity();
+  m.ssim = s.ssim / double(s.pixels);
+  return m;
+}
+
+}  // namespace
+
+error_report measure_error(const frame& test, const frame& reference, const spacing_model& eye, double gaze_x,
+                           double gaze_y, const std::vector<double>& edges, double bin_deg) {
   if (test.width != reference.width || test.height != reference.height)
     throw std::invalid_argument("frames differ in size");
+  if (!(bin_deg > 0)) throw std::invalid_argument("bin width must be positive");
+  for (size_t i = 1; i < edges.size(); ++i)
+    if (!(edges[i] > edges[i - 1])) throw std::invalid_argument("band edges must increase");
   const cv::Mat a = to_display(test), b = to_display(reference);
   cv::Mat ssim_map;
   cv::quality::QualitySSIM::compute(a, b, ssim_map);  // per pixel and channel
-  struct sums {
-    double squared = 0, ssim = 0;
-    uint64_t pixels = 0;
-  } all, fovea, mid, periphery;
+  error_report r;
+  r.edges_deg = edges;
+  r.bin_deg = bin_deg;
+  sums all;
+  std::vector<sums> bands(edges.size() + 1);
+  std::vector<double> bin_squared;
+  double weighted = 0, weights = 0;
+  // The weight depends on eccentricity only: tabulated per 0.01 degree.
+  std::vector<double> weight_table(9001);
+  for (size_t i = 0; i < weight_table.size(); ++i) weight_table[i] = acuity_weight(eye, double(i) * 0.01);
   for (int y = 0; y < test.height; ++y)
     for (int x = 0; x < test.width; ++x) {
       const cv::Vec3b p = a.at<cv::Vec3b>(y, x), q = b.at<cv::Vec3b>(y, x);
@@ -53,20 +86,44 @@ frame_comparison compare_frames(const frame& test, const frame& reference, const
       for (int c = 0; c < 3; ++c) se += double(p[c] - q[c]) * double(p[c] - q[c]);
       const cv::Vec3f s = ssim_map.at<cv::Vec3f>(y, x);
       const double ssim = (double(s[0]) + s[1] + s[2]) / 3;
-      const double e = pixel_eccentricity_deg(display, gaze_x, gaze_y, x, y);
-      sums& band = e < 5 ? fovea : e < 30 ? mid : periphery;
-      for (sums* t : {&all, &band}) t->squared += se, t->ssim += ssim, ++t->pixels;
+      const double e = pixel_eccentricity_deg(eye.display, gaze_x, gaze_y, x, y);
+      const size_t band = size_t(std::upper_bound(edges.begin(), edges.end(), e) - edges.begin());
+      for (sums* t : {&all, &bands[band]}) t->squared += se, t->ssim += ssim, ++t->pixels;
+      const double unit = se / (3.0 * 255.0 * 255.0);  // squared error in full-scale units, mean over RGB
+      const double w = weight_table[std::min(weight_table.size() - 1, size_t(e * 100 + 0.5))];
+      weighted += w * unit, weights += w;
+      const size_t bin = size_t(e / bin_deg);
+      if (bin >= bin_squared.size()) bin_squared.resize(bin + 1, 0.0), r.profile_pixels.resize(bin + 1, 0);
+      bin_squared[bin] += unit, ++r.profile_pixels[bin];
     }
-  auto finish = [](const sums& s) {
-    band_metrics m;
-    m.pixels = s.pixels;
-    if (!s.pixels) return m;
-    const double mse = s.squared / (3.0 * double(s.pixels));
-    m.psnr = mse > 0 ? 10 * std::log10(255.0 * 255.0 / mse) : std::numeric_limits<double>::infinity();
-    m.ssim = s.ssim / double(s.pixels);
-    return m;
+  r.overall = finish(all);
+  for (const sums& s : bands) r.bands.push_back(finish(s));
+  r.foveated_error = weights > 0 ? std::sqrt(weighted / weights) : 0;
+  r.foveated_psnr = r.foveated_error > 0 ? 20 * std::log10(1 / r.foveated_error) : std::numeric_limits<double>::infinity();
+  for (size_t i = 0; i < bin_squared.size(); ++i)
+    r.profile_rmse.push_back(r.profile_pixels[i] ? std::sqrt(bin_squared[i] / double(r.profile_pixels[i])) : 0.0);
+  return r;
+}
+
+frame_comparison compare_frames(const frame& test, const frame& reference, const display_geometry& display,
+                                double gaze_x, double gaze_y) {
+  spacing_model eye;
+  eye.display = display;
+  const error_report r = measure_error(test, reference, eye, gaze_x, gaze_y, {5, 30});
+  return {r.overall, r.bands[0], r.bands[1], r.bands[2]};
+}
+
+double mean_luminance_change(const frame& a, const frame& b) {
+  if (a.width != b.width || a.height != b.height || a.rgb.size() != b.rgb.size())
+    throw std::invalid_argument("frames differ in size");
+  if (a.rgb.empty()) return 0;
+  auto luma = [](const glm::vec3& c) {
+    auto e = [](float v) { return double(srgb_encode(std::clamp(v, 0.0f, 1.0f))); };
+    return 0.2126 * e(c.r) + 0.7152 * e(c.g) + 0.0722 * e(c.b);
   };
-  return {finish(all), finish(fovea), finish(mid), finish(periphery)};
+  double sum = 0;
+  for (size_t i = 0; i < a.rgb.size(); ++i) sum += std::fabs(luma(a.rgb[i]) - luma(b.rgb[i]));
+  return sum / double(a.rgb.size());
 }
 
 }  // namespace fov
