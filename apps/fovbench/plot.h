@@ -1,0 +1,28 @@
+// Small, readable charts drawn with OpenCV: axes with ticks and units, series with a
+// legend, several panels side by side. Enough for fovbench's three figures.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace fov {
+
+struct plot_series {
+  std::string name;
+  int colour = 0;  // index into the palette
+  std::vector<double> x, y;
+  bool lines = true, markers = true;
+  std::vector<bool> ringed;  // per point: draw a ring (e.g. on the Pareto front); may be empty
+};
+
+struct plot_panel {
+  std::string title, x_label, y_label;
+  bool log_x = false, log_y = false;
+  std::vector<plot_series> series;
+};
+
+// Panels side by side, each 720 x 480, legend inside each panel. Written to a temporary
+// file, then renamed; throws std::runtime_error naming the path.
+void write_plot(const std::vector<plot_panel>& panels, const std::string& path);
+
+}  // namespace fov

@@ -1,0 +1,146 @@
+#include "sweep.h"
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <limits>
+#include <numeric>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+namespace fov {
+
+const std::vector<std::string>& result_columns() {
+  static const std::vector<std::string> columns = {
+      "scene", "gaze", "gaze_x", "gaze_y", "scale", "method", "k", "spp", "points_traced", "rays", "reference_rays",
+      "trace_ms", "reconstruct_ms", "frame_ms", "frame_ms_min", "frame_ms_max", "reference_ms", "reference_ms_min",
+      "reference_ms_max", "speedup", "psnr", "ssim", "psnr_fovea", "ssim_fovea", "psnr_5_10", "ssim_5_10",
+      "psnr_10_20", "ssim_10_20", "psnr_20_30", "ssim_20_30", "psnr_periphery", "ssim_periphery", "foveated_error",
+      "foveated_psnr", "psnr_vs_best_reference", "best_reference_spp", "flicker", "flicker_taa", "flicker_reference",
+      "error_profile", "device", "frames"};
+  return columns;
+}
+
+std::string result_row::key() const {
+  return fmt::format("{}|{}|{}|{}|{}|{}", text("scene"), text("gaze"), text("scale"), text("method"), text("k"), text("spp"));
+}
+
+const std::string& result_row::text(const std::string& column) const {
+  static const std::string empty;
+  const auto it = cells.find(column);
+  return it == cells.end() ? empty : it->second;
+}
+
+double result_row::number(const std::string& column) const {
+  const std::string& t = text(column);
+  if (t == "inf") return std::numeric_limits<double>::infinity();
+  char* end = nullptr;
+  const double v = std::strtod(t.c_str(), &end);
+  return t.empty() || *end ? std::numeric_limits<double>::quiet_NaN() : v;
+}
+
+std::string csv_cell(const std::string& text) {
+  if (text.find_first_of(",\"\n") == std::string::npos) return text;
+  std::string out = "\"";
+  for (char c : text) out += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return out + "\"";
+}
+
+namespace {
+
+std::vector<std::string> split_csv(const std::string& line) {
+  std::vector<std::string> cells(1);
+  bool quoted = false;
+  for (size_t i = 0; i < line.size(); ++i) {
+    const char c = line[i];
+    if (quoted) {
+      if (c == '"' && i + 1 < line.size() && line[i + 1] == '"') cells.back() += '"', ++i;
+      else if (c == '"') quoted = false;
+      else cells.back() += c;
+    } else if (c == '"') {
+      quoted = true;
+    } else if (c == ',') {
+      cells.emplace_back();
+    } else {
+      cells.back() += c;
+    }
+  }
+  return cells;
+}
+
+}  // namespace
+
+std::vector<result_row> read_results(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw std::runtime_error(fmt::format("{}: cannot open", path));
+  std::string line;
+  if (!std::getline(in, line) || in.eof()) throw std::runtime_error(fmt::format("{}: no header", path));
+  const std::vector<std::string> header = split_csv(line);
+  if (header != result_columns())
+    throw std::runtime_error(fmt::format("{}:1: not a results.csv of this fovbench (columns differ); use another -o", path));
+  std::vector<result_row> rows;
+  for (int number = 2; std::getline(in, line); ++number) {
+    if (in.eof()) break;  // a torn last line
+    if (line.empty()) continue;
+    const std::vector<std::string> cells = split_csv(line);
+    if (cells.size() != header.size())
+      throw std::runtime_error(fmt::format("{}:{}: {} cells, expected {}", path, number, cells.size(), header.size()));
+    result_row r;
+    for (size_t i = 0; i < cells.size(); ++i) r.cells[header[i]] = cells[i];
+    rows.push_back(std::move(r));
+  }
+  return rows;
+}
+
+results_writer::results_writer(const std::string& path) : path_(path) {
+  bool exists = ::access(path.c_str(), F_OK) == 0;
+  if (exists) {  // keep complete lines only: cut a torn last line
+    std::ifstream in(path, std::ios::binary);
+    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const size_t keep = text.rfind('\n') == std::string::npos ? 0 : text.rfind('\n') + 1;
+    if (keep < text.size() && ::truncate(path.c_str(), off_t(keep)) != 0)
+      throw std::runtime_error(fmt::format("{}: cannot cut the torn last line: {}", path, std::strerror(errno)));
+    exists = keep > 0;
+  }
+  fd_ = ::open(path.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0644);
+  if (fd_ < 0) throw std::runtime_error(fmt::format("{}: cannot write: {}", path, std::strerror(errno)));
+  if (!exists) {
+    std::string header;
+    for (const std::string& c : result_columns()) header += (header.empty() ? "" : ",") + c;
+    header += "\n";
+    if (::write(fd_, header.data(), header.size()) != ssize_t(header.size()) || ::fsync(fd_) != 0)
+      throw std::runtime_error(fmt::format("{}: cannot write: {}", path, std::strerror(errno)));
+  }
+}
+
+results_writer::~results_writer() {
+  if (fd_ >= 0) ::close(fd_);
+}
+
+void results_writer::append(const result_row& row) {
+  std::string line;
+  for (const std::string& c : result_columns()) line += (line.empty() ? "" : ",") + csv_cell(row.text(c));
+  line += "\n";
+  if (::write(fd_, line.data(), line.size()) != ssize_t(line.size()) || ::fsync(fd_) != 0)
+    throw std::runtime_error(fmt::format("{}: cannot write: {}", path_, std::strerror(errno)));
+}
+
+std::vector<size_t> pareto_front(const std::vector<double>& x, const std::vector<double>& y) {
+  std::vector<size_t> order;
+  for (size_t i = 0; i < x.size() && i < y.size(); ++i)
+    if (std::isfinite(x[i]) && !std::isnan(y[i])) order.push_back(i);
+  std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return x[a] != x[b] ? x[a] < x[b] : y[a] < y[b]; });
+  std::vector<size_t> front;
+  double best = std::numeric_limits<double>::infinity();
+  for (size_t i : order)
+    if (y[i] < best) front.push_back(i), best = y[i];
+  return front;
+}
+
+}  // namespace fov

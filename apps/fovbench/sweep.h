@@ -1,0 +1,50 @@
+// fovbench's data: one configuration per row of results.csv, read back for --resume and
+// for the plots and the report.
+#pragma once
+
+#include <map>
+#include <string>
+#include <vector>
+
+namespace fov {
+
+// A row of results.csv: every knob and every figure, by column name. Numbers are kept as
+// text exactly as written, so a round trip changes nothing.
+struct result_row {
+  std::map<std::string, std::string> cells;
+  std::string key() const;  // scene|gaze|scale|method|k|spp: what --resume skips on
+  double number(const std::string& column) const;  // NaN when empty or not a number
+  const std::string& text(const std::string& column) const;
+};
+
+// The columns, in file order (docs/speed-accuracy.md explains each).
+const std::vector<std::string>& result_columns();
+
+// Reads results.csv; throws std::runtime_error "FILE:LINE: reason" when the header is not
+// result_columns() or a row has the wrong number of cells. A torn last line (no newline:
+// an interrupted write) is ignored.
+std::vector<result_row> read_results(const std::string& path);
+
+// Appends rows to results.csv, creating it with the header when missing. Each row is
+// flushed and fsync'ed before the call returns, so an interrupted sweep loses at most
+// the configuration it was measuring.
+class results_writer {
+ public:
+  explicit results_writer(const std::string& path);
+  ~results_writer();
+  results_writer(const results_writer&) = delete;
+  void append(const result_row& row);
+
+ private:
+  int fd_ = -1;
+  std::string path_;
+};
+
+// Indices of the rows on the Pareto front of (x, y), both to be minimised: no other row
+// is at least as good in both and better in one. Sorted by x. Rows with NaN are skipped.
+std::vector<size_t> pareto_front(const std::vector<double>& x, const std::vector<double>& y);
+
+// CSV cell quoting (RFC 4180) for text that may hold commas or quotes.
+std::string csv_cell(const std::string& text);
+
+}  // namespace fov
