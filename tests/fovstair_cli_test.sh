@@ -5,6 +5,7 @@
 set -uo pipefail
 fovstair=$1
 src=$2
+fovgen=$3
 dir=$(mktemp -d)
 trap 'rm -rf "$dir"' EXIT
 tool=fovstair
@@ -70,6 +71,33 @@ assert j["true_threshold"] == 1.7 and j["runs"] == 200, j
 assert abs(j["estimate_mean"] - 1.7) < 0.1 and 0 < j["estimate_sd"] < 0.3, j
 PY
 check "simulate no runs"    2 -- "$fovstair" simulate --protocol "$protocol" --observer logistic:threshold=1.7 --runs 0
+
+# A live session in a window (under Xvfb), answered by a key script: 1.0 no, 1.2 no,
+# 1.4 yes (a reversal: 1.4), 1.2 no (a reversal: 1.2), and the series is done.
+if ! command -v xvfb-run >/dev/null; then
+  echo "SKIP the windowed session: xvfb-run is not installed (scripts/install-deps.sh installs it)"
+else
+  export XDG_RUNTIME_DIR=$dir
+  mkdir -p "$dir/sets"
+  for s in 1.00 1.20 1.40; do "$fovgen" --width 64 --height 72 --k 8 --scale $s -o "$dir/sets/tiny-s$s.fovset" >/dev/null; done
+  cat > "$dir/live.json" <<JSON
+{"fovstair_protocol": 1, "scene": "builtin", "points_dir": "$dir/sets", "display": "tiny", "spp": 1,
+ "conditions": [{"name": "SH", "method": "shepard", "k": 5}], "scales": {"min": 1.0, "max": 1.4},
+ "rule": {"initial_step": 0.2, "step": 0.2, "discard_reversals": 0, "thresholds": 2}, "catch_rate": 0}
+JSON
+  xvfb-run -a -s "-screen 0 800x600x24" "$fovstair" run --protocol "$dir/live.json" --subject L1 --out "$dir/live" \
+    --script-keys nnyn >/dev/null 2>"$dir/live.err" || fail "live session: $(cat "$dir/live.err")"
+  python3 - "$dir/live/L1-1.jsonl" <<'PY' || fail "live session data"
+import json, sys
+lines = [json.loads(l) for l in open(sys.argv[1])]
+trials = [l for l in lines if l["type"] == "trial"]
+assert lines[-1]["type"] == "end", lines[-1]
+assert [t["scale"] for t in trials] == [1.0, 1.2, 1.4, 1.2], [t["scale"] for t in trials]
+assert [t["threshold"] for t in trials if t["recorded"]] == [1.4, 1.2]
+assert all(t["gaze"]["samples"] >= 1 and t["mean_frame_ms"] > 0 for t in trials), trials[0]
+assert trials[2]["response"] == "yes" and trials[0]["response"] == "no"
+PY
+fi
 
 echo "$passes passed, $failures failed"
 [[ $failures -eq 0 ]]

@@ -60,10 +60,11 @@ TEST(GazeTrace, MalformedFilesNameTheLine) {
   };
   const std::string p = ::testing::TempDir() + "/bad.csv";
   EXPECT_EQ(message("time,x,y\n0,1,1\n"), p + ":1: the header must be t_ms,x,y (pixels) or t_ms,x_norm,y_norm (0..1)");
-  EXPECT_EQ(message("t_ms,x,y\n0,1,1\n5,abc,1\n"), p + ":3: expected three numbers t_ms,x,y");
+  EXPECT_EQ(message("t_ms,x,y\n0,1,1\n5,abc,1\n"), p + ":3: expected 3 numbers t_ms,x,y");
+  EXPECT_EQ(message("t_ms,x,y\n0,1,1,4\n"), p + ":2: more than 3 cells");
   EXPECT_EQ(message("t_ms,x,y\n10,1,1\n5,1,1\n"), p + ":3: time goes backwards (5 after 10)");
   EXPECT_EQ(message("t_ms,x,y\n"), p + ": no gaze samples");
-  EXPECT_EQ(message("t_ms,x,y\n0,nan,1\n"), p + ":2: expected three numbers t_ms,x,y");
+  EXPECT_EQ(message("t_ms,x,y\n0,nan,1\n"), p + ":2: expected 3 numbers t_ms,x,y");
 }
 
 TEST(GazeUdp, ParsesDatagrams) {

@@ -1,5 +1,7 @@
 #include "gaze_source.h"
 
+#include "numeric_csv.h"
+
 #include <arpa/inet.h>
 #include <netinet/in.h>
 #include <sys/socket.h>
@@ -44,31 +46,14 @@ class trace_source : public gaze_source {
  public:
   trace_source(const std::string& path, int w, int h) : path_(path) {
     width_ = w, height_ = h;
-    std::ifstream in(path);
-    if (!in) throw std::runtime_error(fmt::format("{}: cannot open the gaze trace", path));
-    std::string line;
-    std::getline(in, line);
-    if (!line.empty() && line.back() == '\r') line.pop_back();
-    bool normalised = false;
-    if (line == "t_ms,x_norm,y_norm") normalised = true;
-    else if (line != "t_ms,x,y")
-      throw std::runtime_error(fmt::format("{}:1: the header must be t_ms,x,y (pixels) or t_ms,x_norm,y_norm (0..1)", path));
-    for (int number = 2; std::getline(in, line); ++number) {
-      if (!line.empty() && line.back() == '\r') line.pop_back();
-      if (line.empty()) continue;
-      double v[3];
-      std::stringstream row(line);
-      std::string cell;
-      for (int i = 0; i < 3; ++i) {
-        char* end = nullptr;
-        if (!std::getline(row, cell, ',') || (v[i] = std::strtod(cell.c_str(), &end), end == cell.c_str() || *end) ||
-            !std::isfinite(v[i]))
-          throw std::runtime_error(fmt::format("{}:{}: expected three numbers t_ms,x,y", path, number));
-      }
+    const numeric_csv csv = read_numeric_csv(path, {"t_ms,x,y", "t_ms,x_norm,y_norm"},
+                                             "t_ms,x,y (pixels) or t_ms,x_norm,y_norm (0..1)", "gaze trace");
+    const bool normalised = csv.header == 1;
+    for (size_t i = 0; i < csv.rows.size(); ++i) {
+      const std::vector<double>& v = csv.rows[i];
       if (!samples_.empty() && v[0] < samples_.back().t)
-        throw std::runtime_error(fmt::format("{}:{}: time goes backwards ({} after {})", path, number, v[0], samples_.back().t));
-      if (normalised) v[1] *= w, v[2] *= h;
-      samples_.push_back({v[0], v[1], v[2]});
+        throw std::runtime_error(fmt::format("{}:{}: time goes backwards ({} after {})", path, csv.lines[i], v[0], samples_.back().t));
+      samples_.push_back({v[0], normalised ? v[1] * w : v[1], normalised ? v[2] * h : v[2]});
     }
     if (samples_.empty()) throw std::runtime_error(fmt::format("{}: no gaze samples", path));
   }

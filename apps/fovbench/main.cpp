@@ -164,6 +164,11 @@ int main(int argc, char** argv) {
       display = {w, h, 1.0};
     }
     const std::vector<gaze_point> gaze_points = parse_gazes(o.gazes, display, o.seed);
+    for (const std::string& scene : o.scenes) {  // fail before any output, not an hour in
+      const std::string file = scene.rfind("env:", 0) == 0 ? scene.substr(4) : scene;
+      if (scene != "builtin" && !fs::is_regular_file(file))
+        throw std::runtime_error(fmt::format("--scene {}: no such file", scene));
+    }
     fs::create_directories(fs::path(o.out) / "references");
     const std::string results_path = (fs::path(o.out) / "results.csv").string();
     std::set<std::string> done;
@@ -366,6 +371,7 @@ int main(int argc, char** argv) {
                            {"psnr_periphery", number(e.bands[4].psnr)}, {"ssim_periphery", number(e.bands[4].ssim)},
                            {"foveated_error", number(e.foveated_error)}, {"foveated_psnr", number(e.foveated_psnr)},
                            {"psnr_vs_best_reference", number(vs_best.overall.psnr)},
+                           {"foveated_error_vs_best", number(vs_best.foveated_error)},
                            {"best_reference_spp", std::to_string(best_spp)}, {"error_profile", profile},
                            {"device", device_name}, {"frames", std::to_string(o.frames)}};
               // Temporal quality: the camera turns 0.15 degrees a frame while the gaze

@@ -22,7 +22,7 @@ const std::vector<std::string>& result_columns() {
       "trace_ms", "reconstruct_ms", "frame_ms", "frame_ms_min", "frame_ms_max", "reference_ms", "reference_ms_min",
       "reference_ms_max", "speedup", "psnr", "ssim", "psnr_fovea", "ssim_fovea", "psnr_5_10", "ssim_5_10",
       "psnr_10_20", "ssim_10_20", "psnr_20_30", "ssim_20_30", "psnr_periphery", "ssim_periphery", "foveated_error",
-      "foveated_psnr", "psnr_vs_best_reference", "best_reference_spp", "flicker", "flicker_taa", "flicker_reference",
+      "foveated_psnr", "psnr_vs_best_reference", "foveated_error_vs_best", "best_reference_spp", "flicker", "flicker_taa", "flicker_reference",
       "error_profile", "device", "frames"};
   return columns;
 }

@@ -21,14 +21,30 @@ cv::Mat message_screen(int w, int h, const std::vector<std::string>& lines) {
   return m;
 }
 
+// The next scripted answer, when a script drives the trial (0 when the script is empty).
+int scripted(live_context& ctx) {
+  if (ctx.scripted_keys.empty()) return 0;
+  const int k = ctx.scripted_keys.front();
+  ctx.scripted_keys.erase(0, 1);
+  return k;
+}
+
 // Waits for one of `keys` (lower case); Esc returns 27.
-int wait_for(view_window& w, const std::string& keys) {
+int wait_for(live_context& ctx, const std::string& keys) {
+  view_window& w = ctx.window;
+  if (const int k = scripted(ctx)) return k;
   for (;;) {
     const int k = w.key(20);
     if (k == 27) return 27;
     if (k > 0 && k < 256 && keys.find(char(std::tolower(k))) != std::string::npos) return std::tolower(k);
     if (w.closed()) return 'q';
   }
+}
+
+trial_answer quit_answer() {
+  trial_answer a;
+  a.quit = true;
+  return a;
 }
 
 }  // namespace
@@ -44,7 +60,7 @@ trial_answer run_live_trial(live_context& ctx, const trial_plan& t, const points
   const double fx = t.fixation_x * w, fy = t.fixation_y * h;
   if (t.break_before) {
     ctx.window.show(message_screen(w, h, {"Break.", "Press Space to continue."}));
-    if (wait_for(ctx.window, " q") == 'q') return {true};
+    if (ctx.scripted_keys.empty() && wait_for(ctx, " q") == 'q') return quit_answer();
   }
   for (;;) {  // restarts after a pause
     trial_answer a;
@@ -72,7 +88,8 @@ trial_answer run_live_trial(live_context& ctx, const trial_plan& t, const points
         const frame f = foveated ? ctx.renderer.foveated(gx, gy, s) : reference;
         ++frames;
         ctx.window.show(display_image(f));
-        const int k = ctx.window.key(1);
+        int k = ctx.window.key(1);
+        if (!keys.empty() && !ctx.scripted_keys.empty()) k = scripted(ctx);
         if (k == 27) return 27;
         if (k > 0 && k < 256 && keys.find(char(std::tolower(k))) != std::string::npos) return std::tolower(k);
         if (max_ms > 0 && ms_between(begin, clock_type::now()) >= max_ms) return 0;
@@ -92,15 +109,15 @@ trial_answer run_live_trial(live_context& ctx, const trial_plan& t, const points
       if (key == 0) {
         ctx.window.show(message_screen(w, h, {"Which interval was foveated?", "Press 1 or 2."}));
         asked = clock_type::now();
-        key = wait_for(ctx.window, "12");
+        key = wait_for(ctx, "12");
       }
     }
-    if (key == 'q') return {true};
+    if (key == 'q') return quit_answer();
     if (key == 27) {  // pause
       ctx.window.show(message_screen(w, h, {"Paused.", "Any key resumes this trial; Q quits (the session can be resumed)."}));
       for (int k = -1; k < 0;) {
         k = ctx.window.key(50);
-        if (k == 'q' || k == 'Q' || ctx.window.closed()) return {true};
+        if (k == 'q' || k == 'Q' || ctx.window.closed()) return quit_answer();
       }
       continue;
     }

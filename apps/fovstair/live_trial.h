@@ -27,6 +27,9 @@ struct live_context {
   live_renderer& renderer;
   view_window& window;
   gaze_source* gaze = nullptr;  // null: the gaze is the fixation target
+  // Testing: answers taken from here, one character per answer, instead of the keyboard
+  // (each stimulus still shows at least one frame; breaks do not wait). Empty: keyboard.
+  std::string scripted_keys;
 };
 
 // Shows a break screen when planned, a fixation cross, then the stimulus (live frames at

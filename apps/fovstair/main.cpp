@@ -69,7 +69,7 @@ json trial_record(const fov::stair_protocol& p, const fov::trial_plan& t, bool d
 
 int run_command(const std::string& protocol_path, const std::string& subject, std::string session, const std::string& out_dir,
                 bool resume, const std::string& observer_spec, uint64_t stop_after, const std::string& gaze_trace,
-                int gaze_udp, bool gaze_mouse) {
+                int gaze_udp, bool gaze_mouse, const std::string& script_keys) {
   if (!std::regex_match(subject, std::regex("[A-Za-z0-9_]{1,32}")))
     throw usage_error(fmt::format("--subject '{}': use 1-32 letters, digits or _", subject));
   std::error_code ec;
@@ -177,7 +177,11 @@ int run_command(const std::string& protocol_path, const std::string& subject, st
         set = std::make_shared<const fov::pointset>(fov::load_pointset(fov::pointset_path(p, t.scale)));
       }
       renderer->use_pointset(set);
-      fov::live_context ctx{p, *renderer, *window, gaze.get()};
+      fov::live_context ctx{p, *renderer, *window, gaze.get(), {}};
+      if (!script_keys.empty()) {  // testing: this trial's answer from the script
+        if (this_run >= script_keys.size()) throw std::runtime_error("--script-keys: ran out of answers");
+        ctx.scripted_keys = script_keys.substr(this_run, 1);
+      }
       if (auto* m = dynamic_cast<fov::mouse_gaze*>(gaze.get())) {
         double x, y;
         if (window->mouse(x, y)) m->set(x, y);
@@ -200,7 +204,8 @@ int run_command(const std::string& protocol_path, const std::string& subject, st
     record.update(extra);
     record["time"] = now_iso();
     file->append(record);  // written and fsync'ed before the next trial
-    if (stop_after > 0 && ++this_run >= stop_after) std::_Exit(3);  // as a crash would: no end record
+    ++this_run;
+    if (stop_after > 0 && this_run >= stop_after) std::_Exit(3);  // as a crash would: no end record
   }
   file->append({{"type", "end"}, {"time", now_iso()}});
   for (uint32_t c : state.order()) {
@@ -385,7 +390,7 @@ int analyze_command(const std::vector<std::string>& inputs, const std::string& t
 int main(int argc, char** argv) {
   CLI::App app{"fovstair: staircase experiments on foveation thresholds (thesis Sec. 6)"};
   app.require_subcommand(1);
-  std::string protocol, subject, session, out_dir = "data", observer, gaze_trace, thresholds, out_csv, plots;
+  std::string protocol, subject, session, out_dir = "data", observer, gaze_trace, thresholds, out_csv, plots, script_keys;
   bool resume = false, as_json = false, gaze_mouse = false;
   uint64_t stop_after = 0;
   uint32_t runs = 1000;
@@ -403,6 +408,7 @@ int main(int argc, char** argv) {
   run->add_option("--gaze-trace", gaze_trace, "Gaze from a recorded CSV (default: the fixation target)");
   run->add_option("--gaze-udp", gaze_udp, "Gaze from UDP datagrams 'x y' (normalised) on 127.0.0.1:PORT");
   run->add_flag("--gaze-mouse", gaze_mouse, "Gaze from the mouse pointer");
+  run->add_option("--script-keys", script_keys, "Testing: the window's answers, one key per trial (e.g. nnyn)");
 
   CLI::App* sim = app.add_subcommand("simulate", "Estimate a rule's bias and spread with a simulated observer");
   sim->add_option("--protocol", protocol, "Protocol JSON")->required();
@@ -430,7 +436,8 @@ int main(int argc, char** argv) {
     if (*run) {
       if (!gaze_trace.empty() + (gaze_udp > 0) + gaze_mouse > 1) throw usage_error("choose one gaze source");
       if (gaze_udp < 0 || gaze_udp > 65535) throw usage_error(fmt::format("--gaze-udp {}: not a port", gaze_udp));
-      return run_command(protocol, subject, session, out_dir, resume, observer, stop_after, gaze_trace, gaze_udp, gaze_mouse);
+      return run_command(protocol, subject, session, out_dir, resume, observer, stop_after, gaze_trace, gaze_udp, gaze_mouse,
+                         script_keys);
     }
     if (*sim) return simulate_command(protocol, observer, runs, as_json, overrides);
     if (*an) return analyze_command(inputs, thresholds, as_json, out_csv, plots);

@@ -1,5 +1,7 @@
 #include "camera_path.h"
 
+#include "../common/numeric_csv.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
@@ -12,28 +14,14 @@
 namespace fov {
 
 camera_path load_camera_path(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw std::runtime_error(fmt::format("{}: cannot open the camera path", path));
-  std::string line;
-  std::getline(in, line);
-  if (!line.empty() && line.back() == '\r') line.pop_back();
-  if (line != "t_ms,x,y,z,tx,ty,tz") throw std::runtime_error(fmt::format("{}:1: the header must be t_ms,x,y,z,tx,ty,tz", path));
+  const numeric_csv csv = read_numeric_csv(path, {"t_ms,x,y,z,tx,ty,tz"}, "t_ms,x,y,z,tx,ty,tz", "camera path");
   camera_path out;
-  for (int number = 2; std::getline(in, line); ++number) {
-    if (!line.empty() && line.back() == '\r') line.pop_back();
-    if (line.empty()) continue;
-    double v[7];
-    std::stringstream row(line);
-    std::string cell;
-    for (double& x : v) {
-      char* end = nullptr;
-      if (!std::getline(row, cell, ',') || (x = std::strtod(cell.c_str(), &end), end == cell.c_str() || *end) || !std::isfinite(x))
-        throw std::runtime_error(fmt::format("{}:{}: expected seven numbers t_ms,x,y,z,tx,ty,tz", path, number));
-    }
+  for (size_t i = 0; i < csv.rows.size(); ++i) {
+    const std::vector<double>& v = csv.rows[i];
     if (!out.keys.empty() && v[0] < out.keys.back().t)
-      throw std::runtime_error(fmt::format("{}:{}: time goes backwards", path, number));
+      throw std::runtime_error(fmt::format("{}:{}: time goes backwards", path, csv.lines[i]));
     if (v[1] == v[4] && v[2] == v[5] && v[3] == v[6])
-      throw std::runtime_error(fmt::format("{}:{}: the eye is on its target", path, number));
+      throw std::runtime_error(fmt::format("{}:{}: the eye is on its target", path, csv.lines[i]));
     out.keys.push_back({v[0], {v[1], v[2], v[3]}, {v[4], v[5], v[6]}});
   }
   if (out.keys.empty()) throw std::runtime_error(fmt::format("{}: no camera keys", path));

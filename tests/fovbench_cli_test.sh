@@ -1,0 +1,50 @@
+#!/usr/bin/env bash
+# fovbench end to end on a tiny screen: a smoke sweep writes every output, --resume
+# skips finished rows (and redoes a lost one), bad flags exit 2 with one line.
+set -uo pipefail
+fovbench=$1
+dir=$(mktemp -d)
+trap 'rm -rf "$dir"' EXIT
+tool=fovbench
+source "$(dirname "$0")/cli_check.sh"
+fail() { echo "FAIL $*"; failures=$((failures + 1)); }
+common=(--display 64x72 --points-dir "$dir/sets" --frames 1)
+
+check "bad method"      2 -- "$fovbench" "${common[@]}" --methods cubic -o "$dir/x"
+check "bad display"     2 -- "$fovbench" --display 64by72 -o "$dir/x"
+check "bad spp"         2 -- "$fovbench" "${common[@]}" --spp 0 -o "$dir/x"
+check "bad gaze"        2 -- "$fovbench" "${common[@]}" --gazes 500,10 -o "$dir/x"
+check "two budgets"     2 -- "$fovbench" "${common[@]}" --budget-psnr 20 --budget-foveated 0.1 -o "$dir/x"
+check "missing scene"   1 -- "$fovbench" "${common[@]}" --scene "$dir/none.gltf" -o "$dir/x"
+
+sweep=("$fovbench" "${common[@]}" --scene builtin --scales 1.0,2.0 --methods nn,shepard --k 4 --spp 1,2
+       --gazes "centre;20,30" --temporal-frames 2 --budget-psnr 10 -o "$dir/out")
+check "smoke sweep"     0 -- "${sweep[@]}"
+for f in results.csv pareto.png error_by_eccentricity.png speedup_vs_scale.png report.md; do
+  [[ -s "$dir/out/$f" ]] || fail "no $f"
+done
+python3 - "$dir/out/results.csv" <<'PY' || fail "results.csv contents"
+import csv, math, sys
+rows = list(csv.DictReader(open(sys.argv[1])))
+assert len(rows) == 2 * 2 * 2 * 2, len(rows)  # scales x gazes x spp x (nn, shepard k=4)
+need = "scene gaze scale method k spp points_traced rays frame_ms reference_ms speedup psnr ssim psnr_fovea foveated_error".split()
+for r in rows:
+    for c in need:
+        assert r[c] != "", (c, r)
+    assert float(r["frame_ms"]) > 0 and float(r["speedup"]) > 0
+    assert abs(float(r["speedup"]) - float(r["reference_ms"]) / float(r["frame_ms"])) < 1e-3 * float(r["speedup"])
+    assert 0 <= float(r["foveated_error"]) < 1 and float(r["flicker"]) >= 0
+assert {r["gaze"] for r in rows} == {"centre", "20_30"}
+PY
+grep -q "Fastest within the budget" "$dir/out/report.md" || fail "report.md names no fastest configuration"
+
+check "exists without --resume" 1 -- "${sweep[@]}"
+out=$("${sweep[@]}" --resume 2>&1)
+[[ "$out" == *"16 already in"*"0 to measure"* ]] || fail "resume did not skip all: $out"
+head -n -1 "$dir/out/results.csv" > "$dir/cut.csv" && mv "$dir/cut.csv" "$dir/out/results.csv"
+out=$("${sweep[@]}" --resume 2>&1)
+[[ "$out" == *"15 already in"*"1 to measure"* ]] || fail "resume did not redo the lost row: $out"
+[[ $(($(wc -l < "$dir/out/results.csv") - 1)) -eq 16 ]] || fail "resumed CSV should hold 16 rows"
+
+echo "$passes passed, $failures failed"
+[[ $failures -eq 0 ]]
