@@ -15,7 +15,7 @@ namespace fov {
 namespace {
 
 const cv::Scalar palette[] = {{200, 90, 30}, {40, 40, 220}, {40, 160, 40}, {160, 60, 160},
-                              {0, 140, 230}, {120, 120, 0}, {90, 90, 90},  {200, 0, 120}};
+                              {0, 140, 230}, {120, 120, 0}, {90, 90, 90},  {200, 0, 120}, {0, 200, 200}};
 constexpr int font = cv::FONT_HERSHEY_SIMPLEX;
 
 // "Nice" tick values covering [lo, hi].

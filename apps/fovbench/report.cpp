@@ -49,12 +49,16 @@ std::vector<knob_mean> knob_means(const std::vector<const result_row*>& rows) {
     });
     if (it == out.end()) it = out.insert(out.end(), knob_mean{r->text("method"), r->text("k"), r->text("scale"), r->text("spp")});
     it->frame_ms += r->number("frame_ms"), it->reference_ms += r->number("reference_ms");
-    it->foveated_error += r->number("foveated_error_vs_best"), it->psnr += r->number("psnr_vs_best_reference");
-    it->psnr_fovea += r->number("psnr_fovea"), it->speedup += r->number("speedup"), ++it->gazes;
+    // PSNRs are averaged as mean squared errors (an identical band, PSNR inf, adds 0).
+    auto mse = [](double psnr) { return 255.0 * 255.0 / std::pow(10.0, psnr / 10); };
+    it->foveated_error += r->number("foveated_error_vs_best"), it->psnr += mse(r->number("psnr_vs_best_reference"));
+    it->psnr_fovea += mse(r->number("psnr_fovea")), it->speedup += r->number("speedup"), ++it->gazes;
   }
   for (knob_mean& m : out) {
     const double n = m.gazes;
-    m.frame_ms /= n, m.reference_ms /= n, m.foveated_error /= n, m.psnr /= n, m.psnr_fovea /= n, m.speedup /= n;
+    m.frame_ms /= n, m.reference_ms /= n, m.foveated_error /= n, m.speedup /= n;
+    auto psnr = [](double mse) { return mse > 0 ? 10 * std::log10(255.0 * 255.0 / mse) : INFINITY; };
+    m.psnr = psnr(m.psnr / n), m.psnr_fovea = psnr(m.psnr_fovea / n);
   }
   return out;
 }
@@ -133,19 +137,21 @@ void write_bench_figures(const std::vector<result_row>& rows, const bench_option
     }
     profiles.push_back(e);
 
-    // Speedup against scale: per (method, k, spp), averaged over gazes.
+    // Speedup against scale: per method (at the first k listed; nn at 1) and spp, averaged over gazes.
     plot_panel sp;
-    sp.title = "Speedup over the reference: " + short_scene(scene);
+    sp.title = "Speedup over the reference: " + short_scene(scene) + " (mean over gazes)";
     sp.x_label = "point-set scale s";
     sp.y_label = "speedup (reference ms / frame ms)";
+    const std::string first_k = std::to_string(o.ks.empty() ? 5 : o.ks[0]);
     std::map<std::string, std::map<double, std::pair<double, int>>> curves;
     for (const result_row* r : mine) {
-      auto& cell = curves[fmt::format("{} k={} spp={}", r->text("method"), r->text("k"), r->text("spp"))][r->number("scale")];
+      if (r->text("method") != "nn" && r->text("k") != first_k) continue;
+      auto& cell = curves[fmt::format("{} k={} spp={:>2}", r->text("method"), r->text("k"), r->text("spp"))][r->number("scale")];
       cell.first += r->number("speedup"), ++cell.second;
     }
     int c = 0;
     for (const auto& [name, points] : curves) {
-      if (sp.series.size() >= 8) break;
+      if (sp.series.size() >= 9) break;
       plot_series s;
       s.name = name;
       s.colour = c++;
