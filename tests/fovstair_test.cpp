@@ -252,8 +252,9 @@ TEST(SessionPlan, IsDeterministicAndSkipsCatchTrialsInTheStaircase) {
     EXPECT_EQ(a[i].scale, b[i].scale);
     EXPECT_EQ(a[i].is_catch, b[i].is_catch);
     catches += a[i].is_catch;
-    if (i > 0 && a[i - 1].is_catch && a[i - 1].condition == a[i].condition)
+    if (i > 0 && a[i - 1].is_catch && a[i - 1].condition == a[i].condition) {
       EXPECT_EQ(a[i].series_trial, a[i - 1].series_trial);  // a catch trial is not a staircase step
+    }
   }
   EXPECT_GT(catches, a.size() / 6);
   EXPECT_LT(catches, a.size() / 2);

@@ -223,7 +223,9 @@ TEST(Metrics, FiveBandsProfileAndFoveatedErrorOfAKnownOffset) {
   EXPECT_NEAR(r.foveated_psnr, 28.1308, 1e-3);
   ASSERT_FALSE(r.profile_rmse.empty());
   for (size_t i = 0; i < r.profile_rmse.size(); ++i)
-    if (r.profile_pixels[i]) EXPECT_NEAR(r.profile_rmse[i], 10.0 / 255, 1e-9) << "bin " << i;
+    if (r.profile_pixels[i]) {
+      EXPECT_NEAR(r.profile_rmse[i], 10.0 / 255, 1e-9) << "bin " << i;
+    }
   // The corner gaze sees 0 .. 54.7 degrees: 22 bins of 2.5 degrees.
   EXPECT_EQ(r.profile_rmse.size(), 22u);
 }

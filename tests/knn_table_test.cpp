@@ -168,7 +168,9 @@ TEST(TracedPoints, EveryPixelReadsOnlyTracedPoints) {
     const traced_set t = count_traced_points(set, gx, gy, k_used);
     EXPECT_EQ(t.on_screen, on_screen);
     EXPECT_EQ(t.referenced_off_screen, off);
-    if (k_used > 1) EXPECT_GT(off, 0u) << "some off-screen points must be read near the screen edge";
+    if (k_used > 1) {
+      EXPECT_GT(off, 0u) << "some off-screen points must be read near the screen edge";
+    }
   }
 }
 
