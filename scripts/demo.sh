@@ -51,6 +51,6 @@ for m in ("nn", "shepard"):
 print()
 print(f"images           {out}/reference.png, foveated-nn.png, foveated-shepard.png, points*.png")
 print("reconstruction ran on:", json.load(open(f"{out}/foveated-shepard.json"))["device"])
-print("RBF: fovrender --method rbf (C++ path only so far; see docs/reconstruction.md). Not yet: TAA")
+print("also: fovrender --method rbf (weights solved once, then OpenCL), --taa-frames N; fovbench for the full speed/accuracy sweep (docs/speed-accuracy.md)")
 PY
 cat "$out/summary.txt"

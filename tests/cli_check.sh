@@ -15,3 +15,5 @@ check() {
     passes=$((passes + 1))
   fi
 }
+# fail DESCRIPTION: records a failed property check.
+fail() { echo "FAIL $*"; failures=$((failures + 1)); }

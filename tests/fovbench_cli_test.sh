@@ -7,7 +7,6 @@ dir=$(mktemp -d)
 trap 'rm -rf "$dir"' EXIT
 tool=fovbench
 source "$(dirname "$0")/cli_check.sh"
-fail() { echo "FAIL $*"; failures=$((failures + 1)); }
 common=(--display 64x72 --points-dir "$dir/sets" --frames 1)
 
 check "bad method"      2 -- "$fovbench" "${common[@]}" --methods cubic -o "$dir/x"

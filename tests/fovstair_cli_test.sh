@@ -12,7 +12,6 @@ tool=fovstair
 source "$(dirname "$0")/cli_check.sh"
 protocol=$src/apps/fovstair/protocols/thesis.json
 observer=logistic:threshold=1.7,slope=8,lapse=0.02,false_alarm=0.1
-fail() { echo "FAIL $*"; failures=$((failures + 1)); }
 
 check "no subcommand"       2 -- "$fovstair"
 check "bad subject"         2 -- "$fovstair" run --protocol "$protocol" --subject "a b" --observer "$observer" --out "$dir/x"

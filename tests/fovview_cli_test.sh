@@ -9,7 +9,6 @@ dir=$(mktemp -d)
 trap 'rm -rf "$dir"' EXIT
 tool=fovview
 source "$(dirname "$0")/cli_check.sh"
-fail() { echo "FAIL $*"; failures=$((failures + 1)); }
 export XDG_RUNTIME_DIR=$dir
 
 "$fovgen" --width 256 --height 288 --k 8 -o "$dir/set.fovset" >/dev/null
