@@ -1,6 +1,7 @@
 // Reconstruction kernels (thesis Sec. 4.3): each work item rebuilds one screen pixel from
-// the k nearest points its canvas pixel lists in the point set's table. Same rules as the
-// C++ path (interp/include/fov/reconstruct.h), in float.
+// the k nearest points its canvas pixel lists in the point set's table. With a mirrored
+// pattern (mirror_x, mirror_y) screen pixel (x, y) reads the table at the mirrored pixel.
+// Same rules as the C++ path (interp/include/fov/reconstruct.h), in float.
 
 #define MAX_K 32
 
@@ -12,11 +13,12 @@ inline ulong table_offset(ulong pixel, uint j, uint k_stored, uint group, ulong 
 }
 
 __kernel void reconstruct_nn(__global const uint* table, uint canvas_width, uint k_stored, uint group,
-                             ulong pixel_count, int offset_x, int offset_y, uint width,
+                             ulong pixel_count, int offset_x, int offset_y, uint width, uint mirror_x, uint mirror_y,
                              __global const float4* colour, __global const float* depth,
                              __global float4* out_rgb, __global float* out_depth) {
   const int sx = get_global_id(0), sy = get_global_id(1);
-  const ulong pixel = (ulong)(sy + offset_y) * canvas_width + (ulong)(sx + offset_x);
+  const int tx = mirror_x ? (int)width - 1 - sx : sx, ty = mirror_y ? (int)get_global_size(1) - 1 - sy : sy;
+  const ulong pixel = (ulong)(ty + offset_y) * canvas_width + (ulong)(tx + offset_x);
   const uint i = table[table_offset(pixel, 0, k_stored, group, pixel_count)];
   out_rgb[sy * width + sx] = colour[i];
   out_depth[sy * width + sx] = depth[i];
@@ -48,13 +50,14 @@ inline float shepard_depth(const float* h, const uint* idx, uint k, uint renka, 
 // point takes its value; all weights zero gives the mean. Depth uses the neighbours that
 // hit something (finite depth), with their own R.
 __kernel void reconstruct_shepard(__global const uint* table, uint canvas_width, uint k_stored, uint group,
-                                  ulong pixel_count, int offset_x, int offset_y, uint width,
+                                  ulong pixel_count, int offset_x, int offset_y, uint width, uint mirror_x, uint mirror_y,
                                   __global const float2* position, uint k, uint renka,
                                   __global const float4* colour, __global const float* depth,
                                   __global float4* out_rgb, __global float* out_depth) {
   const int sx = get_global_id(0), sy = get_global_id(1);
-  const ulong pixel = (ulong)(sy + offset_y) * canvas_width + (ulong)(sx + offset_x);
-  const float2 centre = (float2)((float)(sx + offset_x) + 0.5f, (float)(sy + offset_y) + 0.5f);
+  const int tx = mirror_x ? (int)width - 1 - sx : sx, ty = mirror_y ? (int)get_global_size(1) - 1 - sy : sy;
+  const ulong pixel = (ulong)(ty + offset_y) * canvas_width + (ulong)(tx + offset_x);
+  const float2 centre = (float2)((float)(tx + offset_x) + 0.5f, (float)(ty + offset_y) + 0.5f);
   float h[MAX_K];
   uint idx[MAX_K];
   for (uint j = 0; j < k; ++j) {
@@ -91,12 +94,13 @@ __kernel void reconstruct_shepard(__global const uint* table, uint canvas_width,
 // the canvas pixel's k weights, stored tile-major (64 x 64 canvas pixels per tile); depth
 // as Shepard's.
 __kernel void reconstruct_weighted(__global const uint* table, uint canvas_width, uint k_stored, uint group,
-                                   ulong pixel_count, int offset_x, int offset_y, uint width,
+                                   ulong pixel_count, int offset_x, int offset_y, uint width, uint mirror_x, uint mirror_y,
                                    __global const float2* position, uint k, uint renka, __global const float* weights,
                                    uint tiles_x, __global const float4* colour, __global const float* depth,
                                    __global float4* out_rgb, __global float* out_depth) {
   const int sx = get_global_id(0), sy = get_global_id(1);
-  const uint cx = (uint)(sx + offset_x), cy = (uint)(sy + offset_y);
+  const int tx = mirror_x ? (int)width - 1 - sx : sx, ty = mirror_y ? (int)get_global_size(1) - 1 - sy : sy;
+  const uint cx = (uint)(tx + offset_x), cy = (uint)(ty + offset_y);
   const ulong pixel = (ulong)cy * canvas_width + cx;
   const float2 centre = (float2)((float)cx + 0.5f, (float)cy + 0.5f);
   __global const float* w = weights + ((ulong)(cy / 64) * tiles_x + cx / 64) * (64 * 64 * (ulong)k) +

@@ -30,6 +30,8 @@ for view in points density eccentricity; do
 done
 check "taa with reference"  2 -- "$fovrender" --reference "${set[@]}" --taa-frames 4 -o "$dir/a.png"
 check "taa frames"         0 -- "$fovrender" "${set[@]}" --spp 2 --taa-frames 4 -o "$dir/taa.png"
+check "mirrored patterns"  0 -- "$fovrender" "${set[@]}" --spp 2 --taa-frames 4 --pattern mirror -o "$dir/taa-m.png"
+check "bad pattern"        2 -- "$fovrender" "${set[@]}" --spp 2 --taa-frames 4 --pattern spiral -o "$dir/taa-m.png"
 "$fovrender" "${set[@]}" --spp 2 --taa-frames 3 -o "$dir/taa3.png" --json | grep -q '"taa_ms": [0-9]' \
   || { echo "FAIL --taa-frames did not report taa_ms"; failures=$((failures + 1)); }
 check "bad hfov"           2 -- "$fovrender" "${set[@]}" --hfov 200 -o "$dir/a.png"

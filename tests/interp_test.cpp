@@ -320,6 +320,29 @@ TEST(Shepard, LinearWeightsGiveTheSameValues) {
   EXPECT_DOUBLE_EQ(w[2], 1.0 / 3);
 }
 
+TEST(Mirror, AMirroredPatternIsTheFlippedFrameOfTheSameSamples) {
+  // The same samples read through a mirrored table give the frame flipped, for every
+  // method (the weights depend on distances only, which mirroring keeps).
+  std::mt19937 random(11);
+  std::uniform_real_distribution<float> u(0, 1);
+  fixture fx(40, 30, 13, 9, [&](float, float) { return glm::vec3(u(random), u(random), u(random)); });
+  for (method m : {method::nn, method::shepard, method::rbf}) {
+    reconstruct_params rp;
+    rp.how = m;
+    const frame plain = reconstruct(fx.set, fx.samples, rp);
+    for (int mirror = 1; mirror < 4; ++mirror) {
+      point_samples s = fx.samples;
+      s.mirror_x = mirror & 1, s.mirror_y = mirror & 2;
+      const frame flipped = reconstruct(fx.set, s, rp);
+      for (int y = 0; y < 30; ++y)
+        for (int x = 0; x < 40; ++x) {
+          const int fx_ = s.mirror_x ? 39 - x : x, fy = s.mirror_y ? 29 - y : y;
+          ASSERT_EQ(flipped.rgb[size_t(y) * 40 + x], plain.rgb[size_t(fy) * 40 + fx_]) << method_name(m) << " " << mirror;
+        }
+    }
+  }
+}
+
 TEST(RbfCache, CachedWeightsGiveTheDirectSolveAndComputeEachTileOnce) {
   std::mt19937 random(3);
   std::uniform_real_distribution<float> u(0, 1);

@@ -141,6 +141,28 @@ TEST(Tracer, PointsAreDeterministicAcrossFramesAndThreads) {
   EXPECT_GT(differ, a.traced.size() / 10) << "another seed must move the rays";
 }
 
+TEST(Tracer, MirroredPatternsTraceTheSetPlacedForTheMirroredGaze) {
+  pointset set;
+  set.model.display = {48, 40, 1.0};
+  set.points = throw_darts(set.model, {});
+  set.table = build_knn_table(set.points, 96, 80, {});
+  const auto s = load_scene("builtin");
+  const camera cam = s->default_camera();
+  trace_params tp;
+  tp.spp = 2;
+  tp.mirror_x = true;
+  const point_samples m = trace_points(*s, cam, set, 10, 30, 5, tp);
+  tp.mirror_x = false;
+  const point_samples plain = trace_points(*s, cam, set, 48 - 10, 30, 5, tp);
+  EXPECT_TRUE(m.mirror_x);
+  EXPECT_FALSE(m.mirror_y);
+  EXPECT_EQ(m.offset.x, plain.offset.x);
+  EXPECT_EQ(m.traced, plain.traced);  // the same points ...
+  size_t differ = 0;
+  for (uint32_t i : m.traced) differ += m.colour[i] != plain.colour[i];
+  EXPECT_GT(differ, m.traced.size() / 2);  // ... seen at mirrored screen positions
+}
+
 // Writes a 64x32 lat-long image whose texels are coloured by the axis closest to their direction.
 std::string write_axis_envmap(const fs::path& dir) {
   const glm::vec3 colours[6] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1, 1, 0}, {0, 1, 1}, {1, 0, 1}};  // +x -x +y -y +z -z

@@ -39,6 +39,7 @@ int main(int argc, char** argv) {
   std::string scene_spec = "builtin", points_file, gaze_text = "centre", method_text = "shepard", compare;
   std::vector<std::string> outputs;
   uint32_t k = 5, spp = 32, taa_frames = 0;
+  std::string pattern = "reseed";
   std::string kernel_text = "multiquadric", device_text = "opencl", debug_view, debug_output;
   double shape = 1.0;
   uint64_t seed = 1;
@@ -60,7 +61,9 @@ int main(int argc, char** argv) {
   app.add_option("--height", height, "Screen height without --points");
   app.add_option("--hfov", hfov, "Horizontal field of view in degrees (default: the scene's camera, else 90)");
   app.add_flag("--no-shadows", no_shadows, "Skip shadow rays");
-  app.add_option("--taa-frames", taa_frames, "Render this many frames of the view with TAA (new rays each frame)");
+  app.add_option("--taa-frames", taa_frames, "Render this many frames of the view with TAA");
+  app.add_option("--pattern", pattern, "With --taa-frames: reseed (new ray positions each frame), mirror (the set "
+                                       "mirrored: four patterns, thesis Sec. 3.3) or fixed");
   app.add_flag("--no-warmup", no_warmup, "Time the first frame, texture loading included");
   app.add_option("--device", device_text, "Reconstruct with opencl (default; falls back with a warning) or cpp");
   app.add_option("-o,--output", outputs, "Output image (.exr linear, .png sRGB); may be repeated");
@@ -87,6 +90,8 @@ int main(int argc, char** argv) {
     if (!reference && points_file.empty()) throw usage_error("--points is required unless --reference");
     if (reference && taa_frames > 0) throw usage_error("--taa-frames applies to foveated frames, not --reference");
     if (taa_frames > 10000) throw usage_error(fmt::format("--taa-frames must lie in 0..10000 (got {})", taa_frames));
+    if (pattern != "reseed" && pattern != "mirror" && pattern != "fixed")
+      throw usage_error(fmt::format("--pattern: unknown '{}' (reseed, mirror, fixed)", pattern));
 
     fov::pointset set;
     fov::display_geometry display{width, height, 1.0};
@@ -146,15 +151,17 @@ int main(int argc, char** argv) {
         j["device_setup_ms"] = ms_since(setup);
         if (!device->available()) std::cerr << "fovrender: warning: " << device->reason() << "; using the C++ path\n";
       }
-      // With --taa-frames N: N frames of the same view, each with new ray positions (seed +
-      // frame; fixed positions would repeat the same image), blended by TAA. The JSON
-      // reports the last frame's costs.
+      // With --taa-frames N: N frames of the same view blended by TAA, each with new ray
+      // positions (--pattern reseed: seed + frame), or the set mirrored in turn (mirror:
+      // four patterns), or the same samples (fixed: what the thesis's static view sees).
+      // The JSON reports the last frame's costs.
       fov::taa_state taa;
       fov::point_samples samples;
       bool on_device = false;
       for (uint32_t frame_index = 0; frame_index < std::max<uint32_t>(1, taa_frames); ++frame_index) {
         fov::trace_params this_frame = tp;
-        if (taa_frames > 0) this_frame.seed = seed + frame_index;
+        if (taa_frames > 0 && pattern == "reseed") this_frame.seed = seed + frame_index;
+        if (taa_frames > 0 && pattern == "mirror") this_frame.mirror_x = frame_index & 1, this_frame.mirror_y = frame_index & 2;
         const auto traced_at = std::chrono::steady_clock::now();
         samples = fov::trace_points(*scene, cam, set, gaze[0], gaze[1], k, this_frame);
         j["trace_ms"] = ms_since(traced_at);
@@ -197,7 +204,7 @@ int main(int argc, char** argv) {
                     {"worst_condition", rbf.worst_condition}, {"condition_sampled_pixels", rbf.sampled}};
       j["rays"] = samples.rays;
       j["points_traced"] = samples.traced.size();
-      if (taa_frames > 0) j["taa_frames"] = taa_frames;
+      if (taa_frames > 0) j["taa_frames"] = taa_frames, j["pattern"] = pattern;
     }
     if (!j.contains("taa_ms")) j["taa_ms"] = nullptr;  // no TAA in this run
     // A frame's cost: tracing, reconstruction and TAA (one-time device setup and scene loading are reported apart).

@@ -211,7 +211,9 @@ cl_event cl_reconstructor::launch(const point_samples& samples, const reconstruc
   const cl_uint tiles_x = rbf ? d.cache->tiles_x() : 0;
   cl_uint a = 0;
   auto arg = [&](const auto& value) { check(clSetKernelArg(kernel, a++, sizeof(value), &value), "clSetKernelArg"); };
+  const cl_uint mirror_x = samples.mirror_x ? 1 : 0, mirror_y = samples.mirror_y ? 1 : 0;
   arg(d.table), arg(canvas_width), arg(k_stored), arg(group), arg(pixel_count), arg(ox), arg(oy), arg(width);
+  arg(mirror_x), arg(mirror_y);
   if (params.how == method::shepard) arg(d.position), arg(k), arg(renka);
   if (rbf) arg(d.position), arg(k), arg(renka), arg(d.weights), arg(tiles_x);
   arg(d.colour), arg(d.depth), arg(d.out_rgb), arg(d.out_depth);

@@ -196,22 +196,25 @@ frame reconstruct(const pointset& set, const point_samples& samples, const recon
     rgbd value[max_neighbours];
     rbf_stats local;
     for (int sy = rows.begin(); sy < rows.end(); ++sy) {
-      const uint32_t cy = uint32_t(sy + o.y);
+      // A mirrored pattern: this screen pixel reads the table at the mirrored pixel.
+      const int ty = samples.mirror_y ? h - 1 - sy : sy;
+      const uint32_t cy = uint32_t(ty + o.y);
       const uint64_t row = uint64_t(cy) * t.width + uint64_t(o.x);
       const double py = cy + 0.5;
       for (int sx = 0; sx < w; ++sx) {
         const size_t at = size_t(sy) * w + sx;
+        const int tx = samples.mirror_x ? w - 1 - sx : sx;
         if (params.how == method::nn) {
-          const uint32_t i = t.entries[t.offset(row + sx, 0)];
+          const uint32_t i = t.entries[t.offset(row + tx, 0)];
           out.rgb[at] = samples.colour[i];
           out.depth[at] = samples.depth[i];
           continue;
         }
-        const uint32_t cx = uint32_t(sx + o.x);
+        const uint32_t cx = uint32_t(tx + o.x);
         const double px = cx + 0.5;
         uint32_t hits = 0;
         for (uint32_t j = 0; j < k; ++j) {
-          const uint32_t i = t.entries[t.offset(row + sx, j)];
+          const uint32_t i = t.entries[t.offset(row + tx, j)];
           const point& p = set.points[i];
           dist[j] = std::hypot(double(p.x) - px, double(p.y) - py);
           const glm::vec3& c = samples.colour[i];

@@ -212,8 +212,12 @@ point_samples trace_points(const scene& sc, const camera& cam, const pointset& s
   const camera_frame f = make_frame(cam, disp.width, disp.height);
   point_samples out;
   stage_timer choose(params.timing != nullptr);
-  out.offset = offset_for_gaze(disp, gaze_x, gaze_y);
-  const std::vector<uint8_t> mask = traced_point_mask(set, gaze_x, gaze_y, k_used);
+  // A mirrored pattern is the set placed for the mirrored gaze, then mirrored on screen.
+  const bool mx = params.mirror_x, my = params.mirror_y;
+  const double gx = mx ? disp.width - gaze_x : gaze_x, gy = my ? disp.height - gaze_y : gaze_y;
+  out.offset = offset_for_gaze(disp, gx, gy);
+  out.mirror_x = mx, out.mirror_y = my;
+  const std::vector<uint8_t> mask = traced_point_mask(set, gx, gy, k_used);
   for (uint32_t i = 0; i < mask.size(); ++i)
     if (mask[i]) out.traced.push_back(i);
   const size_t n = set.points.size();
@@ -232,7 +236,10 @@ point_samples trace_points(const scene& sc, const camera& cam, const pointset& s
       const uint32_t i = out.traced[k];
       const point& p = set.points[i];
       rng random(stream_seed(params.seed, 0x7261797375ull, i));  // fixed per point, every frame
-      const float cx = p.x - float(out.offset.x), cy = p.y - float(out.offset.y);
+      float cx = p.x - float(out.offset.x), cy = p.y - float(out.offset.y);
+      if (mx) cx = float(disp.width) - cx;
+      if (my) cy = float(disp.height) - cy;
+      const float sx = mx ? -p.spacing : p.spacing, sy = my ? -p.spacing : p.spacing;  // the disc mirrored too
       for (uint32_t s = 0; s < spp; ++s) {
         // Uniform in the unit disc by rejection from the square (no trigonometry).
         float u, v;
@@ -240,7 +247,7 @@ point_samples trace_points(const scene& sc, const camera& cam, const pointset& s
           u = float(2 * random.uniform() - 1);
           v = float(2 * random.uniform() - 1);
         } while (u * u + v * v > 1);
-        rays.push_back({cx + p.spacing * u, cy + p.spacing * v, p.spacing * radius_scale, i});
+        rays.push_back({cx + sx * u, cy + sy * v, p.spacing * radius_scale, i});
       }
     }
     trace_rays(d, f, rays.data(), rays.size(), params.shadows, timing,

@@ -26,6 +26,9 @@ struct trace_params {
   uint32_t spp = 32;     // rays per point (foveated) or per pixel (reference)
   uint64_t seed = 1;     // fixes the ray positions: the same every frame
   bool shadows = true;   // hard shadows from the scene's light
+  // Foveated only: use the point set mirrored left-right and/or top-bottom (thesis Sec.
+  // 3.3: four patterns from one set, so TAA can blend frames with different samples).
+  bool mirror_x = false, mirror_y = false;
   trace_timing* timing = nullptr;  // accumulates stage times when set
 };
 
@@ -35,7 +38,10 @@ struct point_samples {
   std::vector<float> depth;       // mean camera-space depth of the rays that hit; +inf if none did
   std::vector<uint16_t> hits;     // rays that hit geometry
   std::vector<uint32_t> traced;   // the traced points, in Morton order
-  canvas_offset offset;           // canvas = screen + offset for this gaze
+  canvas_offset offset;           // canvas = (mirrored) screen + offset for this gaze
+  // The pattern was mirrored (trace_params): screen pixel (x, y) reads the table at
+  // (W - 1 - x, y) and/or (x, H - 1 - y), with the offset of the mirrored gaze.
+  bool mirror_x = false, mirror_y = false;
   uint64_t rays = 0;
 };
 
