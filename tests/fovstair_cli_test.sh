@@ -84,6 +84,9 @@ else
  "conditions": [{"name": "SH", "method": "shepard", "k": 5}], "scales": {"min": 1.0, "max": 1.4},
  "rule": {"initial_step": 0.2, "step": 0.2, "discard_reversals": 0, "thresholds": 2}, "catch_rate": 0}
 JSON
+  check "live without display" 1 -- env -u DISPLAY -u WAYLAND_DISPLAY "$fovstair" run --protocol "$dir/live.json" \
+    --subject L2 --out "$dir/live"
+  [[ ! -e "$dir/live/L2-1.jsonl" ]] || fail "a run that could not start left a session file"
   xvfb-run -a -s "-screen 0 800x600x24" "$fovstair" run --protocol "$dir/live.json" --subject L1 --out "$dir/live" \
     --script-keys nnyn >/dev/null 2>"$dir/live.err" || fail "live session: $(cat "$dir/live.err")"
   python3 - "$dir/live/L1-1.jsonl" <<'PY' || fail "live session data"

@@ -90,6 +90,8 @@ int run_command(const std::string& protocol_path, const std::string& subject, st
   if (!std::regex_match(session, std::regex("[0-9]{1,6}"))) throw usage_error(fmt::format("--session '{}': a number", session));
   const std::string path = (fs::path(out_dir) / (subject + "-" + session + ".jsonl")).string();
 
+  if (!resume && fs::exists(path))
+    throw std::runtime_error(fmt::format("{}: the session exists; continue it with --resume or choose another --session", path));
   std::optional<fov::observer_model> observer;
   if (!observer_spec.empty()) {
     try {
@@ -123,18 +125,6 @@ int run_command(const std::string& protocol_path, const std::string& subject, st
       throw std::runtime_error(fmt::format("{}: trial {} does not match the protocol's plan; not resuming", path, plan.index));
     state.record(plan, t.value("detected", false));
   }
-  if (!resume) {
-    std::vector<std::string> order;
-    for (uint32_t c : state.order()) order.push_back(p.conditions[c].name);
-    header = {{"type", "session"},     {"fovstair", 1},          {"subject", subject},
-              {"session", session},    {"protocol_file", protocol_path}, {"protocol_text", protocol_text},
-              {"condition_order", order}, {"started", now_iso()},
-              {"observer", observer ? json(fov::observer_text(*observer)) : json(nullptr)}};
-    file.emplace(fov::session_file::create(path, header));
-  } else {
-    std::cerr << fmt::format("fovstair: resuming {} at trial {}\n", path, done.size());
-  }
-
   // A person: the window, the scene and the point sets.
   std::unique_ptr<fov::view_window> window;
   std::unique_ptr<fov::live_renderer> renderer;
@@ -157,6 +147,20 @@ int run_command(const std::string& protocol_path, const std::string& subject, st
     else if (gaze_udp > 0) gaze = fov::udp_gaze(uint16_t(gaze_udp), d.width, d.height);
     else if (gaze_mouse) gaze = std::make_unique<fov::mouse_gaze>(d.width, d.height);
     sets[state.next().scale] = first;
+  }
+
+  // The session file is created only once the window, scene and sets are ready, so a
+  // run that cannot start leaves nothing behind.
+  if (!resume) {
+    std::vector<std::string> order;
+    for (uint32_t c : state.order()) order.push_back(p.conditions[c].name);
+    header = {{"type", "session"},     {"fovstair", 1},          {"subject", subject},
+              {"session", session},    {"protocol_file", protocol_path}, {"protocol_text", protocol_text},
+              {"condition_order", order}, {"started", now_iso()},
+              {"observer", observer ? json(fov::observer_text(*observer)) : json(nullptr)}};
+    file.emplace(fov::session_file::create(path, header));
+  } else {
+    std::cerr << fmt::format("fovstair: resuming {} at trial {}\n", path, done.size());
   }
 
   uint64_t this_run = 0;
