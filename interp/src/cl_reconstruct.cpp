@@ -58,8 +58,6 @@ struct cl_reconstructor::impl {
   cl_mem table = nullptr, position = nullptr, colour = nullptr, depth = nullptr, out_rgb = nullptr, out_depth = nullptr;
   std::unique_ptr<rbf_weight_cache> cache;  // RBF weights, built on the first RBF run
   cl_mem weights = nullptr;                 // the cache's tiles on the device
-  std::vector<cl_float4> colour_host;
-  std::vector<float> out_host;
 
   ~impl() {
     for (cl_mem m : {table, position, colour, depth, out_rgb, out_depth, weights, history, taa_out})
@@ -195,11 +193,16 @@ cl_event cl_reconstructor::launch(const point_samples& samples, const reconstruc
     if (stats) *stats = d.cache->stats();
   }
 
-  d.colour_host.resize(samples.colour.size());
+  // Colours are written straight into the mapped device buffer (on a CPU device a
+  // mapping is the buffer itself: no staging copy).
+  cl_int status = 0;
+  auto* colours = static_cast<cl_float4*>(clEnqueueMapBuffer(d.queue, d.colour, CL_TRUE, CL_MAP_WRITE_INVALIDATE_REGION, 0,
+                                                             samples.colour.size() * sizeof(cl_float4), 0, nullptr,
+                                                             nullptr, &status));
+  check(status, "colour map");
   for (size_t i = 0; i < samples.colour.size(); ++i)
-    d.colour_host[i] = {{samples.colour[i].r, samples.colour[i].g, samples.colour[i].b, 1.0f}};
-  check(clEnqueueWriteBuffer(d.queue, d.colour, CL_FALSE, 0, d.colour_host.size() * sizeof(cl_float4),
-                             d.colour_host.data(), 0, nullptr, nullptr), "colour upload");
+    colours[i] = {{samples.colour[i].r, samples.colour[i].g, samples.colour[i].b, 1.0f}};
+  check(clEnqueueUnmapMemObject(d.queue, d.colour, colours, 0, nullptr, nullptr), "colour unmap");
   check(clEnqueueWriteBuffer(d.queue, d.depth, CL_FALSE, 0, samples.depth.size() * sizeof(float), samples.depth.data(),
                              0, nullptr, nullptr), "depth upload");
 
@@ -229,14 +232,19 @@ frame cl_reconstructor::read_back(cl_mem rgb) {
   out.width = set_.model.display.width;
   out.height = set_.model.display.height;
   const size_t pixels = size_t(out.width) * out.height;
-  d.out_host.resize(pixels * 4);
   out.depth.resize(pixels);
-  check(clEnqueueReadBuffer(d.queue, rgb, CL_FALSE, 0, pixels * sizeof(cl_float4), d.out_host.data(), 0, nullptr, nullptr),
-        "image download");
-  check(clEnqueueReadBuffer(d.queue, d.out_depth, CL_TRUE, 0, pixels * sizeof(float), out.depth.data(), 0, nullptr,
+  check(clEnqueueReadBuffer(d.queue, d.out_depth, CL_FALSE, 0, pixels * sizeof(float), out.depth.data(), 0, nullptr,
                             nullptr), "depth download");
+  // The image is read through a mapping (no staging copy on a CPU device).
+  cl_int status = 0;
+  const auto* image = static_cast<const cl_float4*>(clEnqueueMapBuffer(d.queue, rgb, CL_TRUE, CL_MAP_READ, 0,
+                                                                       pixels * sizeof(cl_float4), 0, nullptr, nullptr,
+                                                                       &status));
+  check(status, "image map");
   out.rgb.resize(pixels);
-  for (size_t i = 0; i < pixels; ++i) out.rgb[i] = {d.out_host[4 * i], d.out_host[4 * i + 1], d.out_host[4 * i + 2]};
+  for (size_t i = 0; i < pixels; ++i) out.rgb[i] = {image[i].s[0], image[i].s[1], image[i].s[2]};
+  check(clEnqueueUnmapMemObject(d.queue, rgb, const_cast<cl_float4*>(image), 0, nullptr, nullptr), "image unmap");
+  check(clFinish(d.queue), "read-back");
   return out;
 }
 
