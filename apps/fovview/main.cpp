@@ -225,7 +225,7 @@ int main(int argc, char** argv) {
         overlay = image;
         shown = &overlay;
         const fov::camera& c = renderer.cam();
-        if (error_reference.rgb.empty() || c.position != error_reference_cam.position || c.forward != error_reference_cam.forward) {
+        if (error_reference.rgb.empty() || !fov::same_view(c, error_reference_cam)) {
           error_reference = renderer.reference(w, h, std::max<uint32_t>(settings.spp, 4), settings.shadows);
           error_reference_cam = c;
         }

@@ -287,8 +287,7 @@ frame cl_reconstructor::run_taa(const point_samples& samples, const reconstruct_
                                  nullptr), "history upload");
     }
     const camera_frame now = make_frame(cam, w, h), before = make_frame(state.cam, w, h);
-    const cl_uint still_camera = cam.position == state.cam.position && cam.forward == state.cam.forward &&
-                                 cam.up == state.cam.up && cam.hfov_deg == state.cam.hfov_deg;
+    const cl_uint still_camera = same_view(cam, state.cam);
     const cl_uint still_gaze = gaze[0] == state.gaze[0] && gaze[1] == state.gaze[1];
     const cl_taa_camera cn = to_cl(now), cb = to_cl(before);
     const cl_int cw = w, ch = h;
@@ -313,12 +312,8 @@ frame cl_reconstructor::run_taa(const point_samples& samples, const reconstruct_
   d.last_kernel_ms = event_ms(done);
   d.last_taa_ms = taa_ms;
   clReleaseEvent(done);
-  state.history.width = w, state.history.height = h;
-  state.history.rgb = out.rgb;
-  state.cam = cam;
-  state.gaze[0] = gaze[0], state.gaze[1] = gaze[1];
-  state.valid = true;
-  d.history_generation = ++state.generation;
+  taa_remember(state, out, cam, gaze);
+  d.history_generation = state.generation;
   return out;
 }
 

@@ -40,8 +40,7 @@ frame taa_resolve(taa_state& state, const frame& current, const camera& cam, con
     // Fast paths (the same result up to float rounding): a still camera reprojects every
     // pixel onto itself, and a
     // still gaze changes no eccentricity.
-    const bool still_camera = cam.position == state.cam.position && cam.forward == state.cam.forward &&
-                              cam.up == state.cam.up && cam.hfov_deg == state.cam.hfov_deg;
+    const bool still_camera = same_view(cam, state.cam);
     const bool still_gaze = gaze[0] == state.gaze[0] && gaze[1] == state.gaze[1];
     tbb::parallel_for(tbb::blocked_range<int>(0, h, 8), [&](const tbb::blocked_range<int>& rows) {
       for (int y = rows.begin(); y < rows.end(); ++y)
@@ -94,14 +93,18 @@ frame taa_resolve(taa_state& state, const frame& current, const camera& cam, con
         }
     });
   }
-  state.history.width = out.width, state.history.height = out.height;
-  state.history.rgb = out.rgb;  // reprojection reads colours only
+  taa_remember(state, out, cam, gaze);
+  return out;
+}
+
+void taa_remember(taa_state& state, const frame& output, const camera& cam, const double gaze[2]) {
+  state.history.width = output.width, state.history.height = output.height;
+  state.history.rgb = output.rgb;  // reprojection reads colours only
   state.cam = cam;
   state.gaze[0] = gaze[0];
   state.gaze[1] = gaze[1];
   state.valid = true;
   ++state.generation;
-  return out;
 }
 
 }  // namespace fov

@@ -36,4 +36,8 @@ struct taa_state {
 frame taa_resolve(taa_state& state, const frame& current, const camera& cam, const display_geometry& display,
                   const double gaze[2], const taa_params& params = {});
 
+// Makes `output` (seen with `cam`, gaze at `gaze`) the history of the next resolve.
+// taa_resolve calls it; so does any other path that resolves frames (cl_reconstruct.h).
+void taa_remember(taa_state& state, const frame& output, const camera& cam, const double gaze[2]);
+
 }  // namespace fov

@@ -23,6 +23,11 @@ struct camera_frame {
 
 camera_frame make_frame(const camera& cam, int width, int height);
 
+// The same view: every field equal (a still camera between two frames).
+inline bool same_view(const camera& a, const camera& b) {
+  return a.position == b.position && a.forward == b.forward && a.up == b.up && a.hfov_deg == b.hfov_deg;
+}
+
 // Direction (unit) through screen position (sx, sy) in pixels; (0, 0) is the
 // top-left corner of the top-left pixel, y grows downwards.
 glm::vec3 ray_direction(const camera_frame& f, float sx, float sy);
