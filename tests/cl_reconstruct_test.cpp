@@ -102,10 +102,26 @@ TEST_F(device_fixture, RbfWeightsAreComputedOncePerTileAndReused) {
   for (size_t i = 0; i < second.rgb.size(); ++i) ASSERT_NEAR(second.rgb[i].g, expected.rgb[i].g, 1e-4) << i;
   EXPECT_NE(first.rgb, second.rgb);
   // Another shape: a new cache.
+  const rbf_weight_cache* shape1 = device.rbf_cache();
+  const double shape1_seconds = shape1->seconds();
   rp.shape = 2;
   device.run(samples, rp);
   EXPECT_EQ(device.rbf_cache()->tiles_ready(), tiles);
   EXPECT_TRUE(device.rbf_cache()->serves(rp));
+  EXPECT_NE(device.rbf_cache(), shape1);
+  // Back to the first shape: its weights were kept, nothing is solved again ...
+  rp.shape = 1;
+  const frame again = device.run(samples, rp);
+  EXPECT_EQ(device.rbf_cache(), shape1);
+  EXPECT_EQ(shape1->seconds(), shape1_seconds);
+  EXPECT_EQ(again.rgb, second.rgb);
+  // ... and a third shape replaces the one used longest ago (shape 2), not shape 1.
+  rp.shape = 3;
+  device.run(samples, rp);
+  rp.shape = 1;
+  device.run(samples, rp);
+  EXPECT_EQ(device.rbf_cache(), shape1);
+  EXPECT_EQ(shape1->seconds(), shape1_seconds);
 }
 
 TEST_F(device_fixture, TaaOnTheDeviceMatchesTheCppPath) {

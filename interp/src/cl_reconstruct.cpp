@@ -3,6 +3,7 @@
 
 #include <CL/cl.h>
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <vector>
@@ -56,12 +57,23 @@ struct cl_reconstructor::impl {
   cl_mem history = nullptr, taa_out = nullptr;  // TAA: the previous output and the next one
   uint64_t history_generation = 0;              // taa_state::generation that `history` holds
   cl_mem table = nullptr, position = nullptr, colour = nullptr, depth = nullptr, out_rgb = nullptr, out_depth = nullptr;
-  std::unique_ptr<rbf_weight_cache> cache;  // RBF weights, built on the first RBF run
-  cl_mem weights = nullptr;                 // the cache's tiles on the device
+  // RBF weights, one slot per (k, kernel, shape) in use: the two used last are kept, so a
+  // sweep that alternates two k does not solve its weights again at every switch.
+  struct rbf_slot {
+    std::unique_ptr<rbf_weight_cache> cache;
+    cl_mem weights = nullptr;  // the cache's tiles on the device
+    uint64_t used = 0;
+  };
+  static constexpr size_t rbf_slots_kept = 2;
+  std::vector<rbf_slot> rbf;
+  uint64_t rbf_clock = 0;
+  rbf_slot* last_rbf = nullptr;
 
   ~impl() {
-    for (cl_mem m : {table, position, colour, depth, out_rgb, out_depth, weights, history, taa_out})
+    for (cl_mem m : {table, position, colour, depth, out_rgb, out_depth, history, taa_out})
       if (m) clReleaseMemObject(m);
+    for (rbf_slot& r : rbf)
+      if (r.weights) clReleaseMemObject(r.weights);
     for (cl_kernel k : {nn, shepard, weighted, copy, taa})
       if (k) clReleaseKernel(k);
     if (program) clReleaseProgram(program);
@@ -168,29 +180,41 @@ frame cl_reconstructor::run(const point_samples& samples, const reconstruct_para
 rbf_weight_cache* cl_reconstructor::prepare_rbf(const reconstruct_params& params) {
   impl& d = *impl_;
   if (params.how != method::rbf) return nullptr;
-  if (!(d.cache && d.cache->serves(params))) {
-    d.cache = std::make_unique<rbf_weight_cache>(set_, params);
-    if (d.weights) clReleaseMemObject(d.weights), d.weights = nullptr;
+  auto slot = std::find_if(d.rbf.begin(), d.rbf.end(), [&](const impl::rbf_slot& r) { return r.cache->serves(params); });
+  if (slot == d.rbf.end()) {
+    if (d.rbf.size() < impl::rbf_slots_kept) {
+      slot = d.rbf.insert(d.rbf.end(), impl::rbf_slot{});
+    } else {  // replace the one used longest ago
+      slot = std::min_element(d.rbf.begin(), d.rbf.end(), [](const auto& a, const auto& b) { return a.used < b.used; });
+      if (slot->weights) clReleaseMemObject(slot->weights), slot->weights = nullptr;
+    }
+    slot->cache = std::make_unique<rbf_weight_cache>(set_, params);
   }
-  return d.cache.get();
+  slot->used = ++d.rbf_clock;
+  d.last_rbf = &*slot;
+  return slot->cache.get();
 }
 
 cl_event cl_reconstructor::launch(const point_samples& samples, const reconstruct_params& params, rbf_stats* stats) {
   impl& d = *impl_;
   const knn_table& t = set_.table;
-  const bool rbf = prepare_rbf(params) != nullptr;
+  rbf_weight_cache* cache = prepare_rbf(params);
+  const bool rbf = cache != nullptr;
+  cl_mem weights = nullptr;
   if (rbf) {  // compute the weights the screen needs and copy the new tiles to the device
+    cl_mem& slot_weights = d.last_rbf->weights;
     cl_int status = 0;
-    if (!d.weights) {
-      d.weights = clCreateBuffer(d.context, CL_MEM_READ_ONLY, d.cache->floats() * sizeof(float), nullptr, &status);
-      check(status, "RBF weight buffer");
+    if (!slot_weights) {
+      slot_weights = clCreateBuffer(d.context, CL_MEM_READ_ONLY, cache->floats() * sizeof(float), nullptr, &status);
+      check(status, "RBF weight buffer");  // made with its cache: no tile is computed yet
     }
-    const size_t tile_bytes = d.cache->tile_floats() * sizeof(float);
-    for (uint32_t index : d.cache->prepare(samples.offset))
-      check(clEnqueueWriteBuffer(d.queue, d.weights, CL_FALSE, index * tile_bytes, tile_bytes,
-                                 d.cache->data() + size_t(index) * d.cache->tile_floats(), 0, nullptr, nullptr),
+    weights = slot_weights;
+    const size_t tile_bytes = cache->tile_floats() * sizeof(float);
+    for (uint32_t index : cache->prepare(samples.offset))
+      check(clEnqueueWriteBuffer(d.queue, weights, CL_FALSE, index * tile_bytes, tile_bytes,
+                                 cache->data() + size_t(index) * cache->tile_floats(), 0, nullptr, nullptr),
             "RBF weight upload");
-    if (stats) *stats = d.cache->stats();
+    if (stats) *stats = cache->stats();
   }
 
   // Colours are written straight into the mapped device buffer (on a CPU device a
@@ -211,14 +235,14 @@ cl_event cl_reconstructor::launch(const point_samples& samples, const reconstruc
   const cl_int ox = samples.offset.x, oy = samples.offset.y;
   const cl_uint k = params.k, renka = params.renka ? 1 : 0;
   cl_kernel kernel = params.how == method::nn ? d.nn : params.how == method::shepard ? d.shepard : d.weighted;
-  const cl_uint tiles_x = rbf ? d.cache->tiles_x() : 0;
+  const cl_uint tiles_x = rbf ? cache->tiles_x() : 0;
   cl_uint a = 0;
   auto arg = [&](const auto& value) { check(clSetKernelArg(kernel, a++, sizeof(value), &value), "clSetKernelArg"); };
   const cl_uint mirror_x = samples.mirror_x ? 1 : 0, mirror_y = samples.mirror_y ? 1 : 0;
   arg(d.table), arg(canvas_width), arg(k_stored), arg(group), arg(pixel_count), arg(ox), arg(oy), arg(width);
   arg(mirror_x), arg(mirror_y);
   if (params.how == method::shepard) arg(d.position), arg(k), arg(renka);
-  if (rbf) arg(d.position), arg(k), arg(renka), arg(d.weights), arg(tiles_x);
+  if (rbf) arg(d.position), arg(k), arg(renka), arg(weights), arg(tiles_x);
   arg(d.colour), arg(d.depth), arg(d.out_rgb), arg(d.out_depth);
   const size_t global[2] = {size_t(set_.model.display.width), size_t(set_.model.display.height)};
   cl_event done = nullptr;
@@ -319,7 +343,9 @@ frame cl_reconstructor::run_taa(const point_samples& samples, const reconstruct_
 
 double cl_reconstructor::last_kernel_ms() const { return impl_->last_kernel_ms; }
 double cl_reconstructor::last_taa_kernel_ms() const { return impl_->last_taa_ms; }
-const rbf_weight_cache* cl_reconstructor::rbf_cache() const { return impl_->cache.get(); }
+const rbf_weight_cache* cl_reconstructor::rbf_cache() const {
+  return impl_->last_rbf ? impl_->last_rbf->cache.get() : nullptr;
+}
 
 double cl_reconstructor::copy_gigabytes_per_second(size_t bytes, int repeats) {
   impl& d = *impl_;
