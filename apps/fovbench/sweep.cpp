@@ -1,12 +1,8 @@
 #include "sweep.h"
 
-#include <fcntl.h>
-#include <unistd.h>
 
 #include <algorithm>
-#include <cerrno>
 #include <cmath>
-#include <cstring>
 #include <fstream>
 #include <limits>
 #include <numeric>
@@ -98,37 +94,17 @@ std::vector<result_row> read_results(const std::string& path) {
   return rows;
 }
 
-results_writer::results_writer(const std::string& path) : path_(path) {
-  bool exists = ::access(path.c_str(), F_OK) == 0;
-  if (exists) {  // keep complete lines only: cut a torn last line
-    std::ifstream in(path, std::ios::binary);
-    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    const size_t keep = text.rfind('\n') == std::string::npos ? 0 : text.rfind('\n') + 1;
-    if (keep < text.size() && ::truncate(path.c_str(), off_t(keep)) != 0)
-      throw std::runtime_error(fmt::format("{}: cannot cut the torn last line: {}", path, std::strerror(errno)));
-    exists = keep > 0;
-  }
-  fd_ = ::open(path.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0644);
-  if (fd_ < 0) throw std::runtime_error(fmt::format("{}: cannot write: {}", path, std::strerror(errno)));
-  if (!exists) {
-    std::string header;
-    for (const std::string& c : result_columns()) header += (header.empty() ? "" : ",") + c;
-    header += "\n";
-    if (::write(fd_, header.data(), header.size()) != ssize_t(header.size()) || ::fsync(fd_) != 0)
-      throw std::runtime_error(fmt::format("{}: cannot write: {}", path, std::strerror(errno)));
-  }
-}
-
-results_writer::~results_writer() {
-  if (fd_ >= 0) ::close(fd_);
+results_writer::results_writer(const std::string& path) : log_(path, line_log::mode::create_or_open) {
+  if (!log_.empty()) return;  // resuming (a torn last row was cut)
+  std::string header;
+  for (const std::string& c : result_columns()) header += (header.empty() ? "" : ",") + c;
+  log_.append_line(header);
 }
 
 void results_writer::append(const result_row& row) {
   std::string line;
   for (const std::string& c : result_columns()) line += (line.empty() ? "" : ",") + csv_cell(row.text(c));
-  line += "\n";
-  if (::write(fd_, line.data(), line.size()) != ssize_t(line.size()) || ::fsync(fd_) != 0)
-    throw std::runtime_error(fmt::format("{}: cannot write: {}", path_, std::strerror(errno)));
+  log_.append_line(line);
 }
 
 std::vector<size_t> pareto_front(const std::vector<double>& x, const std::vector<double>& y) {

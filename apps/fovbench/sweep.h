@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "../common/line_log.h"
+
 namespace fov {
 
 // A row of results.csv: every knob and every figure, by column name. Numbers are kept as
@@ -31,13 +33,10 @@ std::vector<result_row> read_results(const std::string& path);
 class results_writer {
  public:
   explicit results_writer(const std::string& path);
-  ~results_writer();
-  results_writer(const results_writer&) = delete;
   void append(const result_row& row);
 
  private:
-  int fd_ = -1;
-  std::string path_;
+  line_log log_;
 };
 
 // Indices of the rows on the Pareto front of (x, y), both to be minimised: no other row

@@ -1,11 +1,7 @@
 #include "session.h"
 
-#include <fcntl.h>
-#include <unistd.h>
 
 #include <algorithm>
-#include <cerrno>
-#include <cstring>
 #include <fstream>
 #include <numeric>
 #include <stdexcept>
@@ -83,37 +79,14 @@ staircase::step stair_session::record(const trial_plan& t, bool detected) {
   return out;
 }
 
-namespace {
-
-[[noreturn]] void fail_io(const std::string& path, const char* what) {
-  throw std::runtime_error(fmt::format("{}: {}: {}", path, what, std::strerror(errno)));
-}
-
-void write_all(int fd, const std::string& path, const std::string& text) {
-  for (size_t done = 0; done < text.size();) {
-    const ssize_t n = ::write(fd, text.data() + done, text.size() - done);
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) fail_io(path, "cannot write");
-    done += size_t(n);
-  }
-  if (::fsync(fd) != 0) fail_io(path, "cannot fsync");
-}
-
-}  // namespace
-
 session_file session_file::create(const std::string& path, const nlohmann::json& header) {
-  const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_APPEND | O_CLOEXEC, 0644);
-  if (fd < 0) {
-    if (errno == EEXIST)
-      throw std::runtime_error(fmt::format("{}: the session exists; continue it with --resume or choose another --session", path));
-    fail_io(path, "cannot create");
+  try {
+    session_file f(line_log(path, line_log::mode::create_new));
+    f.append(header);
+    return f;
+  } catch (const file_exists_error&) {
+    throw std::runtime_error(fmt::format("{}: the session exists; continue it with --resume or choose another --session", path));
   }
-  session_file f(fd, path);
-  f.append(header);
-  // The new name must survive a crash too: sync the directory entry.
-  const std::string dir = path.find('/') == std::string::npos ? "." : path.substr(0, path.rfind('/') + 1);
-  if (const int d = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC); d >= 0) ::fsync(d), ::close(d);
-  return f;
 }
 
 session_data read_session(const std::string& path) {
@@ -145,25 +118,12 @@ session_data read_session(const std::string& path) {
 session_file session_file::resume(const std::string& path, nlohmann::json& header, std::vector<nlohmann::json>& trials) {
   session_data d = read_session(path);
   if (d.ended) throw std::runtime_error(fmt::format("{}: the session is finished; nothing to resume", path));
-  // Cut a torn last line: keep exactly the complete lines read.
-  std::ifstream in(path, std::ios::binary);
-  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  const size_t keep = text.rfind('\n') == std::string::npos ? 0 : text.rfind('\n') + 1;
-  const int fd = ::open(path.c_str(), O_WRONLY | O_APPEND | O_CLOEXEC);
-  if (fd < 0) fail_io(path, "cannot open for appending");
-  if (keep < text.size() && ::ftruncate(fd, off_t(keep)) != 0) {
-    ::close(fd);
-    fail_io(path, "cannot cut the torn last line");
-  }
+  session_file f(line_log(path, line_log::mode::open_existing));  // cuts a torn last line
   header = d.header;
   trials = std::move(d.trials);
-  return session_file(fd, path);
+  return f;
 }
 
-void session_file::append(const nlohmann::json& record) { write_all(fd_, path_, record.dump() + "\n"); }
-
-session_file::~session_file() {
-  if (fd_ >= 0) ::close(fd_);
-}
+void session_file::append(const nlohmann::json& record) { log_.append_line(record.dump()); }
 
 }  // namespace fov

@@ -8,6 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "../common/line_log.h"
 #include "protocol.h"
 #include "staircase.h"
 
@@ -67,14 +68,10 @@ class session_file {
   // last line (a crash while writing) is cut off; a finished session is refused.
   static session_file resume(const std::string& path, nlohmann::json& header, std::vector<nlohmann::json>& trials);
   void append(const nlohmann::json& record);
-  ~session_file();
-  session_file(session_file&& o) noexcept : fd_(o.fd_), path_(std::move(o.path_)) { o.fd_ = -1; }
-  session_file(const session_file&) = delete;
 
  private:
-  session_file(int fd, std::string path) : fd_(fd), path_(std::move(path)) {}
-  int fd_ = -1;
-  std::string path_;
+  explicit session_file(line_log log) : log_(std::move(log)) {}
+  line_log log_;
 };
 
 // Reads every line of a session file (for analysis): header, trials, and whether it ended.
