@@ -14,9 +14,23 @@ inline float3 taa_ray(const taa_camera* c, float sx, float sy, int w, int h) {
   return normalize(c->forward.xyz + u * c->right.xyz + v * c->up.xyz);
 }
 
-inline float taa_eccentricity(float gx, float gy, int x, int y, float width_v) {
-  const float d = hypot((float)x + 0.5f - gx, (float)y + 0.5f - gy);
-  return degrees(atan(d / width_v));
+// The focus-lag ramp: how far (0..1, reaching 1 at focus_lag degrees) the eccentricity of
+// pixel (x, y) dropped when the gaze moved from (gx0, gy0) to (gx1, gy1). The drop is
+// atan(a) - atan(b) = atan(q), q = (a - b) / (1 + a b); it reaches focus_lag where q reaches
+// tan_lag = tan(focus_lag). Below that, for focus_lag up to 20 degrees (q < 0.364), five
+// terms of the arctangent's series are exact to 2e-6 rad: PoCL's atan and hypot cost more
+// than all the rest of this kernel.
+inline float taa_lag(float gx0, float gy0, float gx1, float gy1, int x, int y, float width_v, float focus_lag,
+                     float tan_lag) {
+  const float px = (float)x + 0.5f, py = (float)y + 0.5f;
+  const float a = sqrt((px - gx0) * (px - gx0) + (py - gy0) * (py - gy0)) / width_v;
+  const float b = sqrt((px - gx1) * (px - gx1) + (py - gy1) * (py - gy1)) / width_v;
+  if (a <= b) return 0.0f;
+  const float q = (a - b) / (1 + a * b);
+  if (q >= tan_lag) return 1.0f;
+  const float q2 = q * q;
+  const float angle = tan_lag <= 0.364f ? q * (1 - q2 * (1.0f / 3 - q2 * (1.0f / 5 - q2 * (1.0f / 7 - q2 / 9)))) : atan(q);
+  return clamp(degrees(angle) / focus_lag, 0.0f, 1.0f);
 }
 
 inline float4 taa_bilinear(__global const float4* f, float x, float y, int w, int h) {
@@ -33,7 +47,7 @@ inline float4 taa_bilinear(__global const float4* f, float x, float y, int w, in
 __kernel void taa_resolve(__global const float4* current, __global const float* depth, __global const float4* history,
                           __global float4* out, int w, int h, taa_camera now, taa_camera before, uint still_camera,
                           float gx, float gy, float gx_before, float gy_before, uint still_gaze, float width_v,
-                          float alpha, float gamma, float focus_lag) {
+                          float alpha, float gamma, float focus_lag, float tan_lag) {
   const int x = get_global_id(0), y = get_global_id(1);
   const int i = y * w + x;
   const float4 c = current[i];
@@ -79,8 +93,7 @@ __kernel void taa_resolve(__global const float4* current, __global const float* 
   // 3. Blend; pixels whose eccentricity dropped (the gaze moved towards them) prefer the current frame.
   float lag = 0;
   if (!still_gaze && focus_lag > 0) {
-    const float drop = taa_eccentricity(gx_before, gy_before, x, y, width_v) - taa_eccentricity(gx, gy, x, y, width_v);
-    lag = clamp(drop / focus_lag, 0.0f, 1.0f);
+    lag = taa_lag(gx_before, gy_before, gx, gy, x, y, width_v, focus_lag, tan_lag);
   }
   const float a = alpha + (1 - alpha) * lag;
   out[i] = a * c + (1 - a) * hist;

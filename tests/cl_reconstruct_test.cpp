@@ -131,27 +131,33 @@ TEST_F(device_fixture, TaaOnTheDeviceMatchesTheCppPath) {
   rp.k = 5;
   // Four frames: a still one, then the camera turns and moves while the gaze jumps; the
   // third is resolved by the C++ path, so the device must take up a history it did not make.
-  taa_state on_device, in_cpp;
-  std::mt19937 random(4);
-  std::uniform_real_distribution<float> u(0, 1);
-  for (int f = 0; f < 4; ++f) {
-    for (glm::vec3& c : samples.colour) c = {u(random), u(random), u(random)};
-    const camera cam = look_at({0.05f * f, 0, 0.1f * (f > 1)}, {0.3f - 0.05f * f, 0, -5}, 70);
-    const double gaze[2] = {20.0 + 8 * (f > 1), 30.0 - 10 * (f == 3)};
-    const display_geometry& d = set.model.display;
-    const frame expected = taa_resolve(in_cpp, reconstruct(set, samples, rp), cam, d, gaze);
-    frame got;
-    if (f == 2) {
-      got = taa_resolve(on_device, reconstruct(set, samples, rp), cam, d, gaze);
-    } else {
-      bool ran = false;
-      got = device.run_taa(samples, rp, on_device, cam, gaze, {}, &ran);
-      ASSERT_TRUE(ran);
+  // Focus lags of 5 and 30 degrees: the kernel's arctangent series and its atan() branch.
+  for (float lag : {5.0f, 30.0f}) {
+    taa_params tp;
+    tp.focus_lag_deg = lag;
+    taa_state on_device, in_cpp;
+    std::mt19937 random(4);
+    std::uniform_real_distribution<float> u(0, 1);
+    for (int f = 0; f < 4; ++f) {
+      for (glm::vec3& c : samples.colour) c = {u(random), u(random), u(random)};
+      const camera cam = look_at({0.05f * f, 0, 0.1f * (f > 1)}, {0.3f - 0.05f * f, 0, -5}, 70);
+      const double gaze[2] = {20.0 + 8 * (f > 1), 30.0 - 10 * (f == 3)};
+      const display_geometry& d = set.model.display;
+      const frame expected = taa_resolve(in_cpp, reconstruct(set, samples, rp), cam, d, gaze, tp);
+      frame got;
+      if (f == 2) {
+        got = taa_resolve(on_device, reconstruct(set, samples, rp), cam, d, gaze, tp);
+      } else {
+        bool ran = false;
+        got = device.run_taa(samples, rp, on_device, cam, gaze, tp, &ran);
+        ASSERT_TRUE(ran);
+      }
+      ASSERT_EQ(got.rgb.size(), expected.rgb.size());
+      for (size_t i = 0; i < got.rgb.size(); ++i)
+        for (int c = 0; c < 3; ++c)
+          ASSERT_NEAR(got.rgb[i][c], expected.rgb[i][c], 1e-4) << "lag " << lag << " frame " << f << " pixel " << i;
+      EXPECT_EQ(on_device.generation, in_cpp.generation);
     }
-    ASSERT_EQ(got.rgb.size(), expected.rgb.size());
-    for (size_t i = 0; i < got.rgb.size(); ++i)
-      for (int c = 0; c < 3; ++c) ASSERT_NEAR(got.rgb[i][c], expected.rgb[i][c], 1e-4) << "frame " << f << " pixel " << i;
-    EXPECT_EQ(on_device.generation, in_cpp.generation);
   }
   EXPECT_GT(device.last_taa_kernel_ms(), 0.0);
 }

@@ -321,6 +321,8 @@ frame cl_reconstructor::run_taa(const point_samples& samples, const reconstruct_
     auto arg = [&](const auto& value) { check(clSetKernelArg(d.taa, a++, sizeof(value), &value), "clSetKernelArg"); };
     arg(d.out_rgb), arg(d.out_depth), arg(d.history), arg(d.taa_out), arg(cw), arg(ch), arg(cn), arg(cb), arg(still_camera);
     arg(gx), arg(gy), arg(bx), arg(by), arg(still_gaze), arg(width_v), arg(taa.alpha), arg(taa.clip_gamma), arg(taa.focus_lag_deg);
+    const cl_float tan_lag = taa.focus_lag_deg < 90 ? std::tan(float(taa.focus_lag_deg * M_PI / 180)) : INFINITY;
+    arg(tan_lag);
     const size_t global[2] = {size_t(w), size_t(h)};
     cl_event blended = nullptr;
     check(clEnqueueNDRangeKernel(d.queue, d.taa, 2, nullptr, global, nullptr, 0, nullptr, &blended), "TAA launch");
