@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
 
 #include "fov/dart_throwing.h"
@@ -114,31 +115,50 @@ std::vector<uint8_t> traced_point_mask(const pointset& set, double gaze_x, doubl
   // split over threads; each collects the points it finds, and the marks are written after.
   const float radius = t.radius_by_rank.size() == t.k ? t.radius_by_rank[k_used - 1] : t.max_radius;
   const int band = radius > 0 ? int(std::ceil(radius)) + 1 : std::max(d.width, d.height);
-  using found = std::vector<uint32_t>;
-  const found referenced = tbb::parallel_reduce(
-      tbb::blocked_range<int>(0, d.height, 16), found(),
-      [&](const tbb::blocked_range<int>& rows, found acc) {
-        for (int sy = rows.begin(); sy < rows.end(); ++sy) {
-          const bool edge_row = sy < band || sy >= d.height - band;
-          const uint64_t row = uint64_t(sy + o.y) * t.width + uint64_t(o.x);
-          for (int sx = 0; sx < d.width; ++sx) {
-            if (!edge_row && sx == band && d.width - band > band) sx = d.width - band;  // skip the interior
-            for (uint32_t j = 0; j < k_used; ++j) {
-              const uint32_t i = t.entries[t.offset(row + sx, j)];
-              if (!on_screen(set.points[i], d, o)) acc.push_back(i);
-            }
-          }
+  // Each block of 16 rows collects into its own list (no copies of partial results).
+  constexpr int rows_per_block = 16;
+  std::vector<std::vector<uint32_t>> referenced(size_t((d.height + rows_per_block - 1) / rows_per_block));
+  tbb::parallel_for(size_t(0), referenced.size(), [&](size_t b) {
+    std::vector<uint32_t>& acc = referenced[b];
+    for (int sy = int(b) * rows_per_block, end = std::min(d.height, sy + rows_per_block); sy < end; ++sy) {
+      const bool edge_row = sy < band || sy >= d.height - band;
+      const uint64_t row = uint64_t(sy + o.y) * t.width + uint64_t(o.x);
+      for (int sx = 0; sx < d.width; ++sx) {
+        if (!edge_row && sx == band && d.width - band > band) sx = d.width - band;  // skip the interior
+        for (uint32_t j = 0; j < k_used; ++j) {
+          const uint32_t i = t.entries[t.offset(row + sx, j)];
+          if (!on_screen(set.points[i], d, o)) acc.push_back(i);
         }
-        return acc;
-      },
-      [](found a, const found& b) {
-        a.insert(a.end(), b.begin(), b.end());
-        return a;
-      });
-  for (size_t i = 0; i < set.points.size(); ++i)
-    if (on_screen(set.points[i], d, o)) mask[i] = 1;
-  for (uint32_t i : referenced) mask[i] = 1;
+      }
+    }
+  });
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, set.points.size(), 4096), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t i = r.begin(); i < r.end(); ++i) mask[i] = on_screen(set.points[i], d, o);
+  });
+  for (const std::vector<uint32_t>& block : referenced)
+    for (uint32_t i : block) mask[i] = 1;
   return mask;
+}
+
+std::vector<uint32_t> traced_points(const pointset& set, double gaze_x, double gaze_y, uint32_t k_used) {
+  const std::vector<uint8_t> mask = traced_point_mask(set, gaze_x, gaze_y, k_used);
+  // Compaction in two parallel passes over fixed blocks: count, then write at each
+  // block's prefix sum. The result is the same on any number of threads.
+  constexpr size_t block = 16384;
+  const size_t blocks = (mask.size() + block - 1) / block;
+  std::vector<size_t> start(blocks + 1, 0);
+  tbb::parallel_for(size_t(0), blocks, [&](size_t b) {
+    const size_t end = std::min(mask.size(), (b + 1) * block);
+    start[b + 1] = size_t(std::count(mask.begin() + long(b * block), mask.begin() + long(end), uint8_t(1)));
+  });
+  for (size_t b = 0; b < blocks; ++b) start[b + 1] += start[b];
+  std::vector<uint32_t> out(start[blocks]);
+  tbb::parallel_for(size_t(0), blocks, [&](size_t b) {
+    size_t at = start[b];
+    for (size_t i = b * block, end = std::min(mask.size(), (b + 1) * block); i < end; ++i)
+      if (mask[i]) out[at++] = uint32_t(i);
+  });
+  return out;
 }
 
 traced_set count_traced_points(const pointset& set, double gaze_x, double gaze_y, uint32_t k_used) {

@@ -169,9 +169,12 @@ glm::vec3 env_pyramid::lookup(float s, float t, float ds, float dt) const {
     const float x = s * float(m.width) - 0.5f, y = std::clamp(t * float(m.height) - 0.5f, 0.0f, float(m.height - 1));
     const float fx = std::floor(x), fy = std::floor(y);
     const float ax = x - fx, ay = y - fy;
-    auto wrap = [&](int i) { return ((i % m.width) + m.width) % m.width; };
-    const int x0 = wrap(int(fx)), x1 = wrap(int(fx) + 1);
-    const int y0 = int(fy), y1 = std::min(y0 + 1, m.height - 1);
+    // s lies in [0, 1], so x0 lies in [-1, width - 1]: wrap by comparison, not division.
+    int x0 = int(fx);
+    x0 = x0 < 0 ? x0 + m.width : (x0 >= m.width ? x0 - m.width : x0);
+    x0 = std::clamp(x0, 0, m.width - 1);  // a NaN direction lands on a texel too
+    const int x1 = x0 + 1 == m.width ? 0 : x0 + 1;
+    const int y0 = std::clamp(int(fy), 0, m.height - 1), y1 = std::min(y0 + 1, m.height - 1);
     const glm::vec3* r0 = m.texels.data() + size_t(y0) * m.width;
     const glm::vec3* r1 = m.texels.data() + size_t(y1) * m.width;
     return glm::mix(glm::mix(r0[x0], r0[x1], ax), glm::mix(r1[x0], r1[x1], ax), ay);

@@ -217,9 +217,7 @@ point_samples trace_points(const scene& sc, const camera& cam, const pointset& s
   const double gx = mx ? disp.width - gaze_x : gaze_x, gy = my ? disp.height - gaze_y : gaze_y;
   out.offset = offset_for_gaze(disp, gx, gy);
   out.mirror_x = mx, out.mirror_y = my;
-  const std::vector<uint8_t> mask = traced_point_mask(set, gx, gy, k_used);
-  for (uint32_t i = 0; i < mask.size(); ++i)
-    if (mask[i]) out.traced.push_back(i);
+  out.traced = traced_points(set, gx, gy, k_used);
   const size_t n = set.points.size();
   out.colour.assign(n, glm::vec3(0));
   out.depth.assign(n, infinity);
@@ -235,17 +233,19 @@ point_samples trace_points(const scene& sc, const camera& cam, const pointset& s
     for (size_t k = r.begin(); k < r.end(); ++k) {
       const uint32_t i = out.traced[k];
       const point& p = set.points[i];
-      rng random(stream_seed(params.seed, 0x7261797375ull, i));  // fixed per point, every frame
+      uint64_t random = stream_seed(params.seed, 0x7261797375ull, i);  // fixed per point, every frame
       float cx = p.x - float(out.offset.x), cy = p.y - float(out.offset.y);
       if (mx) cx = float(disp.width) - cx;
       if (my) cy = float(disp.height) - cy;
       const float sx = mx ? -p.spacing : p.spacing, sy = my ? -p.spacing : p.spacing;  // the disc mirrored too
       for (uint32_t s = 0; s < spp; ++s) {
         // Uniform in the unit disc by rejection from the square (no trigonometry).
+        // One splitmix64 draw gives both coordinates, 24 bits each (float resolution).
         float u, v;
         do {
-          u = float(2 * random.uniform() - 1);
-          v = float(2 * random.uniform() - 1);
+          const uint64_t bits = splitmix64(random);
+          u = float(bits >> 40) * 0x1.0p-23f - 1;
+          v = float((bits >> 8) & 0xFFFFFFu) * 0x1.0p-23f - 1;
         } while (u * u + v * v > 1);
         rays.push_back({cx + sx * u, cy + sy * v, p.spacing * radius_scale, i});
       }

@@ -154,4 +154,7 @@ traced_set count_traced_points(const pointset& set, double gaze_x, double gaze_y
 std::vector<uint8_t> traced_point_mask(const pointset& set, double gaze_x, double gaze_y,
                                        uint32_t k_used);
 
+// The marked points' indices in ascending (Morton) order: what trace_points traces.
+std::vector<uint32_t> traced_points(const pointset& set, double gaze_x, double gaze_y, uint32_t k_used);
+
 }  // namespace fov
