@@ -174,6 +174,25 @@ TEST(TracedPoints, EveryPixelReadsOnlyTracedPoints) {
   }
 }
 
+TEST(TracedPoints, TheListIsTheMaskInOrder) {
+  // Big enough for several of traced_points' compaction blocks (16384 points each).
+  const int w = 320, h = 240;
+  pointset set;
+  set.model = small_model(w, h, 1.0, 0.6);
+  set.points = throw_darts(set.model, quick_darts());
+  ASSERT_GT(set.points.size(), 3u * 16384) << "the set must span several blocks";
+  knn_params kp;
+  kp.k = 5;
+  set.table = build_knn_table(set.points, 2 * w, 2 * h, kp);
+  for (auto [gx, gy] : {std::pair{160.0, 120.0}, {0.0, 240.0}}) {
+    const std::vector<uint8_t> mask = traced_point_mask(set, gx, gy, 5);
+    std::vector<uint32_t> expected;
+    for (uint32_t i = 0; i < mask.size(); ++i)
+      if (mask[i]) expected.push_back(i);
+    EXPECT_EQ(traced_points(set, gx, gy, 5), expected);
+  }
+}
+
 TEST(TracedPoints, ASetWithoutItsTableIsRefused) {
   pointset set;
   set.model.display = {32, 24, 1.0};
