@@ -2,7 +2,9 @@
 // reconstruct (OpenCL, C++ fallback), blend with TAA; or trace the full-resolution reference.
 #pragma once
 
+#include <future>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "fov/camera.h"
@@ -18,12 +20,16 @@ struct live_settings {
   reconstruct_params reconstruct;
   uint32_t spp = 4;
   bool taa = true;
-  bool reseed = true;  // new ray positions each frame (TAA integrates them)
+  bool reseed = true;  // new ray positions each frame while TAA is on (it integrates them)
   bool shadows = true;
 };
 
 struct live_timing {
   double trace_ms = 0, reconstruct_ms = 0, taa_ms = 0;
+  // With begin_trace: the trace ran in the background while the caller showed the frame
+  // before; trace_wait_ms is how long foveated() still waited for it.
+  bool traced_ahead = false;
+  double trace_wait_ms = 0;
   uint64_t rays = 0, points_traced = 0;
   bool on_device = false;
 };
@@ -39,6 +45,11 @@ class live_renderer {
   // One foveated frame at gaze (screen pixels). The TAA history carries over between
   // calls while the set and screen stay the same; reset_history() drops it.
   frame foveated(double gaze_x, double gaze_y, const live_settings& s, live_timing* timing = nullptr);
+  // Pipelining: starts tracing the frame for this gaze, camera and settings in the
+  // background, so it overlaps whatever the caller does next (showing the frame before).
+  // The next foveated() call with the same gaze, camera (cam() set to `view`), settings
+  // and set takes those samples; any other call drops them and traces anew.
+  void begin_trace(double gaze_x, double gaze_y, const camera& view, const live_settings& s);
   // The full-resolution reference at `spp` rays per pixel (no TAA).
   frame reference(int width, int height, uint32_t spp, bool shadows, live_timing* timing = nullptr);
   void reset_history() { taa_ = taa_state{}; }
@@ -51,6 +62,20 @@ class live_renderer {
   std::unique_ptr<cl_reconstructor> device_;
   taa_state taa_;
   uint64_t frame_ = 0;
+
+  trace_params params_for(const live_settings& s);  // the next frame's ray pattern
+  struct traced {
+    point_samples samples;
+    double ms = 0;
+  };
+  struct pending_trace {
+    double gaze_x, gaze_y;
+    camera view;
+    live_settings settings;
+    std::shared_ptr<const pointset> set;
+    std::future<traced> result;
+  };
+  std::optional<pending_trace> pending_;  // last: waited for before the rest goes
 };
 
 }  // namespace fov

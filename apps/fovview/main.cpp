@@ -100,7 +100,7 @@ int main(int argc, char** argv) {
   uint32_t k = 5, spp = 4, frames = 0;
   int gaze_udp = 0;
   double scale = 0, target_fps = 0, hfov = 0;
-  bool no_taa = false, exit_after = false, as_json = false;
+  bool no_taa = false, exit_after = false, as_json = false, no_pipeline = false;
   app.add_option("--scene", scene_spec, "builtin, a glTF/OBJ file, or env:IMAGE");
   app.add_option("--points", points, "A point set (.fovset)");
   app.add_option("--points-dir", points_dir, "A family of point sets to switch between with [ and ]");
@@ -110,6 +110,8 @@ int main(int argc, char** argv) {
   app.add_option("--spp", spp, "Rays per point (the most --target-fps may use)");
   app.add_option("--target-fps", target_fps, "Adapt rays per point to keep this frame rate");
   app.add_flag("--no-taa", no_taa, "Start with TAA off");
+  app.add_flag("--no-pipeline", no_pipeline,
+               "Trace each frame after showing the one before (default: trace it while that one is shown)");
   app.add_option("--hfov", hfov, "Horizontal field of view in degrees (default: the scene's, else 90)");
   app.add_option("--gaze-trace", gaze_trace, "Replay gaze from CSV (t_ms,x,y or t_ms,x_norm,y_norm)");
   app.add_option("--gaze-udp", gaze_udp, "Gaze from UDP datagrams 'x y' (normalised) on 127.0.0.1:PORT");
@@ -197,26 +199,44 @@ int main(int argc, char** argv) {
     fov::frame error_reference;  // the full-resolution frame the error view compares with
     fov::camera error_reference_cam;
     const auto start = clock_type::now();
-    double fps = 0, display_ms = 0;
+    double fps = 0, display_ms = 0, latency_ms = 0;
     uint64_t screenshots = 0;
     std::string status;  // one-line messages (screenshot saved, silent tracker)
-    struct frame_stats { double frame, trace, reconstruct, taa, display; uint32_t spp; };
+    struct frame_stats { double frame, trace, reconstruct, taa, display, latency; uint32_t spp; };
     std::vector<frame_stats> history;
-
-    for (uint64_t frame_index = 0; frames == 0 || frame_index < frames; ++frame_index) {
-      const auto frame_start = clock_type::now();
-      const double now_ms = ms_between(start, frame_start);
+    // What a frame shows: the gaze and camera when they were read. With pipelining the next
+    // frame's are read (and its trace started) before this frame is shown.
+    struct frame_inputs {
+      double gx, gy, poll_ms;
+      fov::camera cam;
+    };
+    auto read_inputs = [&](const fov::camera& current) {
+      const double now_ms = ms_between(start, clock_type::now());
       if (mouse) {
         double x, y;
         if (window.mouse(x, y)) mouse->set(x, y);
       }
-      double gx = w / 2.0, gy = h / 2.0;
-      gaze->poll(now_ms, gx, gy);
-      if (path) renderer.cam() = path->at(now_ms, renderer.cam().hfov_deg);
+      frame_inputs in{w / 2.0, h / 2.0, now_ms, path ? path->at(now_ms, current.hfov_deg) : current};
+      gaze->poll(now_ms, in.gx, in.gy);
+      return in;
+    };
+    std::optional<frame_inputs> next;  // read ahead, with its trace under way
+
+    for (uint64_t frame_index = 0; frames == 0 || frame_index < frames; ++frame_index) {
+      const auto frame_start = clock_type::now();
+      const double now_ms = ms_between(start, frame_start);
+      const frame_inputs in = next ? *next : read_inputs(renderer.cam());
+      next.reset();
+      const double gx = in.gx, gy = in.gy;
+      if (path) renderer.cam() = in.cam;
 
       fov::live_timing timing;
       fov::frame image = show_reference ? renderer.reference(w, h, settings.spp, settings.shadows, &timing)
                                         : renderer.foveated(gx, gy, settings, &timing);
+      if (!no_pipeline && !show_reference) {  // the next frame traces while this one is shown
+        next = read_inputs(renderer.cam());
+        renderer.begin_trace(next->gx, next->gy, next->cam, settings);
+      }
       const double gaze_xy[2] = {gx, gy};
       const std::string& v = views[view];
       fov::frame overlay;  // only the debug views draw into a copy
@@ -241,8 +261,9 @@ int main(int argc, char** argv) {
       cv::Mat bgr = fov::display_image(*shown);
       if (show_cursor) fov::draw_gaze_cursor(bgr, gx, gy);
       std::vector<std::string> lines = {
-          fmt::format("{:.1f} fps  trace {:.1f}  reconstruct {:.1f}  TAA {:.1f}  display {:.1f} ms", fps, timing.trace_ms,
-                      timing.reconstruct_ms, timing.taa_ms, display_ms),
+          fmt::format("{:.1f} fps  trace {:.1f}{}  reconstruct {:.1f}  TAA {:.1f}  display {:.1f}  gaze-to-screen {:.1f} ms",
+                      fps, timing.trace_ms, timing.traced_ahead ? " (ahead)" : "", timing.reconstruct_ms, timing.taa_ms,
+                      display_ms, latency_ms),
           show_reference ? fmt::format("REFERENCE {}x{}, {} rays/frame", w, h, timing.rays)
                          : fmt::format("{} k={} s={:.2f} spp={} TAA {}  {} points, {} rays/frame",
                                        fov::method_name(settings.reconstruct.how), settings.reconstruct.k,
@@ -257,6 +278,7 @@ int main(int argc, char** argv) {
       else lines.push_back("H: help");
       fov::draw_overlay(bgr, lines, gx, gy);
       window.show(bgr);
+      latency_ms = ms_between(start, clock_type::now()) - in.poll_ms;
 
       auto save_screenshot = [&](const std::string& file) {
         fov::write_frame(image, file);  // the clean frame: no overlay, no cursor
@@ -333,7 +355,7 @@ int main(int argc, char** argv) {
       }
       // Rays per point follow --target-fps: halve when over budget, add one when well under.
       const double frame_ms = ms_between(frame_start, clock_type::now());
-      history.push_back({frame_ms, timing.trace_ms, timing.reconstruct_ms, timing.taa_ms, display_ms, settings.spp});
+      history.push_back({frame_ms, timing.trace_ms, timing.reconstruct_ms, timing.taa_ms, display_ms, latency_ms, settings.spp});
       fps = fps == 0 ? 1000 / frame_ms : 0.9 * fps + 0.1 * (1000 / frame_ms);
       if (target_fps > 0 && !show_reference) {
         const double budget = 1000 / target_fps;
@@ -366,7 +388,9 @@ int main(int argc, char** argv) {
                 {"trace_ms", median([](const frame_stats& f) { return f.trace; })},
                 {"reconstruct_ms", median([](const frame_stats& f) { return f.reconstruct; })},
                 {"taa_ms", median([](const frame_stats& f) { return f.taa; })},
-                {"display_ms", median([](const frame_stats& f) { return f.display; })}};
+                {"display_ms", median([](const frame_stats& f) { return f.display; })},
+                {"latency_ms", median([](const frame_stats& f) { return f.latency; })},
+                {"pipelined", !no_pipeline}};
       std::cout << j.dump(2) << "\n";
     }
     if (gaze->clamped || gaze->malformed)
