@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # fovview's frame rate at the FOVE screen (1280x1440), headless under Xvfb, as a markdown
 # table (docs/fovview.md). Gaze fixed at the centre, or moving (a replayed 120 Hz trace);
-# medians of 60 frames after 5 warm-up. Pipelined (the next frame traces while one is shown)
-# unless a row says --no-pipeline.
+# medians of 60 frames after 5 warm-up. One row with --pipeline (the next frame traces while
+# one is shown).
 # Usage: scripts/fovview-fps.sh   (after scripts/build.sh and precomputed/generate.sh default)
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -41,5 +41,5 @@ row "env:city.exr, Shepard k=5, 1 spp, TAA" "${centre[@]}" --scene "$env_scene" 
 row "env:city.exr, NN, 1 spp, TAA" "${centre[@]}" --scene "$env_scene" --spp 1 --method nn
 row "env:city.exr, NN, 1 spp, no TAA" "${centre[@]}" --scene "$env_scene" --spp 1 --method nn --no-taa
 row "env:city.exr, NN, 1 spp, no TAA, moving gaze" "${moving[@]}" --scene "$env_scene" --spp 1 --method nn --no-taa
-row "env:city.exr, NN, 1 spp, no TAA, moving gaze, --no-pipeline" "${moving[@]}" --scene "$env_scene" --spp 1 --method nn --no-taa --no-pipeline
+row "env:city.exr, NN, 1 spp, no TAA, moving gaze, --pipeline" "${moving[@]}" --scene "$env_scene" --spp 1 --method nn --no-taa --pipeline
 row "env:city.exr, Shepard k=5, 1 spp, TAA, moving gaze" "${moving[@]}" --scene "$env_scene" --spp 1

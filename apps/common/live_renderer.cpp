@@ -47,7 +47,7 @@ void live_renderer::begin_trace(double gx, double gy, const camera& view, const 
   pending_ = pending_trace{gx, gy, view, s, set_, std::async(std::launch::async, std::move(job))};
 }
 
-frame live_renderer::foveated(double gx, double gy, const live_settings& s, live_timing* timing) {
+const frame& live_renderer::foveated(double gx, double gy, const live_settings& s, live_timing* timing) {
   const auto t0 = std::chrono::steady_clock::now();
   point_samples samples;
   double trace_ms = 0, wait_ms = 0;
@@ -68,13 +68,13 @@ frame live_renderer::foveated(double gx, double gy, const live_settings& s, live
   const auto t1 = std::chrono::steady_clock::now();
   bool on_device = false;
   const double gaze[2] = {gx, gy};
-  frame f;
+  frame& f = frame_buffer_;
   double taa_ms = 0;
   if (s.taa) {  // reconstruction and TAA together: on the device the frame stays there
-    f = device_->run_taa(samples, s.reconstruct, taa_, cam_, gaze, {}, &on_device);
+    device_->run_taa(samples, s.reconstruct, taa_, cam_, gaze, {}, f, &on_device);
     taa_ms = on_device ? device_->last_taa_kernel_ms() : 0;
   } else {
-    f = device_->run(samples, s.reconstruct, &on_device);
+    device_->run(samples, s.reconstruct, f, &on_device);
     reset_history();
   }
   const auto t2 = std::chrono::steady_clock::now();

@@ -42,9 +42,10 @@ class live_renderer {
   const pointset* current_set() const { return set_.get(); }
   camera& cam() { return cam_; }
 
-  // One foveated frame at gaze (screen pixels). The TAA history carries over between
-  // calls while the set and screen stay the same; reset_history() drops it.
-  frame foveated(double gaze_x, double gaze_y, const live_settings& s, live_timing* timing = nullptr);
+  // One foveated frame at gaze (screen pixels), valid until the next call (its storage is
+  // reused frame to frame). The TAA history carries over between calls while the set and
+  // screen stay the same; reset_history() drops it.
+  const frame& foveated(double gaze_x, double gaze_y, const live_settings& s, live_timing* timing = nullptr);
   // Pipelining: starts tracing the frame for this gaze, camera and settings in the
   // background, so it overlaps whatever the caller does next (showing the frame before).
   // The next foveated() call with the same gaze, camera (cam() set to `view`), settings
@@ -62,6 +63,7 @@ class live_renderer {
   std::unique_ptr<cl_reconstructor> device_;
   taa_state taa_;
   uint64_t frame_ = 0;
+  frame frame_buffer_;  // what foveated() returns
 
   trace_params params_for(const live_settings& s);  // the next frame's ray pattern
   struct traced {

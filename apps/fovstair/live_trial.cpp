@@ -85,7 +85,7 @@ trial_answer run_live_trial(live_context& ctx, const trial_plan& t, const points
         if (ctx.gaze) ctx.gaze->poll(ms_between(start, clock_type::now()), gx, gy);
         sum[0] += gx, sum[1] += gy, sum2[0] += gx * gx, sum2[1] += gy * gy;
         ++a.gaze_samples;
-        const frame f = foveated ? ctx.renderer.foveated(gx, gy, s) : reference;
+        const frame& f = foveated ? ctx.renderer.foveated(gx, gy, s) : reference;
         ++frames;
         ctx.window.show(display_image(f));
         int k = ctx.window.key(1);

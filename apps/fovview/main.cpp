@@ -100,7 +100,7 @@ int main(int argc, char** argv) {
   uint32_t k = 5, spp = 4, frames = 0;
   int gaze_udp = 0;
   double scale = 0, target_fps = 0, hfov = 0;
-  bool no_taa = false, exit_after = false, as_json = false, no_pipeline = false;
+  bool no_taa = false, exit_after = false, as_json = false, pipeline = false;
   app.add_option("--scene", scene_spec, "builtin, a glTF/OBJ file, or env:IMAGE");
   app.add_option("--points", points, "A point set (.fovset)");
   app.add_option("--points-dir", points_dir, "A family of point sets to switch between with [ and ]");
@@ -110,8 +110,9 @@ int main(int argc, char** argv) {
   app.add_option("--spp", spp, "Rays per point (the most --target-fps may use)");
   app.add_option("--target-fps", target_fps, "Adapt rays per point to keep this frame rate");
   app.add_flag("--no-taa", no_taa, "Start with TAA off");
-  app.add_flag("--no-pipeline", no_pipeline,
-               "Trace each frame after showing the one before (default: trace it while that one is shown)");
+  app.add_flag("--pipeline", pipeline,
+               "Trace the next frame while showing this one (more latency; pays where tracing and reconstruction "
+               "use different processors)");
   app.add_option("--hfov", hfov, "Horizontal field of view in degrees (default: the scene's, else 90)");
   app.add_option("--gaze-trace", gaze_trace, "Replay gaze from CSV (t_ms,x,y or t_ms,x_norm,y_norm)");
   app.add_option("--gaze-udp", gaze_udp, "Gaze from UDP datagrams 'x y' (normalised) on 127.0.0.1:PORT");
@@ -231,9 +232,11 @@ int main(int argc, char** argv) {
       if (path) renderer.cam() = in.cam;
 
       fov::live_timing timing;
-      fov::frame image = show_reference ? renderer.reference(w, h, settings.spp, settings.shadows, &timing)
-                                        : renderer.foveated(gx, gy, settings, &timing);
-      if (!no_pipeline && !show_reference) {  // the next frame traces while this one is shown
+      fov::frame reference_frame;
+      const fov::frame& image = show_reference
+                                    ? (reference_frame = renderer.reference(w, h, settings.spp, settings.shadows, &timing))
+                                    : renderer.foveated(gx, gy, settings, &timing);
+      if (pipeline && !show_reference) {  // the next frame traces while this one is shown
         next = read_inputs(renderer.cam());
         renderer.begin_trace(next->gx, next->gy, next->cam, settings);
       }
@@ -390,7 +393,7 @@ int main(int argc, char** argv) {
                 {"taa_ms", median([](const frame_stats& f) { return f.taa; })},
                 {"display_ms", median([](const frame_stats& f) { return f.display; })},
                 {"latency_ms", median([](const frame_stats& f) { return f.latency; })},
-                {"pipelined", !no_pipeline}};
+                {"pipelined", pipeline}};
       std::cout << j.dump(2) << "\n";
     }
     if (gaze->clamped || gaze->malformed)

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include <fmt/format.h>
+#include <tbb/parallel_for.h>
 
 #include "fov/kernel_sources.h"
 #include "fov/rbf_cache.h"
@@ -166,15 +167,24 @@ const std::string& cl_reconstructor::reason() const { return impl_->reason; }
 
 frame cl_reconstructor::run(const point_samples& samples, const reconstruct_params& params, bool* on_device,
                             rbf_stats* stats) {
+  frame out;
+  run(samples, params, out, on_device, stats);
+  return out;
+}
+
+void cl_reconstructor::run(const point_samples& samples, const reconstruct_params& params, frame& out, bool* on_device,
+                           rbf_stats* stats) {
   impl& d = *impl_;
   check_reconstruct_inputs(set_, samples, params);
   if (on_device) *on_device = d.ok;
-  if (!d.ok) return reconstruct(set_, samples, params, stats, prepare_rbf(params));
+  if (!d.ok) {
+    out = reconstruct(set_, samples, params, stats, prepare_rbf(params));
+    return;
+  }
   cl_event done = launch(samples, params, stats);
-  frame out = read_back(impl_->out_rgb);
+  read_back(impl_->out_rgb, out);
   d.last_kernel_ms = event_ms(done);
   clReleaseEvent(done);
-  return out;
 }
 
 rbf_weight_cache* cl_reconstructor::prepare_rbf(const reconstruct_params& params) {
@@ -224,8 +234,10 @@ cl_event cl_reconstructor::launch(const point_samples& samples, const reconstruc
                                                              samples.colour.size() * sizeof(cl_float4), 0, nullptr,
                                                              nullptr, &status));
   check(status, "colour map");
-  for (size_t i = 0; i < samples.colour.size(); ++i)
-    colours[i] = {{samples.colour[i].r, samples.colour[i].g, samples.colour[i].b, 1.0f}};
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, samples.colour.size(), 1 << 15), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t i = r.begin(); i < r.end(); ++i)
+      colours[i] = {{samples.colour[i].r, samples.colour[i].g, samples.colour[i].b, 1.0f}};
+  });
   check(clEnqueueUnmapMemObject(d.queue, d.colour, colours, 0, nullptr, nullptr), "colour unmap");
   check(clEnqueueWriteBuffer(d.queue, d.depth, CL_FALSE, 0, samples.depth.size() * sizeof(float), samples.depth.data(),
                              0, nullptr, nullptr), "depth upload");
@@ -250,13 +262,13 @@ cl_event cl_reconstructor::launch(const point_samples& samples, const reconstruc
   return done;
 }
 
-frame cl_reconstructor::read_back(cl_mem rgb) {
+void cl_reconstructor::read_back(cl_mem rgb, frame& out) {
   impl& d = *impl_;
-  frame out;
   out.width = set_.model.display.width;
   out.height = set_.model.display.height;
+  out.rays = 0;
   const size_t pixels = size_t(out.width) * out.height;
-  out.depth.resize(pixels);
+  out.depth.resize(pixels);  // no-ops when `out` is reused
   check(clEnqueueReadBuffer(d.queue, d.out_depth, CL_FALSE, 0, pixels * sizeof(float), out.depth.data(), 0, nullptr,
                             nullptr), "depth download");
   // The image is read through a mapping (no staging copy on a CPU device).
@@ -266,10 +278,11 @@ frame cl_reconstructor::read_back(cl_mem rgb) {
                                                                        &status));
   check(status, "image map");
   out.rgb.resize(pixels);
-  for (size_t i = 0; i < pixels; ++i) out.rgb[i] = {image[i].s[0], image[i].s[1], image[i].s[2]};
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, pixels, 1 << 15), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t i = r.begin(); i < r.end(); ++i) out.rgb[i] = {image[i].s[0], image[i].s[1], image[i].s[2]};
+  });
   check(clEnqueueUnmapMemObject(d.queue, rgb, const_cast<cl_float4*>(image), 0, nullptr, nullptr), "image unmap");
   check(clFinish(d.queue), "read-back");
-  return out;
 }
 
 namespace {
@@ -289,6 +302,14 @@ cl_taa_camera to_cl(const camera_frame& f) {
 frame cl_reconstructor::run_taa(const point_samples& samples, const reconstruct_params& params, taa_state& state,
                                 const camera& cam, const double gaze[2], const taa_params& taa, bool* on_device,
                                 rbf_stats* stats) {
+  frame out;
+  run_taa(samples, params, state, cam, gaze, taa, out, on_device, stats);
+  return out;
+}
+
+void cl_reconstructor::run_taa(const point_samples& samples, const reconstruct_params& params, taa_state& state,
+                               const camera& cam, const double gaze[2], const taa_params& taa, frame& out,
+                               bool* on_device, rbf_stats* stats) {
   impl& d = *impl_;
   check_reconstruct_inputs(set_, samples, params);
   if (!(taa.alpha > 0 && taa.alpha <= 1)) throw std::invalid_argument("TAA alpha must lie in (0, 1]");
@@ -296,7 +317,8 @@ frame cl_reconstructor::run_taa(const point_samples& samples, const reconstruct_
   if (on_device) *on_device = d.ok;
   if (!d.ok) {
     const frame current = reconstruct(set_, samples, params, stats, prepare_rbf(params));
-    return taa_resolve(state, current, cam, display, gaze, taa);
+    out = taa_resolve(state, current, cam, display, gaze, taa);
+    return;
   }
   const int w = display.width, h = display.height;
   const size_t pixels = size_t(w) * h;
@@ -334,13 +356,12 @@ frame cl_reconstructor::run_taa(const point_samples& samples, const reconstruct_
     check(clEnqueueCopyBuffer(d.queue, d.out_rgb, d.history, 0, 0, pixels * sizeof(cl_float4), 0, nullptr, nullptr),
           "history copy");
   }
-  frame out = read_back(d.history);
+  read_back(d.history, out);
   d.last_kernel_ms = event_ms(done);
   d.last_taa_ms = taa_ms;
   clReleaseEvent(done);
   taa_remember(state, out, cam, gaze);
   d.history_generation = state.generation;
-  return out;
 }
 
 double cl_reconstructor::last_kernel_ms() const { return impl_->last_kernel_ms; }

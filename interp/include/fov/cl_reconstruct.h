@@ -35,12 +35,19 @@ class cl_reconstructor {
   // later runs with the same k, kernel and shape only form weighted sums.
   frame run(const point_samples& samples, const reconstruct_params& params, bool* on_device = nullptr,
             rbf_stats* stats = nullptr);
+  // The same into `out`, reusing its storage when it has the screen's size (a live loop
+  // saves zero-filling 29 MB a FOVE frame).
+  void run(const point_samples& samples, const reconstruct_params& params, frame& out, bool* on_device = nullptr,
+           rbf_stats* stats = nullptr);
 
   // run() followed by taa_resolve(), with the frame kept on the device in between and the
   // history kept there across calls (uploaded only when `state` was last advanced
   // elsewhere). Same results as the C++ pair within float rounding; falls back to it.
   frame run_taa(const point_samples& samples, const reconstruct_params& params, taa_state& state, const camera& cam,
                 const double gaze[2], const taa_params& taa = {}, bool* on_device = nullptr, rbf_stats* stats = nullptr);
+  void run_taa(const point_samples& samples, const reconstruct_params& params, taa_state& state, const camera& cam,
+               const double gaze[2], const taa_params& taa, frame& out, bool* on_device = nullptr,
+               rbf_stats* stats = nullptr);
 
   // The RBF weights kept so far (null before the first RBF run): its seconds() is the
   // one-time cost, its stats() the solves' fallbacks and condition numbers.
@@ -58,7 +65,7 @@ class cl_reconstructor {
   std::unique_ptr<impl> impl_;
   rbf_weight_cache* prepare_rbf(const reconstruct_params& params);  // null unless RBF
   ::_cl_event* launch(const point_samples& samples, const reconstruct_params& params, rbf_stats* stats);
-  frame read_back(::_cl_mem* rgb);
+  void read_back(::_cl_mem* rgb, frame& out);
   const pointset& set_;
 };
 
