@@ -69,26 +69,25 @@ __kernel void taa_resolve(__global const float4* current, __global const float* 
     }
     hist = taa_bilinear(history, sx - 0.5f, sy - 0.5f, w, h);
   }
-  // 2. Clip the history towards the current colour, into the neighbourhood's box.
+  // 2. Clip the history towards the current colour, into the neighbourhood's box. Row and
+  // column indices are clamped once; the clip runs on all four lanes at once (the fourth,
+  // alpha, is 1 everywhere and never limits t).
+  const int xl = max(x - 1, 0), xr = min(x + 1, w - 1);
   float4 sum = (float4)(0.0f), sum2 = (float4)(0.0f);
-  for (int dy = -1; dy <= 1; ++dy)
-    for (int dx = -1; dx <= 1; ++dx) {
-      const float4 n = current[clamp(y + dy, 0, h - 1) * w + clamp(x + dx, 0, w - 1)];
-      sum += n;
-      sum2 += n * n;
-    }
+  for (int dy = -1; dy <= 1; ++dy) {
+    __global const float4* row = current + clamp(y + dy, 0, h - 1) * w;
+    const float4 a = row[xl], b = row[x], e = row[xr];
+    sum += a + b + e;
+    sum2 += a * a + b * b + e * e;
+  }
   const float4 mean = sum / 9.0f;
   const float4 sigma = sqrt(fmax(sum2 / 9.0f - mean * mean, (float4)(0.0f)));
   const float4 lo = fmin(mean - gamma * sigma, c), hi = fmax(mean + gamma * sigma, c);
   const float4 d = hist - c;
-  float t = 1;
-  for (int ch = 0; ch < 3; ++ch) {
-    const float dc = ch == 0 ? d.x : ch == 1 ? d.y : d.z;
-    const float cc = ch == 0 ? c.x : ch == 1 ? c.y : c.z;
-    const float l = ch == 0 ? lo.x : ch == 1 ? lo.y : lo.z, u = ch == 0 ? hi.x : ch == 1 ? hi.y : hi.z;
-    if (dc > 0) t = min(t, (u - cc) / dc);
-    if (dc < 0) t = min(t, (l - cc) / dc);
-  }
+  // Per channel the t at which c + t d leaves the box; channels with d = 0 never do.
+  const float4 reach = (select(lo, hi, d > 0.0f) - c) / d;
+  const float4 limit = select((float4)(1.0f), reach, d != 0.0f);
+  const float t = fmin(1.0f, fmin(limit.x, fmin(limit.y, limit.z)));
   hist = c + fmax(t, 0.0f) * d;
   // 3. Blend; pixels whose eccentricity dropped (the gaze moved towards them) prefer the current frame.
   float lag = 0;
