@@ -124,6 +124,7 @@ knn_table regroup(const knn_table& table, uint32_t group) {
   knn_table out;
   out.max_radius = table.max_radius;
   out.radius_by_rank = table.radius_by_rank;
+  out.radius_by_tile = table.radius_by_tile;
   out.width = table.width;
   out.height = table.height;
   out.k = table.k;

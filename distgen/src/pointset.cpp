@@ -71,29 +71,28 @@ uint64_t count_spacing_violations(const std::vector<point>& points, uint32_t can
   return violations;
 }
 
-std::vector<float> max_knn_radii(const knn_table& t, const std::vector<point>& points) {
-  if (t.k == 0 || t.entries.empty()) return {};
-  using radii = std::vector<float>;
-  return tbb::parallel_reduce(
-      tbb::blocked_range<uint32_t>(0, t.height), radii(t.k, 0.0f),
-      [&](const tbb::blocked_range<uint32_t>& rows, radii r) {
-        for (uint32_t y = rows.begin(); y < rows.end(); ++y)
-          for (uint32_t x = 0; x < t.width; ++x)
-            for (uint32_t j = 0; j < t.k; ++j) {
-              const point& p = points[t.at(x, y, j)];
-              r[j] = std::max(r[j], std::hypot(p.x - (float(x) + 0.5f), p.y - (float(y) + 0.5f)));
-            }
-        return r;
-      },
-      [](radii a, const radii& b) {
-        for (size_t j = 0; j < a.size(); ++j) a[j] = std::max(a[j], b[j]);
-        return a;
-      });
-}
-
 void set_knn_radii(knn_table& t, const std::vector<point>& points) {
-  t.radius_by_rank = max_knn_radii(t, points);
-  t.max_radius = t.radius_by_rank.empty() ? 0 : t.radius_by_rank.back();
+  t.radius_by_tile.clear();
+  t.radius_by_rank.clear();
+  t.max_radius = 0;
+  if (t.k == 0 || t.entries.empty()) return;
+  const uint32_t tile = knn_table::radius_tile, tiles_x = t.radius_tiles_x();
+  const uint32_t tiles_y = (t.height + tile - 1) / tile;
+  t.radius_by_tile.assign(size_t(tiles_x) * tiles_y * t.k, 0.0f);
+  tbb::parallel_for(uint32_t(0), tiles_x * tiles_y, [&](uint32_t index) {
+    float* r = t.radius_by_tile.data() + size_t(index) * t.k;
+    const uint32_t x0 = (index % tiles_x) * tile, y0 = (index / tiles_x) * tile;
+    for (uint32_t y = y0; y < std::min(t.height, y0 + tile); ++y)
+      for (uint32_t x = x0; x < std::min(t.width, x0 + tile); ++x)
+        for (uint32_t j = 0; j < t.k; ++j) {
+          const point& p = points[t.at(x, y, j)];
+          r[j] = std::max(r[j], std::hypot(p.x - (float(x) + 0.5f), p.y - (float(y) + 0.5f)));
+        }
+  });
+  t.radius_by_rank.assign(t.k, 0.0f);
+  for (size_t i = 0; i < t.radius_by_tile.size(); ++i)
+    t.radius_by_rank[i % t.k] = std::max(t.radius_by_rank[i % t.k], t.radius_by_tile[i]);
+  t.max_radius = t.radius_by_rank.back();
 }
 
 void require_table(const pointset& set) {
@@ -115,6 +114,12 @@ std::vector<uint8_t> traced_point_mask(const pointset& set, double gaze_x, doubl
   // split over threads; each collects the points it finds, and the marks are written after.
   const float radius = t.radius_by_rank.size() == t.k ? t.radius_by_rank[k_used - 1] : t.max_radius;
   const int band = radius > 0 ? int(std::ceil(radius)) + 1 : std::max(d.width, d.height);
+  // Pixels whose tile's radius (rank k_used) stays inside the screen are skipped.
+  const float* tile_radius = t.radius_by_tile.size() == size_t(t.radius_tiles_x()) *
+                                                            ((t.height + knn_table::radius_tile - 1) / knn_table::radius_tile) * t.k
+                                 ? t.radius_by_tile.data() + (k_used - 1)
+                                 : nullptr;
+  const uint32_t tiles_x = t.radius_tiles_x();
   // Each block of 16 rows collects into its own list (no copies of partial results).
   constexpr int rows_per_block = 16;
   std::vector<std::vector<uint32_t>> referenced(size_t((d.height + rows_per_block - 1) / rows_per_block));
@@ -125,6 +130,11 @@ std::vector<uint8_t> traced_point_mask(const pointset& set, double gaze_x, doubl
       const uint64_t row = uint64_t(sy + o.y) * t.width + uint64_t(o.x);
       for (int sx = 0; sx < d.width; ++sx) {
         if (!edge_row && sx == band && d.width - band > band) sx = d.width - band;  // skip the interior
+        if (tile_radius) {  // this pixel's neighbours all lie within its tile's radius
+          const int edge = std::min(std::min(sx, d.width - 1 - sx), std::min(sy, d.height - 1 - sy));
+          const uint32_t cx = uint32_t(sx + o.x) / knn_table::radius_tile, cy = uint32_t(sy + o.y) / knn_table::radius_tile;
+          if (tile_radius[(size_t(cy) * tiles_x + cx) * t.k] < float(edge)) continue;
+        }
         for (uint32_t j = 0; j < k_used; ++j) {
           const uint32_t i = t.entries[t.offset(row + sx, j)];
           if (!on_screen(set.points[i], d, o)) acc.push_back(i);

@@ -85,6 +85,13 @@ struct knn_table {
   // (j+1)-th neighbour (derived; empty when not computed). A reader of k' < k ranks needs
   // only radius_by_rank[k' - 1] of border.
   std::vector<float> radius_by_rank;
+  // The same per square tile of radius_tile x radius_tile canvas pixels (derived; empty
+  // when not computed): radius_by_tile[(tile_y * tiles_x + tile_x) * k + j]. Near the
+  // screen edge a pixel needs checking only where its tile's radius reaches past the edge;
+  // the largest radii belong to the canvas corners, far from most screen edges.
+  static constexpr uint32_t radius_tile = 32;
+  std::vector<float> radius_by_tile;
+  uint32_t radius_tiles_x() const { return (width + radius_tile - 1) / radius_tile; }
   std::vector<uint32_t, table_allocator<uint32_t>> entries;  // width * height * k point indices
 
   uint64_t pixel_count() const { return uint64_t(width) * height; }
@@ -136,9 +143,8 @@ uint64_t count_spacing_violations(const std::vector<point>& points, uint32_t can
 // (a set read with load_params::table = false has none).
 void require_table(const pointset& set);
 
-// The largest distance from any pixel centre to its j-th neighbour, for j = 1..k.
-std::vector<float> max_knn_radii(const knn_table& table, const std::vector<point>& points);
-// Sets table.radius_by_rank and table.max_radius (the k-th, farthest stored, neighbour's).
+// Sets table.radius_by_tile, radius_by_rank (the largest distance from any pixel centre to
+// its j-th neighbour: the maximum over tiles) and max_radius (the k-th, farthest stored).
 void set_knn_radii(knn_table& table, const std::vector<point>& points);
 
 // Points the renderer must trace for a gaze: every point on the screen plus every
