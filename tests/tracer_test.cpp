@@ -141,6 +141,19 @@ TEST(Tracer, PointsAreDeterministicAcrossFramesAndThreads) {
   EXPECT_GT(differ, a.traced.size() / 10) << "another seed must move the rays";
 }
 
+TEST(Tracer, ReferenceTileTimesCoverTheScreenAndChangeNothing) {
+  const auto s = load_scene("builtin");
+  trace_params tp;
+  tp.spp = 2;
+  const frame plain = trace_reference(*s, s->default_camera(), 37, 20, tp);
+  std::vector<double> tiles;
+  tp.tile_seconds = &tiles;
+  const frame timed = trace_reference(*s, s->default_camera(), 37, 20, tp);
+  EXPECT_EQ(plain.rgb, timed.rgb);
+  ASSERT_EQ(tiles.size(), size_t(5 * 3));  // ceil(37 / 8) x ceil(20 / 8)
+  for (double t : tiles) EXPECT_GT(t, 0.0);
+}
+
 TEST(Tracer, MirroredPatternsTraceTheSetPlacedForTheMirroredGaze) {
   pointset set;
   set.model.display = {48, 40, 1.0};

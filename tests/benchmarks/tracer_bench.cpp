@@ -7,6 +7,8 @@
 // image whose rays all cost the same (it separates the tracer's own overhead from the
 // content under the fovea, which differs between foveated and reference rays). Point sets come
 // from precomputed/fove-s1.00.fovset and fove-s1.75.fovset, generated in memory if missing.
+#include <algorithm>
+#include <chrono>
 #include <filesystem>
 #include <map>
 
@@ -180,6 +182,71 @@ void BM_TracePointsByGaze(benchmark::State& state) {
     return fov::trace_points(s, bench_camera(s), set, gx[g], gy[g], set.table.k, tp).rays;
   });
 }
+// args: scene, spp, scale x 100. Foveated and reference frames traced in turn, each
+// iteration; counters are medians over iterations. The plain goal compares the foveated
+// frame's time with its share of the reference's rays (ray_over_time: ray ratio / time
+// ratio). Rays do not all cost the same, and foveated rays crowd under the gaze, so the
+// content-weighted ratio prices each traced point's rays at what the reference's rays
+// cost in the 8 x 8-pixel tile where the point lies (trace_params::tile_seconds):
+// content_over_time (content-weighted ratio / time ratio) is the tracer's own overhead
+// for foveated tracing, with the scene's uneven cost taken out.
+void BM_ContentWeightedRatio(benchmark::State& state) {
+  if (scene_specs().at(size_t(state.range(0))).empty()) return state.SkipWithError("scene absent");
+  const fov::scene& s = get_scene(size_t(state.range(0)));
+  const fov::pointset& set = get_set(double(state.range(2)) / 100);
+  const fov::display_geometry& d = set.model.display;
+  fov::trace_params tp;
+  tp.spp = uint32_t(state.range(1));
+  using clock = std::chrono::steady_clock;
+  auto ms_since = [](clock::time_point t) { return std::chrono::duration<double, std::milli>(clock::now() - t).count(); };
+  auto median = [](std::vector<double> v) {
+    std::nth_element(v.begin(), v.begin() + long(v.size() / 2), v.end());
+    return v[v.size() / 2];
+  };
+  std::vector<double> fov_ms, ref_ms, content;
+  double ray_ratio = 0;
+  for (auto _ : state) {
+    auto t0 = clock::now();
+    const fov::point_samples samples = fov::trace_points(s, bench_camera(s), set, d.width / 2.0, d.height / 2.0, 5, tp);
+    fov_ms.push_back(ms_since(t0));
+    std::vector<double> tiles;
+    fov::trace_params rp = tp;
+    rp.tile_seconds = &tiles;
+    t0 = clock::now();
+    const fov::frame reference = fov::trace_reference(s, bench_camera(s), d.width, d.height, rp);
+    ref_ms.push_back(ms_since(t0));
+    ray_ratio = double(samples.rays) / double(reference.rays);
+    // Each traced point's rays at the per-ray cost of the reference tile it lies in
+    // (points off the screen: the nearest tile).
+    const int t = fov::reference_tile, tiles_x = (d.width + t - 1) / t;
+    double predicted = 0, total = 0;
+    for (double v : tiles) total += v;
+    for (uint32_t i : samples.traced) {
+      const fov::point& p = set.points[i];
+      const int x = std::clamp(int(p.x) - samples.offset.x, 0, d.width - 1);
+      const int y = std::clamp(int(p.y) - samples.offset.y, 0, d.height - 1);
+      const int tx = x / t, ty = y / t;
+      const int tile_pixels = (std::min(d.width, tx * t + t) - tx * t) * (std::min(d.height, ty * t + t) - ty * t);
+      predicted += tiles[size_t(ty) * tiles_x + tx] / tile_pixels;  // per point: spp rays at the tile's per-pixel cost
+    }
+    content.push_back(predicted / total);
+  }
+  const double time_ratio = median(fov_ms) / median(ref_ms);
+  state.counters["foveated_ms"] = median(fov_ms);
+  state.counters["reference_ms"] = median(ref_ms);
+  state.counters["ray_ratio"] = ray_ratio;
+  state.counters["content_ratio"] = median(content);
+  state.counters["time_ratio"] = time_ratio;
+  state.counters["ray_over_time"] = ray_ratio / time_ratio;
+  state.counters["content_over_time"] = median(content) / time_ratio;
+}
+BENCHMARK(BM_ContentWeightedRatio)
+    ->ArgNames({"scene", "spp", "s100"})
+    ->ArgsProduct({{0, 1, 2}, {4, 32}, {100, 175}})
+    ->Iterations(3)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+
 BENCHMARK(BM_TracePointsByGaze)->ArgNames({"scene", "gaze"})->ArgsProduct({{0, 1}, {0, 1, 2}})->Unit(benchmark::kMillisecond)->UseRealTime();
 
 BENCHMARK(BM_BareEmbree)->ArgName("scene")->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();

@@ -273,15 +273,18 @@ frame trace_reference(const scene& sc, const camera& cam, int width, int height,
   const uint32_t spp = params.spp;
   const float radius = 0.5f / std::sqrt(float(spp));
   // 8x8-pixel tiles keep each packet's rays close together.
-  const int tiles_x = (width + 7) / 8, tiles_y = (height + 7) / 8;
+  constexpr int t = reference_tile;
+  const int tiles_x = (width + t - 1) / t, tiles_y = (height + t - 1) / t;
+  if (params.tile_seconds) params.tile_seconds->assign(size_t(tiles_x) * tiles_y, 0.0);
   tbb::parallel_for(tbb::blocked_range<int>(0, tiles_x * tiles_y), [&](const tbb::blocked_range<int>& r) {
     task_timing timing(params.timing);
     std::vector<sample_ray> rays;
     for (int tile = r.begin(); tile < r.end(); ++tile) {
-      const int x0 = (tile % tiles_x) * 8, y0 = (tile / tiles_x) * 8;
+      const auto tile_start = params.tile_seconds ? std::chrono::steady_clock::now() : std::chrono::steady_clock::time_point();
+      const int x0 = (tile % tiles_x) * t, y0 = (tile / tiles_x) * t;
       rays.clear();
-      for (int y = y0; y < std::min(height, y0 + 8); ++y)
-        for (int x = x0; x < std::min(width, x0 + 8); ++x) {
+      for (int y = y0; y < std::min(height, y0 + t); ++y)
+        for (int x = x0; x < std::min(width, x0 + t); ++x) {
           const uint32_t pixel = uint32_t(y) * uint32_t(width) + uint32_t(x);
           rng random(stream_seed(params.seed, 0x706978656Cull, pixel));
           for (uint32_t s = 0; s < spp; ++s)
@@ -292,6 +295,9 @@ frame trace_reference(const scene& sc, const camera& cam, int width, int height,
                    out.rgb[pixel] = c;
                    out.depth[pixel] = depth;
                  }));
+      if (params.tile_seconds)
+        (*params.tile_seconds)[size_t(tile)] =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - tile_start).count();
     }
   });
   out.rays = uint64_t(width) * height * spp;

@@ -30,7 +30,14 @@ struct trace_params {
   // 3.3: four patterns from one set, so TAA can blend frames with different samples).
   bool mirror_x = false, mirror_y = false;
   trace_timing* timing = nullptr;  // accumulates stage times when set
+  // Reference only: when set, receives each 8 x 8-pixel tile's thread-seconds (row-major,
+  // ceil(W / 8) x ceil(H / 8) tiles): a map of what rays cost where on the screen, so a
+  // foveated frame's time can be compared with what the same content costs at full
+  // resolution (tracer_bench's content-weighted ray ratio).
+  std::vector<double>* tile_seconds = nullptr;
 };
+// The tiles of trace_params::tile_seconds.
+constexpr int reference_tile = 8;
 
 // Per-point results, indexed like the point set (untraced points stay zero).
 struct point_samples {
