@@ -22,8 +22,6 @@ struct rgbd {
   rgbd operator*(double s) const { return {r * s, g * s, b * s}; }
 };
 
-constexpr uint32_t max_neighbours = 32;
-
 }  // namespace
 
 const char* method_name(method m) {
@@ -142,7 +140,7 @@ void pixel_weights(const pointset& set, const reconstruct_params& params, uint32
   const uint32_t k = params.k;
   const uint64_t pixel = uint64_t(cy) * t.width + cx;
   const double x = cx + 0.5, y = cy + 0.5;
-  double xs[max_neighbours], ys[max_neighbours], dist[max_neighbours];
+  double xs[max_knn], ys[max_knn], dist[max_knn];
   double spacing = 0;  // RBF's c scales with the neighbours' mean spacing
   for (uint32_t j = 0; j < k; ++j) {
     const point& p = set.points[t.entries[t.offset(pixel, j)]];
@@ -192,8 +190,8 @@ frame reconstruct(const pointset& set, const point_samples& samples, const recon
   const uint32_t k = params.k;
   constexpr float infinity = std::numeric_limits<float>::infinity();
   tbb::parallel_for(tbb::blocked_range<int>(0, h, 8), [&](const tbb::blocked_range<int>& rows) {
-    double dist[max_neighbours], dist_hit[max_neighbours], depth[max_neighbours], weight[max_neighbours];
-    rgbd value[max_neighbours];
+    double dist[max_knn], dist_hit[max_knn], depth[max_knn], weight[max_knn];
+    rgbd value[max_knn];
     rbf_stats local;
     for (int sy = rows.begin(); sy < rows.end(); ++sy) {
       // A mirrored pattern: this screen pixel reads the table at the mirrored pixel.

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "fov/pointset.h"
+#include "fov/knn_table.h"
 #include "fov/trace.h"
 
 namespace fov {
@@ -45,32 +46,22 @@ struct rbf_stats {
 bool rbf_weights(const double* px, const double* py, uint32_t k, double x, double y, double c, rbf_kernel kernel,
                  double* w, double* condition = nullptr);
 
-// Modified Shepard for one pixel from its neighbours' distances h[0..k) (ascending) and
-// values f: F = sum(w f) / sum(w), w = (R - h) / (R h), R = h[k-1], the farthest.
-//  - h[i] == 0 (a pixel exactly on a point): that point's value;
-//  - every weight zero (all neighbours at distance R, including k = 1): the mean of f.
-// Written for any value type with +, * by double and a zero default value.
+// Modified Shepard as linear weights, from a pixel's neighbours' distances h[0..k)
+// (ascending, k <= max_knn): F = sum w[i] f[i], w[i] = v[i] / sum(v), v = (R - h) / (R h)
+// (squared with renka), R = h[k-1], the farthest;
+//  - h[i] == 0 (a pixel exactly on a point): one-hot on that point;
+//  - every v zero (all neighbours at distance R, including k = 1): 1/k each.
+void shepard_weights(const double* h, uint32_t k, bool renka, double* w);
+
+// The same rule applied to values f of any type with +, * by double and a zero default.
 template <class T>
 T shepard_weighted(const double* h, const T* f, uint32_t k, bool renka) {
-  const double r = h[k - 1];
-  double wsum = 0;
+  double w[max_knn];
+  shepard_weights(h, k, renka, w);
   T acc{};
-  for (uint32_t i = 0; i < k; ++i) {
-    if (h[i] == 0) return f[i];
-    double w = (r - h[i]) / (r * h[i]);
-    if (renka) w *= w;
-    acc = acc + f[i] * w;
-    wsum += w;
-  }
-  if (wsum > 0) return acc * (1.0 / wsum);
-  T mean{};
-  for (uint32_t i = 0; i < k; ++i) mean = mean + f[i];
-  return mean * (1.0 / k);
+  for (uint32_t i = 0; i < k; ++i) acc = acc + f[i] * w[i];
+  return acc;
 }
-
-// The same rule as linear weights: F = sum w[i] f[i] (one-hot on an exact hit, 1/k when
-// every weight is zero).
-void shepard_weights(const double* h, uint32_t k, bool renka, double* w);
 
 // The weights of canvas pixel (cx, cy) under `params` (shepard or rbf): the pixel's value is
 // sum w[j] f[j] over its k neighbours, nearest first. An RBF system too close to singular
