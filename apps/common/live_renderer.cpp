@@ -55,8 +55,8 @@ const frame& live_renderer::foveated(double gx, double gy, const live_settings& 
   if (pending_) {
     const pending_trace& p = *pending_;
     ahead = p.gaze_x == gx && p.gaze_y == gy && same_view(p.view, cam_) && p.set == set_ &&
-            p.settings.spp == s.spp && p.settings.shadows == s.shadows && p.settings.reseed == s.reseed && p.settings.taa == s.taa &&
-            p.settings.reconstruct.k == s.reconstruct.k;
+            p.settings.spp == s.spp && p.settings.shadows == s.shadows && p.settings.reseed == s.reseed &&
+            p.settings.taa == s.taa && p.settings.reconstruct.k == s.reconstruct.k;
     traced t = pending_->result.get();  // rethrows what the trace threw
     pending_.reset();
     if (ahead) samples = std::move(t.samples), trace_ms = t.ms, wait_ms = ms_since(t0);
