@@ -20,6 +20,8 @@ check "gaze off screen"    2 -- "$fovrender" "${set[@]}" --gaze 100,10 -o "$dir/
 check "bad rbf kernel"     2 -- "$fovrender" "${set[@]}" --method rbf --rbf-kernel cubic -o "$dir/a.png"
 check "bad rbf shape"      2 -- "$fovrender" "${set[@]}" --method rbf --rbf-shape -1 -o "$dir/a.png"
 check "rbf"                0 -- "$fovrender" "${set[@]}" --spp 2 --method rbf --k 8 -o "$dir/rbf.png"
+check "footprint unknown"  2 -- "$fovrender" "${set[@]}" --texture-footprint wide -o "$dir/a.png"
+check "pixel footprint"    0 -- "$fovrender" "${set[@]}" --spp 2 --texture-footprint pixel -o "$dir/px.png"
 check "bad device"         2 -- "$fovrender" "${set[@]}" --device tpu -o "$dir/a.png"
 check "cpp device"         0 -- "$fovrender" "${set[@]}" --spp 2 --device cpp -o "$dir/cpp.png"
 check "bad debug view"     2 -- "$fovrender" "${set[@]}" --debug-view heat -o "$dir/a.png"

@@ -223,12 +223,10 @@ TEST(Tracer, EnvironmentSceneReturnsTheImageAlongEachAxis) {
   fs::remove_all(dir);
 }
 
-TEST(Tracer, EnvironmentLookupsAreFilteredByTheRayFootprint) {
-  // A 256 x 128 lat-long checker of single texels, 0 and 1 (8-bit: sRGB-decoded, still 0
-  // and 1). Sharp rays read single texels; a wide footprint reads the mean, 0.5.
-  const fs::path dir = fs::temp_directory_path() / ("fovray-envf-" + std::to_string(getpid()));
+// Writes a w x h lat-long checker of single texels, 0 and 1 (8-bit: sRGB-decoded, still
+// 0 and 1), as dir/checker.png, and returns its path.
+std::string write_texel_checker(const fs::path& dir, int w, int h) {
   fs::create_directories(dir);
-  const int w = 256, h = 128;
   std::vector<uint8_t> px(size_t(w) * h * 3);
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x)
@@ -238,7 +236,14 @@ TEST(Tracer, EnvironmentLookupsAreFilteredByTheRayFootprint) {
   out->open(path, OIIO::ImageSpec(w, h, 3, OIIO::TypeDesc::UINT8));
   out->write_image(OIIO::TypeDesc::UINT8, px.data());
   out->close();
-  const auto s = load_scene("env:" + path);
+  return path;
+}
+
+TEST(Tracer, EnvironmentLookupsAreFilteredByTheRayFootprint) {
+  // Sharp rays read single texels of a texel checker; a wide footprint reads the mean, 0.5.
+  const fs::path dir = fs::temp_directory_path() / ("fovray-envf-" + std::to_string(getpid()));
+  const int h = 128;
+  const auto s = load_scene("env:" + write_texel_checker(dir, 256, h));
   trace_params tp;
   tp.spp = 1;
   // 8 x 4 pixels over 120 degrees: each pixel spans about 15 degrees, some 10 texels.
@@ -252,6 +257,38 @@ TEST(Tracer, EnvironmentLookupsAreFilteredByTheRayFootprint) {
   for (const glm::vec3& c : sharp.rgb) lo = std::min(lo, c.g), hi = std::max(hi, c.g);
   EXPECT_LT(lo, 0.05f);
   EXPECT_GT(hi, 0.95f);
+  fs::remove_all(dir);
+}
+
+TEST(Tracer, PointFootprintPrefiltersTheDiscAndPixelFootprintDoesNot) {
+  // One ray per point over a texel checker seen through 30 degrees on 64 px (a pixel is a
+  // third of a texel). With the disc footprint a point p pixels apart reads the mean over
+  // about 2p / 3 texels; with a pixel's footprint it reads single texels, 0 to 1.
+  const fs::path dir = fs::temp_directory_path() / ("fovray-envp-" + std::to_string(getpid()));
+  const auto s = load_scene("env:" + write_texel_checker(dir, 256, 128));
+  // A display seen from 600 screen widths: the acuity model asks for about 9 px spacing.
+  pointset set;
+  set.model.display = {64, 72, 600.0};
+  set.points = throw_darts(set.model, {});
+  set.table = build_knn_table(set.points, 128, 144, {});
+  const camera cam = look_at({0, 0, 0}, {0, 0, -1}, 30);
+  trace_params tp;
+  tp.spp = 1;
+  const point_samples disc = trace_points(*s, cam, set, 32, 36, 5, tp);
+  tp.footprint = texture_footprint::pixel;
+  const point_samples pixel = trace_points(*s, cam, set, 32, 36, 5, tp);
+  ASSERT_EQ(disc.traced, pixel.traced);
+  double off_disc = 0, off_pixel = 0;  // mean distance from the checker's mean, 0.5
+  size_t wide = 0;
+  for (uint32_t i : disc.traced) {
+    if (set.points[i].spacing < 6) continue;  // at least 4 texels wide
+    off_disc += std::fabs(disc.colour[i].g - 0.5), off_pixel += std::fabs(pixel.colour[i].g - 0.5);
+    ++wide;
+  }
+  ASSERT_GT(wide, 20u);
+  off_disc /= double(wide), off_pixel /= double(wide);
+  EXPECT_LT(off_disc, 0.02);   // the mean over several texels
+  EXPECT_GT(off_pixel, 0.08);  // bilinear between 0 and 1 texels: 0.125 on average
   fs::remove_all(dir);
 }
 

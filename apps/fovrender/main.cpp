@@ -39,7 +39,7 @@ int main(int argc, char** argv) {
   std::string scene_spec = "builtin", points_file, gaze_text = "centre", method_text = "shepard", compare;
   std::vector<std::string> outputs;
   uint32_t k = 5, spp = 32, taa_frames = 0;
-  std::string pattern = "reseed";
+  std::string pattern = "reseed", footprint_text = "disc";
   std::string kernel_text = "multiquadric", device_text = "opencl", debug_view, debug_output;
   double shape = 1.0;
   uint64_t seed = 1;
@@ -61,6 +61,9 @@ int main(int argc, char** argv) {
   app.add_option("--height", height, "Screen height without --points");
   app.add_option("--hfov", hfov, "Horizontal field of view in degrees (default: the scene's camera, else 90)");
   app.add_flag("--no-shadows", no_shadows, "Skip shadow rays");
+  app.add_option("--texture-footprint", footprint_text,
+                 "Foveated rays filter textures over their share of the point's disc (disc, default) or of a pixel "
+                 "(pixel: sharper, cheaper, aliased periphery)");
   app.add_option("--taa-frames", taa_frames, "Render this many frames of the view with TAA");
   app.add_option("--pattern", pattern, "With --taa-frames: reseed (new ray positions each frame), mirror (the set "
                                        "mirrored: four patterns, thesis Sec. 3.3) or fixed");
@@ -90,6 +93,8 @@ int main(int argc, char** argv) {
     if (!reference && points_file.empty()) throw usage_error("--points is required unless --reference");
     if (reference && taa_frames > 0) throw usage_error("--taa-frames applies to foveated frames, not --reference");
     if (taa_frames > 10000) throw usage_error(fmt::format("--taa-frames must lie in 0..10000 (got {})", taa_frames));
+    if (footprint_text != "disc" && footprint_text != "pixel")
+      throw usage_error(fmt::format("--texture-footprint: unknown '{}' (disc, pixel)", footprint_text));
     if (pattern != "reseed" && pattern != "mirror" && pattern != "fixed")
       throw usage_error(fmt::format("--pattern: unknown '{}' (reseed, mirror, fixed)", pattern));
 
@@ -115,15 +120,23 @@ int main(int argc, char** argv) {
     tp.spp = spp;
     tp.seed = seed;
     tp.shadows = !no_shadows;
+    tp.footprint = footprint_text == "pixel" ? fov::texture_footprint::pixel : fov::texture_footprint::disc;
 
     json j;
     if (!no_warmup) {
       // Untimed: OpenImageIO reads textures and builds their MIP levels on first use, once
-      // per process; a full-resolution pass touches the levels the timed frame will read.
+      // per process. The reference reads levels no coarser than a 1-spp full-resolution
+      // pass builds; a foveated frame's wider footprints read coarser ones, which only the
+      // same trace touches (after a 1-spp pass, a helmet frame at s = 1.75 still built levels:
+      // 252 against 66 ms at 1 spp, 284 against 123 ms at 4 spp).
       const auto warm = std::chrono::steady_clock::now();
-      fov::trace_params once = tp;
-      once.spp = 1;
-      fov::trace_reference(*scene, cam, display.width, display.height, once);
+      if (reference) {
+        fov::trace_params once = tp;
+        once.spp = 1;
+        fov::trace_reference(*scene, cam, display.width, display.height, once);
+      } else {
+        fov::trace_points(*scene, cam, set, gaze[0], gaze[1], k, tp);
+      }
       j["warmup_ms"] = ms_since(warm);
     }
     fov::frame image;
@@ -168,10 +181,12 @@ int main(int argc, char** argv) {
         if (frame_index == 0 && (how == fov::method::rbf || (device && device->available()))) {
           // The first launch compiles the kernel for its launch shape (PoCL) and, for RBF,
           // solves the weights of every canvas pixel the screen covers: reported apart, so
-          // reconstruct_ms is what every later frame at this gaze costs.
+          // reconstruct_ms is what every later frame at this gaze costs. It also allocates
+          // the frame the timed runs reuse, as a live loop does (first-touch page faults of a
+          // FOVE frame: 50 ms here).
           const auto first = std::chrono::steady_clock::now();
           if (device) {
-            device->run(samples, rp);
+            device->run(samples, rp, image);
           } else {
             cpu_cache = std::make_unique<fov::rbf_weight_cache>(set, rp);
             cpu_cache->prepare(samples.offset);
@@ -184,12 +199,14 @@ int main(int argc, char** argv) {
         if (taa_frames > 0 && device && device->available()) {
           // Reconstruction and TAA on the device, the frame kept there in between; TAA's
           // share is its kernel's time.
-          image = device->run_taa(samples, rp, taa, cam, gaze, {}, &on_device, rbf_out);
+          device->run_taa(samples, rp, taa, cam, gaze, {}, image, &on_device, rbf_out);
           j["taa_ms"] = device->last_taa_kernel_ms();
           j["reconstruct_ms"] = ms_since(rebuilt) - j["taa_ms"].get<double>();
         } else {
-          image = device ? device->run(samples, rp, &on_device, rbf_out)
-                         : fov::reconstruct(set, samples, rp, rbf_out, cpu_cache.get());
+          if (device)
+            device->run(samples, rp, image, &on_device, rbf_out);
+          else
+            image = fov::reconstruct(set, samples, rp, rbf_out, cpu_cache.get());
           j["reconstruct_ms"] = ms_since(rebuilt);
           if (taa_frames > 0) {
             const auto blended = std::chrono::steady_clock::now();
@@ -215,7 +232,7 @@ int main(int argc, char** argv) {
     j["height"] = display.height;
     j["spp"] = spp;
     j["method"] = reference ? "reference" : fov::method_name(how);
-    if (!reference) j["k"] = k;
+    if (!reference) j["k"] = k, j["texture_footprint"] = footprint_text;
 
     for (const std::string& output : outputs) fov::write_frame(image, output);
     if (!debug_view.empty()) {

@@ -182,7 +182,8 @@ void BM_TracePointsByGaze(benchmark::State& state) {
     return fov::trace_points(s, bench_camera(s), set, gx[g], gy[g], set.table.k, tp).rays;
   });
 }
-// args: scene, spp, scale x 100. Foveated and reference frames traced in turn, each
+// args: scene, spp, scale x 100, pixel footprint (0: disc, the default; 1: pixel; see
+// fov::texture_footprint). Foveated and reference frames traced in turn, each
 // iteration; counters are medians over iterations. The plain goal compares the foveated
 // frame's time with its share of the reference's rays (ray_over_time: ray ratio / time
 // ratio). Rays do not all cost the same, and foveated rays crowd under the gaze, so the
@@ -197,6 +198,7 @@ void BM_ContentWeightedRatio(benchmark::State& state) {
   const fov::display_geometry& d = set.model.display;
   fov::trace_params tp;
   tp.spp = uint32_t(state.range(1));
+  if (state.range(3)) tp.footprint = fov::texture_footprint::pixel;  // foveated rays filtered as the reference's
   using clock = std::chrono::steady_clock;
   auto ms_since = [](clock::time_point t) { return std::chrono::duration<double, std::milli>(clock::now() - t).count(); };
   auto median = [](std::vector<double> v) {
@@ -241,8 +243,16 @@ void BM_ContentWeightedRatio(benchmark::State& state) {
   state.counters["content_over_time"] = median(content) / time_ratio;
 }
 BENCHMARK(BM_ContentWeightedRatio)
-    ->ArgNames({"scene", "spp", "s100"})
-    ->ArgsProduct({{0, 1, 2}, {4, 32}, {100, 175}})
+    ->ArgNames({"scene", "spp", "s100", "pixel_footprint"})
+    ->ArgsProduct({{0, 1, 2}, {4, 32}, {100, 175}, {0}})
+    ->Iterations(3)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+// The helmet's foveated rays with the reference's texture filter width: what is left of
+// its overhead once wider filters (two MIP levels where the reference magnifies) are out.
+BENCHMARK(BM_ContentWeightedRatio)
+    ->ArgNames({"scene", "spp", "s100", "pixel_footprint"})
+    ->ArgsProduct({{1}, {4, 32}, {100, 175}, {1}})
     ->Iterations(3)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();

@@ -66,44 +66,62 @@ struct shaded {
   float depth = infinity;  // camera-space depth, +inf on a miss
 };
 
-shaded shade_hit(const scene::impl& d, const camera_frame& f, const RTCRayHit16& rh, int lane, const glm::vec3& dir,
-                 float radius_px) {
-  shaded out;
-  surface s;
-  d.surface_at(rh.hit.instID[0][lane], rh.hit.primID[lane], rh.hit.u[lane], rh.hit.v[lane], s);
-  const float t = rh.ray.tfar[lane];
-  out.depth = t * glm::dot(dir, f.forward);
-  const float footprint_world = 2 * radius_px * f.pixel_angle * t;
-  const float duv = footprint_world * s.uv_per_world;
-  const material& mat = *s.mat;
-  const glm::vec4 base = d.base_colour(mat, s.uv, duv);
-  glm::vec3 ng = s.geometric_normal, n = s.normal;
-  if (s.tangent.w != 0 && !mat.normal_texture.file.empty()) {
-    const glm::vec3 tn = d.normal_map(mat, s.uv, duv);
-    const glm::vec3 tangent = glm::normalize(glm::vec3(s.tangent) - n * glm::dot(n, glm::vec3(s.tangent)));
-    const glm::vec3 bitangent = glm::cross(n, tangent) * s.tangent.w;
-    n = glm::normalize(tn.x * tangent + tn.y * bitangent + tn.z * n);
+// Shades the hit lanes of a packet. Texture by texture across the lanes (every base
+// colour, then every normal map, then every emission), so that consecutive lookups read
+// the same texture near the same texels: OpenImageIO's per-thread tile cache then hits,
+// where a lane-by-lane order cycled through three textures' tiles.
+void shade_hits(const scene::impl& d, const camera_frame& f, const RTCRayHit16& rh, const bool* hit,
+                const glm::vec3* dirs, const float* radius_px, shaded* out) {
+  surface s[16];
+  float duv[16];
+  glm::vec4 base[16];
+  glm::vec3 normal[16];
+  for (int i = 0; i < 16; ++i) {
+    if (!hit[i]) continue;
+    d.surface_at(rh.hit.instID[0][i], rh.hit.primID[i], rh.hit.u[i], rh.hit.v[i], s[i]);
+    const float t = rh.ray.tfar[i];
+    out[i].depth = t * glm::dot(dirs[i], f.forward);
+    duv[i] = 2 * radius_px[i] * f.pixel_angle * t * s[i].uv_per_world;
   }
-  if (glm::dot(ng, dir) > 0) ng = -ng;
-  if (glm::dot(n, ng) < 0) n = -n;
-  const glm::vec3 albedo(base);
-  out.colour = d.emission(mat, s.uv, duv) + albedo * d.env_mean * d.desc.env.ambient;
+  for (int i = 0; i < 16; ++i)
+    if (hit[i]) base[i] = d.base_colour(*s[i].mat, s[i].uv, duv[i]);
+  for (int i = 0; i < 16; ++i) {
+    if (!hit[i]) continue;
+    normal[i] = s[i].normal;
+    if (s[i].tangent.w == 0 || s[i].mat->normal_texture.file.empty()) continue;
+    const glm::vec3 tn = d.normal_map(*s[i].mat, s[i].uv, duv[i]);
+    const glm::vec3 n = s[i].normal;
+    const glm::vec3 tangent = glm::normalize(glm::vec3(s[i].tangent) - n * glm::dot(n, glm::vec3(s[i].tangent)));
+    const glm::vec3 bitangent = glm::cross(n, tangent) * s[i].tangent.w;
+    normal[i] = glm::normalize(tn.x * tangent + tn.y * bitangent + tn.z * n);
+  }
+  for (int i = 0; i < 16; ++i)
+    if (hit[i]) out[i].colour = d.emission(*s[i].mat, s[i].uv, duv[i]);
   const light& l = d.desc.sun;
-  glm::vec3 irradiance = l.colour;
-  if (l.type == light::kind::directional) {
-    out.to_light = glm::normalize(l.direction);
-    out.light_distance = infinity;
-  } else {
-    const glm::vec3 v = l.position - s.position;
-    out.light_distance = glm::length(v);
-    out.to_light = v / std::max(out.light_distance, 1e-6f);
-    irradiance /= std::max(out.light_distance * out.light_distance, 1e-6f);
+  for (int i = 0; i < 16; ++i) {
+    if (!hit[i]) continue;
+    glm::vec3 ng = s[i].geometric_normal, n = normal[i];
+    if (glm::dot(ng, dirs[i]) > 0) ng = -ng;
+    if (glm::dot(n, ng) < 0) n = -n;
+    const glm::vec3 albedo(base[i]);
+    shaded& o = out[i];
+    o.colour += albedo * d.env_mean * d.desc.env.ambient;
+    glm::vec3 irradiance = l.colour;
+    if (l.type == light::kind::directional) {
+      o.to_light = glm::normalize(l.direction);
+      o.light_distance = infinity;
+    } else {
+      const glm::vec3 v = l.position - s[i].position;
+      o.light_distance = glm::length(v);
+      o.to_light = v / std::max(o.light_distance, 1e-6f);
+      irradiance /= std::max(o.light_distance * o.light_distance, 1e-6f);
+    }
+    const float cos_n = glm::dot(n, o.to_light);
+    if (cos_n > 0 && glm::dot(ng, o.to_light) > 0) o.direct = albedo * irradiance * cos_n;
+    const glm::vec3& pos = s[i].position;
+    const float scale = 1 + std::max({std::fabs(pos.x), std::fabs(pos.y), std::fabs(pos.z)});
+    o.origin = pos + ng * (1e-4f * scale);
   }
-  const float cos_n = glm::dot(n, out.to_light);
-  if (cos_n > 0 && glm::dot(ng, out.to_light) > 0) out.direct = albedo * irradiance * cos_n;
-  const float scale = 1 + std::max({std::fabs(s.position.x), std::fabs(s.position.y), std::fabs(s.position.z)});
-  out.origin = s.position + ng * (1e-4f * scale);
-  return out;
 }
 
 // Traces rays[begin, end) in packets of 16 and hands each result to sink(ray, colour, depth, hit).
@@ -139,18 +157,23 @@ void trace_rays(const scene::impl& d, const camera_frame& f, const sample_ray* r
     timing.timer.mark(t.intersect);
 
     shaded result[16];
+    bool hit[16];
+    float radius[16];
+    for (int i = 0; i < 16; ++i) {
+      hit[i] = i < n && rh.hit.geomID[i] != RTC_INVALID_GEOMETRY_ID;
+      radius[i] = rays[base + std::min(i, n - 1)].radius_px;
+    }
+    shade_hits(d, f, rh, hit, dirs, radius, result);
     alignas(64) int shadow_valid[16];
     alignas(64) RTCRay16 shadow;
     bool any_shadow = false;
     for (int i = 0; i < 16; ++i) {
       shadow_valid[i] = 0;
       if (i >= n) continue;
-      const float radius = rays[base + i].radius_px;
-      if (rh.hit.geomID[i] == RTC_INVALID_GEOMETRY_ID) {
-        result[i].colour = d.environment_radiance(dirs[i], 2 * radius * f.pixel_angle);
+      if (!hit[i]) {
+        result[i].colour = d.environment_radiance(dirs[i], 2 * radius[i] * f.pixel_angle);
         continue;
       }
-      result[i] = shade_hit(d, f, rh, i, dirs[i], radius);
       if (result[i].direct == glm::vec3(0)) continue;
       if (!shadows) {
         result[i].colour += result[i].direct;
@@ -225,6 +248,7 @@ point_samples trace_points(const scene& sc, const camera& cam, const pointset& s
   if (params.timing) choose.mark(params.timing->setup);
   const uint32_t spp = params.spp;
   const float radius_scale = 1.0f / std::sqrt(float(spp));
+  const bool pixel_footprint = params.footprint == texture_footprint::pixel;
   const size_t chunk = std::max<size_t>(1, 256 / spp);  // points per task: about 256 rays
   tbb::parallel_for(tbb::blocked_range<size_t>(0, out.traced.size(), chunk), [&](const tbb::blocked_range<size_t>& r) {
     task_timing timing(params.timing);
@@ -247,7 +271,7 @@ point_samples trace_points(const scene& sc, const camera& cam, const pointset& s
           u = float(bits >> 40) * 0x1.0p-23f - 1;
           v = float((bits >> 8) & 0xFFFFFFu) * 0x1.0p-23f - 1;
         } while (u * u + v * v > 1);
-        rays.push_back({cx + sx * u, cy + sy * v, p.spacing * radius_scale, i});
+        rays.push_back({cx + sx * u, cy + sy * v, (pixel_footprint ? 0.5f : p.spacing) * radius_scale, i});
       }
     }
     trace_rays(d, f, rays.data(), rays.size(), params.shadows, timing,

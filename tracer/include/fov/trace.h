@@ -22,6 +22,14 @@ struct trace_timing {
   double total() const { return setup + intersect + shade + shadow; }
 };
 
+// The filter width of a traced point's ray for texture and environment lookups.
+enum class texture_footprint {
+  disc,   // its share of the point's disc, radius p / sqrt(spp): the point's colour is
+          // prefiltered over its whole disc, as the thesis asks (default)
+  pixel,  // a full-resolution pixel's share, radius 0.5 / sqrt(spp): sharper and, where
+          // textures are minified, cheaper (one MIP level), but peripheral points alias
+};
+
 struct trace_params {
   uint32_t spp = 32;     // rays per point (foveated) or per pixel (reference)
   uint64_t seed = 1;     // fixes the ray positions: the same every frame
@@ -29,6 +37,7 @@ struct trace_params {
   // Foveated only: use the point set mirrored left-right and/or top-bottom (thesis Sec.
   // 3.3: four patterns from one set, so TAA can blend frames with different samples).
   bool mirror_x = false, mirror_y = false;
+  texture_footprint footprint = texture_footprint::disc;  // foveated only
   trace_timing* timing = nullptr;  // accumulates stage times when set
   // Reference only: when set, receives each 8 x 8-pixel tile's thread-seconds (row-major,
   // ceil(W / 8) x ceil(H / 8) tiles): a map of what rays cost where on the screen, so a
