@@ -3,6 +3,7 @@
 # geometry (1280x1440) on the built-in scene and the flight helmet (when ../shared has it).
 #   out/bench/          scale x method x k x rays per sample x gaze, timing and error
 #   out/bench-temporal/ flicker along a camera path, with and without TAA
+#   out/bench-temporal-pixel/ the same with foveated rays filtering textures over a pixel
 # Interrupted? Run it again: --resume keeps every finished row.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -13,11 +14,14 @@ build/apps/fovbench "${scenes[@]}" --display fove --scales 1.0,1.25,1.5,1.75,2.0
   --k 5,20 --spp 1,4,32 --gazes centre,corner --frames 3 --budget-psnr 25 -o out/bench --resume
 build/apps/fovbench --scene builtin --display fove --scales 1.0,1.75 --methods nn,shepard,rbf --k 5 --spp 4 \
   --gazes centre --frames 1 --temporal-frames 8 -o out/bench-temporal --resume
+build/apps/fovbench --scene builtin --display fove --scales 1.0,1.75 --methods nn,shepard,rbf --k 5 --spp 4 \
+  --gazes centre --frames 1 --temporal-frames 8 --texture-footprint pixel -o out/bench-temporal-pixel --resume
 # The tables of docs/speed-accuracy.md, from the two results.csv files.
-python3 - out/bench/results.csv out/bench-temporal/results.csv > out/bench/tables.md <<'PY'
+python3 - out/bench/results.csv out/bench-temporal/results.csv out/bench-temporal-pixel/results.csv > out/bench/tables.md <<'PY'
 import csv, statistics, sys
 rows = list(csv.DictReader(open(sys.argv[1])))
 temporal = list(csv.DictReader(open(sys.argv[2])))
+temporal_pixel = list(csv.DictReader(open(sys.argv[3])))
 f = lambda r, c: float(r[c])
 name = lambda s: "built-in" if s == "builtin" else s.split("/")[-1]
 scenes = list(dict.fromkeys(r["scene"] for r in rows))
@@ -64,5 +68,13 @@ print("| scale | method | flicker without TAA | with TAA | the reference's own |
 print("|---:|---|---:|---:|---:|")
 for r in temporal:
     print(f"| {r['scale']} | {r['method']} | {f(r,'flicker'):.4f} | {f(r,'flicker_taa'):.4f} | {f(r,'flicker_reference'):.4f} |")
+
+print("\n### Texture footprint of foveated rays: disc against pixel (the same sweeps)\n")
+print("| scale | method | PSNR disc | PSNR pixel | PSNR > 30° disc | pixel | flicker disc | pixel | with TAA disc | pixel |")
+print("|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|")
+for a, b in zip(temporal, temporal_pixel):
+    assert (a["scale"], a["method"]) == (b["scale"], b["method"])
+    print(f"| {a['scale']} | {a['method']} | {f(a,'psnr'):.2f} | {f(b,'psnr'):.2f} | {f(a,'psnr_periphery'):.2f} | {f(b,'psnr_periphery'):.2f} "
+          f"| {f(a,'flicker'):.4f} | {f(b,'flicker'):.4f} | {f(a,'flicker_taa'):.4f} | {f(b,'flicker_taa'):.4f} |")
 PY
 echo "tables: out/bench/tables.md"

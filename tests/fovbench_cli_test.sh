@@ -15,6 +15,7 @@ check "bad spp"         2 -- "$fovbench" "${common[@]}" --spp 0 -o "$dir/x"
 check "bad gaze"        2 -- "$fovbench" "${common[@]}" --gazes 500,10 -o "$dir/x"
 check "two budgets"     2 -- "$fovbench" "${common[@]}" --budget-psnr 20 --budget-foveated 0.1 -o "$dir/x"
 check "missing scene"   1 -- "$fovbench" "${common[@]}" --scene "$dir/none.gltf" -o "$dir/x"
+check "bad footprint"   2 -- "$fovbench" "${common[@]}" --texture-footprint wide -o "$dir/x"
 
 sweep=("$fovbench" "${common[@]}" --scene builtin --scales 1.0,2.0 --methods nn,shepard --k 4 --spp 1,2
        --gazes "centre;20,30" --temporal-frames 2 --budget-psnr 10 -o "$dir/out")
@@ -34,6 +35,7 @@ for r in rows:
     assert abs(float(r["speedup"]) - float(r["reference_ms"]) / float(r["frame_ms"])) < 1e-3 * float(r["speedup"])
     assert 0 <= float(r["foveated_error"]) < 1 and float(r["flicker"]) >= 0
 assert {r["gaze"] for r in rows} == {"centre", "20_30"}
+assert {r["texture_footprint"] for r in rows} == {"disc"}
 PY
 grep -q "Fastest within the budget" "$dir/out/report.md" || fail "report.md names no fastest configuration"
 
@@ -44,6 +46,19 @@ head -n -1 "$dir/out/results.csv" > "$dir/cut.csv" && mv "$dir/cut.csv" "$dir/ou
 out=$("${sweep[@]}" --resume 2>&1)
 [[ "$out" == *"15 already in"*"1 to measure"* ]] || fail "resume did not redo the lost row: $out"
 [[ $(($(wc -l < "$dir/out/results.csv") - 1)) -eq 16 ]] || fail "resumed CSV should hold 16 rows"
+check "resume, other footprint" 1 -- "${sweep[@]}" --resume --texture-footprint pixel
+# The pixel footprint reads sharper textures: the same configurations, other colours.
+"$fovbench" "${common[@]}" --scene builtin --scales 2.0 --methods nn --spp 1 --texture-footprint pixel \
+  -o "$dir/pixel" >/dev/null 2>&1 || fail "pixel-footprint sweep"
+python3 - "$dir/out/results.csv" "$dir/pixel/results.csv" <<'PY' || fail "pixel footprint rows"
+import csv, sys
+disc = {(r["gaze"], r["scale"], r["method"], r["spp"]): r for r in csv.DictReader(open(sys.argv[1]))}
+pixel = list(csv.DictReader(open(sys.argv[2])))
+assert len(pixel) == 1 and pixel[0]["texture_footprint"] == "pixel", pixel
+d = disc[("centre", "2.00", "nn", "1")]
+assert d["points_traced"] == pixel[0]["points_traced"]
+assert d["psnr"] != pixel[0]["psnr"], "the footprint changed no colour"
+PY
 
 echo "$passes passed, $failures failed"
 [[ $failures -eq 0 ]]

@@ -14,7 +14,7 @@ namespace fov {
 
 const std::vector<std::string>& result_columns() {
   static const std::vector<std::string> columns = {
-      "scene", "gaze", "gaze_x", "gaze_y", "scale", "method", "k", "spp", "points_traced", "rays", "reference_rays",
+      "scene", "gaze", "gaze_x", "gaze_y", "scale", "method", "k", "spp", "texture_footprint", "points_traced", "rays", "reference_rays",
       "trace_ms", "reconstruct_ms", "frame_ms", "frame_ms_min", "frame_ms_max", "reference_ms", "reference_ms_min",
       "reference_ms_max", "speedup", "psnr", "ssim", "psnr_fovea", "ssim_fovea", "psnr_5_10", "ssim_5_10",
       "psnr_10_20", "ssim_10_20", "psnr_20_30", "ssim_20_30", "psnr_periphery", "ssim_periphery", "foveated_error",
