@@ -120,6 +120,11 @@ std::vector<uint8_t> traced_point_mask(const pointset& set, double gaze_x, doubl
                                  ? t.radius_by_tile.data() + (k_used - 1)
                                  : nullptr;
   const uint32_t tiles_x = t.radius_tiles_x();
+  // On-screen points first: the band scan then tests a point's byte in the mask (580 KB
+  // for the FOVE set, cache-resident) instead of reading its position (16 bytes each).
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, set.points.size(), 4096), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t i = r.begin(); i < r.end(); ++i) mask[i] = on_screen(set.points[i], d, o);
+  });
   // Each block of 16 rows collects into its own list (no copies of partial results).
   constexpr int rows_per_block = 16;
   std::vector<std::vector<uint32_t>> referenced(size_t((d.height + rows_per_block - 1) / rows_per_block));
@@ -137,13 +142,10 @@ std::vector<uint8_t> traced_point_mask(const pointset& set, double gaze_x, doubl
         }
         for (uint32_t j = 0; j < k_used; ++j) {
           const uint32_t i = t.entries[t.offset(row + sx, j)];
-          if (!on_screen(set.points[i], d, o)) acc.push_back(i);
+          if (!mask[i]) acc.push_back(i);
         }
       }
     }
-  });
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, set.points.size(), 4096), [&](const tbb::blocked_range<size_t>& r) {
-    for (size_t i = r.begin(); i < r.end(); ++i) mask[i] = on_screen(set.points[i], d, o);
   });
   for (const std::vector<uint32_t>& block : referenced)
     for (uint32_t i : block) mask[i] = 1;
