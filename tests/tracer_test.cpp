@@ -141,6 +141,40 @@ TEST(Tracer, PointsAreDeterministicAcrossFramesAndThreads) {
   EXPECT_GT(differ, a.traced.size() / 10) << "another seed must move the rays";
 }
 
+TEST(Tracer, PointRayPositionsAreTheRaysTraced) {
+  // A red half-plane covering world x < 0 at z = -5: with a 90-degree, 101-px screen it
+  // covers screen x < 50.5, so a point's red is the share of its rays left of 50.5.
+  scene s(emitter({{-100, -100, -5}, {0, -100, -5}, {0, 100, -5}, {-100, 100, -5}}, {1, 0, 0}));
+  const camera cam = look_at({0, 0, 0}, {0, 0, -1}, 90);
+  pointset set;
+  set.model.display = {101, 101, 1.0};
+  set.points = throw_darts(set.model, {});
+  set.table = build_knn_table(set.points, 202, 202, {});
+  for (bool mirror : {false, true}) {
+    trace_params tp;
+    tp.spp = 8;
+    tp.mirror_x = mirror;
+    const point_samples traced = trace_points(s, cam, set, 40, 50, 5, tp);
+    const std::vector<glm::vec2> at = point_ray_positions(set, traced, tp);
+    ASSERT_EQ(at.size(), traced.traced.size() * 8);
+    size_t checked = 0, mixed = 0;
+    for (size_t k = 0; k < traced.traced.size(); ++k) {
+      int left = 0;
+      bool ambiguous = false;
+      for (size_t r = 0; r < 8; ++r) {
+        left += at[k * 8 + r].x < 50.5f;
+        ambiguous |= std::fabs(at[k * 8 + r].x - 50.5f) < 1e-3f;
+      }
+      if (ambiguous) continue;
+      ASSERT_EQ(traced.colour[traced.traced[k]].r, float(left) / 8) << "point " << traced.traced[k];
+      ++checked;
+      mixed += left > 0 && left < 8;
+    }
+    EXPECT_GT(checked, traced.traced.size() / 2);
+    EXPECT_GT(mixed, 10u) << "points whose discs straddle the edge test the positions themselves";
+  }
+}
+
 TEST(Tracer, ReferenceTileTimesCoverTheScreenAndChangeNothing) {
   const auto s = load_scene("builtin");
   trace_params tp;

@@ -1,6 +1,7 @@
 // Tracer throughput (docs/benchmarks.md):
 //  - the full tracer (ray generation, intersection, shading, shadow rays) against a
-//    bare Embree loop over the same primary rays, at 1280x1440 and 1 ray per pixel;
+//    bare Embree loop over pixel-centre rays at 1280x1440, and over the same foveated
+//    rays trace_points casts (BM_BareEmbreeSameRays);
 //  - a foveated frame (trace_points, centred gaze) against the full-resolution
 //    reference at equal rays per sample, for point sets s = 1.0 and 1.75.
 // Scenes: builtin, ../shared/scenes/flight-helmet when present, and a generated env:
@@ -116,6 +117,55 @@ void BM_BareEmbree(benchmark::State& state) {
   state.counters["Mrays/s"] = benchmark::Counter(double(width) * height * state.iterations() / 1e6, benchmark::Counter::kIsRate);
   state.counters["isect_Mrays_per_thread_s"] = benchmark::Counter(
       double(width) * height * state.iterations() / 1e6 / tbb::this_task_arena::max_concurrency(), benchmark::Counter::kIsRate);
+}
+
+// args: scene, spp, scale x 100. The rays a foveated frame casts (trace_points at the
+// centred gaze reading all k neighbours, as BM_TracePoints), intersected and nothing
+// else: packets of 16 in the tracer's order, split over threads in tasks of 256 rays as
+// the tracer splits them. The bare loop the intersection goal is measured against for
+// foveated rays, which are sparser, so less coherent, than pixel-centre rays.
+void BM_BareEmbreeSameRays(benchmark::State& state) {
+  if (scene_specs().at(size_t(state.range(0))).empty()) return state.SkipWithError("scene absent");
+  if (state.range(0) == 2) return state.SkipWithError("an env: scene has no geometry to intersect");
+  const fov::scene& s = get_scene(size_t(state.range(0)));
+  const fov::pointset& set = get_set(double(state.range(2)) / 100);
+  fov::trace_params tp;
+  tp.spp = uint32_t(state.range(1));
+  const fov::point_samples traced = fov::trace_points(s, bench_camera(s), set, width / 2.0, height / 2.0, set.table.k, tp);
+  const std::vector<glm::vec2> at = fov::point_ray_positions(set, traced, tp);
+  const fov::camera_frame f = fov::make_frame(bench_camera(s), width, height);
+  RTCScene top = s.internals().top;
+  const size_t task = std::max<size_t>(1, 256 / tp.spp) * tp.spp;
+  for (auto _ : state) {
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, (at.size() + task - 1) / task), [&](const tbb::blocked_range<size_t>& tasks) {
+      RTCIntersectContext ctx;
+      alignas(64) RTCRayHit16 rh;
+      alignas(64) int valid[16];
+      for (size_t t = tasks.begin(); t < tasks.end(); ++t)
+        for (size_t base = t * task, end = std::min(at.size(), base + task); base < end; base += 16) {
+          for (int i = 0; i < 16; ++i) {
+            const size_t r = std::min(base + size_t(i), end - 1);
+            const glm::vec3 d = fov::ray_direction(f, at[r].x, at[r].y);
+            valid[i] = base + size_t(i) < end ? -1 : 0;
+            rh.ray.org_x[i] = f.origin.x, rh.ray.org_y[i] = f.origin.y, rh.ray.org_z[i] = f.origin.z;
+            rh.ray.dir_x[i] = d.x, rh.ray.dir_y[i] = d.y, rh.ray.dir_z[i] = d.z;
+            rh.ray.tnear[i] = 0, rh.ray.tfar[i] = INFINITY, rh.ray.time[i] = 0;
+            rh.ray.mask[i] = ~0u, rh.ray.id[i] = unsigned(i), rh.ray.flags[i] = 0;
+            rh.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
+            rh.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
+          }
+          rtcInitIntersectContext(&ctx);
+          ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+          rtcIntersect16(valid, top, &ctx, &rh);
+          benchmark::DoNotOptimize(rh.hit.primID[0]);
+        }
+    });
+  }
+  const double rays = double(at.size()) * double(state.iterations());
+  state.counters["rays"] = double(at.size());
+  state.counters["Mrays/s"] = benchmark::Counter(rays / 1e6, benchmark::Counter::kIsRate);
+  state.counters["isect_Mrays_per_thread_s"] =
+      benchmark::Counter(rays / 1e6 / tbb::this_task_arena::max_concurrency(), benchmark::Counter::kIsRate);
 }
 
 // Runs `trace` once more with stage timing on and reports nanoseconds of thread time per
@@ -260,6 +310,11 @@ BENCHMARK(BM_ContentWeightedRatio)
 BENCHMARK(BM_TracePointsByGaze)->ArgNames({"scene", "gaze"})->ArgsProduct({{0, 1}, {0, 1, 2}})->Unit(benchmark::kMillisecond)->UseRealTime();
 
 BENCHMARK(BM_BareEmbree)->ArgName("scene")->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_BareEmbreeSameRays)
+    ->ArgNames({"scene", "spp", "s100"})
+    ->ArgsProduct({{0, 1}, {4, 32}, {100, 175}})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 BENCHMARK(BM_TraceReference)->ArgNames({"scene", "spp"})->ArgsProduct({{0, 1, 2}, {1, 4, 32}})->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_TracePoints)->ArgNames({"scene", "spp", "s100"})->ArgsProduct({{0, 1, 2}, {4, 32}, {100, 175}})->Unit(benchmark::kMillisecond)->UseRealTime();
 

@@ -220,6 +220,31 @@ auto per_owner_mean(uint32_t spp, Emit emit) {
   };
 }
 
+// Calls emit(x, y) with the screen position of each of point i's params.spp rays: uniform
+// in the disc of radius p around it (rejection from the square, no trigonometry; one
+// splitmix64 draw gives both coordinates, 24 bits each), from a stream seeded by
+// (seed, i), so the point gets the same rays every frame. The set is placed at `offset`
+// and mirrored as trace_params says (the disc mirrored too).
+template <class Emit>
+void point_rays(const pointset& set, uint32_t i, canvas_offset offset, const trace_params& params, Emit&& emit) {
+  const display_geometry& disp = set.model.display;
+  const point& p = set.points[i];
+  uint64_t random = stream_seed(params.seed, 0x7261797375ull, i);
+  float cx = p.x - float(offset.x), cy = p.y - float(offset.y);
+  if (params.mirror_x) cx = float(disp.width) - cx;
+  if (params.mirror_y) cy = float(disp.height) - cy;
+  const float sx = params.mirror_x ? -p.spacing : p.spacing, sy = params.mirror_y ? -p.spacing : p.spacing;
+  for (uint32_t s = 0; s < params.spp; ++s) {
+    float u, v;
+    do {
+      const uint64_t bits = splitmix64(random);
+      u = float(bits >> 40) * 0x1.0p-23f - 1;
+      v = float((bits >> 8) & 0xFFFFFFu) * 0x1.0p-23f - 1;
+    } while (u * u + v * v > 1);
+    emit(cx + sx * u, cy + sy * v);
+  }
+}
+
 void check(const trace_params& p, int width, int height) {
   if (p.spp < 1 || p.spp > 65535) throw std::invalid_argument("spp must lie in 1..65535");
   if (width < 1 || height < 1) throw std::invalid_argument("screen size must be positive");
@@ -256,23 +281,8 @@ point_samples trace_points(const scene& sc, const camera& cam, const pointset& s
     rays.reserve((r.end() - r.begin()) * spp);
     for (size_t k = r.begin(); k < r.end(); ++k) {
       const uint32_t i = out.traced[k];
-      const point& p = set.points[i];
-      uint64_t random = stream_seed(params.seed, 0x7261797375ull, i);  // fixed per point, every frame
-      float cx = p.x - float(out.offset.x), cy = p.y - float(out.offset.y);
-      if (mx) cx = float(disp.width) - cx;
-      if (my) cy = float(disp.height) - cy;
-      const float sx = mx ? -p.spacing : p.spacing, sy = my ? -p.spacing : p.spacing;  // the disc mirrored too
-      for (uint32_t s = 0; s < spp; ++s) {
-        // Uniform in the unit disc by rejection from the square (no trigonometry).
-        // One splitmix64 draw gives both coordinates, 24 bits each (float resolution).
-        float u, v;
-        do {
-          const uint64_t bits = splitmix64(random);
-          u = float(bits >> 40) * 0x1.0p-23f - 1;
-          v = float((bits >> 8) & 0xFFFFFFu) * 0x1.0p-23f - 1;
-        } while (u * u + v * v > 1);
-        rays.push_back({cx + sx * u, cy + sy * v, (pixel_footprint ? 0.5f : p.spacing) * radius_scale, i});
-      }
+      const float radius = (pixel_footprint ? 0.5f : set.points[i].spacing) * radius_scale;
+      point_rays(set, i, out.offset, params, [&](float x, float y) { rays.push_back({x, y, radius, i}); });
     }
     trace_rays(d, f, rays.data(), rays.size(), params.shadows, timing,
                per_owner_mean(spp, [&](uint32_t i, glm::vec3 c, float depth, uint32_t hits) {
@@ -282,6 +292,16 @@ point_samples trace_points(const scene& sc, const camera& cam, const pointset& s
                }));
   });
   out.rays = uint64_t(out.traced.size()) * spp;
+  return out;
+}
+
+std::vector<glm::vec2> point_ray_positions(const pointset& set, const point_samples& samples, const trace_params& params) {
+  check(params, set.model.display.width, set.model.display.height);
+  std::vector<glm::vec2> out;
+  out.reserve(samples.traced.size() * params.spp);
+  trace_params placed = params;  // the placement trace_points used
+  placed.mirror_x = samples.mirror_x, placed.mirror_y = samples.mirror_y;
+  for (uint32_t i : samples.traced) point_rays(set, i, samples.offset, placed, [&](float x, float y) { out.emplace_back(x, y); });
   return out;
 }
 

@@ -67,6 +67,11 @@ struct point_samples {
 point_samples trace_points(const scene& s, const camera& cam, const pointset& set, double gaze_x, double gaze_y,
                            uint32_t k_used, const trace_params& params);
 
+// The screen positions (pixels) of the rays trace_points cast for `samples` (its traced
+// points, placement and mirroring), in the order it cast them: params.spp per point.
+// The same rays without the tracer, for a bare intersection loop over them.
+std::vector<glm::vec2> point_ray_positions(const pointset& set, const point_samples& samples, const trace_params& params);
+
 struct frame {
   int width = 0, height = 0;
   std::vector<glm::vec3> rgb;  // linear
