@@ -83,6 +83,29 @@ const fov::pointset& get_set(double scale) {
   return sets[scale] = fov::generate_pointset(m, {}, {});
 }
 
+// Intersects one packet of primary rays through screen positions at[0, n), n <= 16, and
+// nothing else: what the bare loops below time.
+void intersect_packet(RTCScene top, const fov::camera_frame& f, const glm::vec2* at, int n) {
+  RTCIntersectContext ctx;
+  alignas(64) RTCRayHit16 rh;
+  alignas(64) int valid[16];
+  for (int i = 0; i < 16; ++i) {
+    const glm::vec2 p = at[std::min(i, n - 1)];
+    const glm::vec3 d = fov::ray_direction(f, p.x, p.y);
+    valid[i] = i < n ? -1 : 0;
+    rh.ray.org_x[i] = f.origin.x, rh.ray.org_y[i] = f.origin.y, rh.ray.org_z[i] = f.origin.z;
+    rh.ray.dir_x[i] = d.x, rh.ray.dir_y[i] = d.y, rh.ray.dir_z[i] = d.z;
+    rh.ray.tnear[i] = 0, rh.ray.tfar[i] = INFINITY, rh.ray.time[i] = 0;
+    rh.ray.mask[i] = ~0u, rh.ray.id[i] = unsigned(i), rh.ray.flags[i] = 0;
+    rh.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
+  }
+  rtcInitIntersectContext(&ctx);
+  ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+  rtcIntersect16(valid, top, &ctx, &rh);
+  benchmark::DoNotOptimize(rh.hit.primID[0]);
+}
+
 // Primary rays through pixel centres, packets of 16 over 4x4 pixel blocks: intersection only.
 void BM_BareEmbree(benchmark::State& state) {
   if (scene_specs().at(size_t(state.range(0))).empty()) return state.SkipWithError("scene absent");
@@ -92,25 +115,11 @@ void BM_BareEmbree(benchmark::State& state) {
   RTCScene top = s.internals().top;
   for (auto _ : state) {
     tbb::parallel_for(tbb::blocked_range<int>(0, height / 4), [&](const tbb::blocked_range<int>& rows) {
-      RTCIntersectContext ctx;
-      alignas(64) RTCRayHit16 rh;
-      alignas(64) int valid[16];
+      glm::vec2 at[16];
       for (int by = rows.begin(); by < rows.end(); ++by)
         for (int bx = 0; bx < width / 4; ++bx) {
-          for (int i = 0; i < 16; ++i) {
-            const glm::vec3 d = fov::ray_direction(f, float(bx * 4 + i % 4) + 0.5f, float(by * 4 + i / 4) + 0.5f);
-            valid[i] = -1;
-            rh.ray.org_x[i] = f.origin.x, rh.ray.org_y[i] = f.origin.y, rh.ray.org_z[i] = f.origin.z;
-            rh.ray.dir_x[i] = d.x, rh.ray.dir_y[i] = d.y, rh.ray.dir_z[i] = d.z;
-            rh.ray.tnear[i] = 0, rh.ray.tfar[i] = INFINITY, rh.ray.time[i] = 0;
-            rh.ray.mask[i] = ~0u, rh.ray.id[i] = unsigned(i), rh.ray.flags[i] = 0;
-            rh.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
-            rh.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
-          }
-          rtcInitIntersectContext(&ctx);
-          ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
-          rtcIntersect16(valid, top, &ctx, &rh);
-          benchmark::DoNotOptimize(rh.hit.primID[0]);
+          for (int i = 0; i < 16; ++i) at[i] = {float(bx * 4 + i % 4) + 0.5f, float(by * 4 + i / 4) + 0.5f};
+          intersect_packet(top, f, at, 16);
         }
     });
   }
@@ -138,27 +147,9 @@ void BM_BareEmbreeSameRays(benchmark::State& state) {
   const size_t task = std::max<size_t>(1, 256 / tp.spp) * tp.spp;
   for (auto _ : state) {
     tbb::parallel_for(tbb::blocked_range<size_t>(0, (at.size() + task - 1) / task), [&](const tbb::blocked_range<size_t>& tasks) {
-      RTCIntersectContext ctx;
-      alignas(64) RTCRayHit16 rh;
-      alignas(64) int valid[16];
       for (size_t t = tasks.begin(); t < tasks.end(); ++t)
-        for (size_t base = t * task, end = std::min(at.size(), base + task); base < end; base += 16) {
-          for (int i = 0; i < 16; ++i) {
-            const size_t r = std::min(base + size_t(i), end - 1);
-            const glm::vec3 d = fov::ray_direction(f, at[r].x, at[r].y);
-            valid[i] = base + size_t(i) < end ? -1 : 0;
-            rh.ray.org_x[i] = f.origin.x, rh.ray.org_y[i] = f.origin.y, rh.ray.org_z[i] = f.origin.z;
-            rh.ray.dir_x[i] = d.x, rh.ray.dir_y[i] = d.y, rh.ray.dir_z[i] = d.z;
-            rh.ray.tnear[i] = 0, rh.ray.tfar[i] = INFINITY, rh.ray.time[i] = 0;
-            rh.ray.mask[i] = ~0u, rh.ray.id[i] = unsigned(i), rh.ray.flags[i] = 0;
-            rh.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
-            rh.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
-          }
-          rtcInitIntersectContext(&ctx);
-          ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
-          rtcIntersect16(valid, top, &ctx, &rh);
-          benchmark::DoNotOptimize(rh.hit.primID[0]);
-        }
+        for (size_t base = t * task, end = std::min(at.size(), base + task); base < end; base += 16)
+          intersect_packet(top, f, at.data() + base, int(std::min<size_t>(16, end - base)));
     });
   }
   const double rays = double(at.size()) * double(state.iterations());
