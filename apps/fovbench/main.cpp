@@ -105,6 +105,7 @@ int main(int argc, char** argv) {
   CLI::App app{"fovbench: the speed/accuracy trade of foveated ray tracing, measured"};
   fov::bench_options o;
   std::vector<std::string> method_names{"shepard"};
+  std::string footprint_name = "disc";
   app.add_option("--scene", o.scenes, "Scene (repeat): builtin, a glTF/OBJ file, env:IMAGE")->take_all();
   app.add_option("--display", o.display, "fove, vive, desktop1080, or WxH (v = 1)");
   app.add_option("--scales", o.scales, "Point-set scales, e.g. 1.0,1.5,2.0")->delimiter(',');
@@ -114,7 +115,7 @@ int main(int argc, char** argv) {
   app.add_option("--gazes", o.gazes, "centre, corner, X,Y, or N (N seeded random gazes)")->delimiter(';');
   app.add_option("-o,--out", o.out, "Output directory (results.csv, plots, report.md, references/)");
   app.add_option("--points-dir", o.points_dir, "Where point sets are read, or generated when missing");
-  app.add_option("--texture-footprint", o.texture_footprint,
+  app.add_option("--texture-footprint", footprint_name,
                  "Foveated rays filter textures over their share of the point's disc (disc) or of a pixel (pixel)");
   app.add_option("--frames", o.frames, "Timed frames per configuration and reference (median reported)");
   app.add_option("--temporal-frames", o.temporal_frames, "Frames of the camera path for flicker (0: skip)");
@@ -155,8 +156,9 @@ int main(int argc, char** argv) {
     if (o.frames < 1 || o.frames > 100) throw usage_error("--frames must lie in 1..100");
     if (o.temporal_frames == 1 || o.temporal_frames > 200) throw usage_error("--temporal-frames must be 0 or 2..200");
     if (o.device != "opencl" && o.device != "cpp") throw usage_error("--device: opencl or cpp");
-    if (o.texture_footprint != "disc" && o.texture_footprint != "pixel")
-      throw usage_error(fmt::format("--texture-footprint: unknown '{}' (disc, pixel)", o.texture_footprint));
+    if (!fov::parse_texture_footprint(footprint_name, o.footprint))
+      throw usage_error(fmt::format("--texture-footprint: unknown '{}' (disc, pixel)", footprint_name));
+    const std::string footprint = fov::texture_footprint_name(o.footprint);
     if (!std::isnan(o.budget_psnr) && !std::isnan(o.budget_foveated)) throw usage_error("give one budget");
     fov::display_geometry display;
     if (!fov::display_preset(o.display, display)) {
@@ -179,9 +181,9 @@ int main(int argc, char** argv) {
     if (fs::exists(results_path)) {
       if (!o.resume) throw std::runtime_error(fmt::format("{} exists: add --resume to continue that sweep, or choose another -o", results_path));
       for (const fov::result_row& r : fov::read_results(results_path)) {
-        if (r.text("texture_footprint") != o.texture_footprint)  // one footprint per results.csv: it is not in the key
+        if (r.text("texture_footprint") != footprint)  // one footprint per results.csv: it is not in the key
           throw std::runtime_error(fmt::format("{}: its rows were traced with --texture-footprint {}, not {}; use another -o",
-                                               results_path, r.text("texture_footprint"), o.texture_footprint));
+                                               results_path, r.text("texture_footprint"), footprint));
         done.insert(r.key());
       }
     }
@@ -323,7 +325,7 @@ int main(int argc, char** argv) {
             fov::trace_params tp;
             tp.spp = spp;
             tp.seed = o.seed;
-            tp.footprint = o.texture_footprint == "pixel" ? fov::texture_footprint::pixel : fov::texture_footprint::disc;
+            tp.footprint = o.footprint;
             std::map<uint32_t, timing> trace_ms;
             std::map<uint32_t, uint64_t> trace_rays, trace_points;
             fov::point_samples samples;
@@ -367,7 +369,7 @@ int main(int argc, char** argv) {
               row.cells = {{"scene", o.scenes[sc]}, {"gaze", gp.name}, {"gaze_x", number(gp.x)}, {"gaze_y", number(gp.y)},
                            {"scale", fmt::format("{:.2f}", o.scales[si])}, {"method", fov::method_name(c->how)},
                            {"k", std::to_string(c->k)}, {"spp", std::to_string(spp)},
-                           {"texture_footprint", o.texture_footprint},
+                           {"texture_footprint", footprint},
                            {"points_traced", std::to_string(trace_points[c->k])}, {"rays", std::to_string(trace_rays[c->k])},
                            {"reference_rays", std::to_string(ref.rays)}, {"trace_ms", number(tr.median)},
                            {"reconstruct_ms", number(rec.median)}, {"frame_ms", number(frame.median)},

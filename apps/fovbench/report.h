@@ -22,7 +22,7 @@ struct bench_options {
   std::vector<std::string> gazes{"centre"};
   std::string out = "out/bench";
   std::string points_dir = "precomputed";
-  std::string texture_footprint = "disc";  // of foveated rays (fov::texture_footprint), for the whole sweep
+  texture_footprint footprint = texture_footprint::disc;  // of foveated rays, for the whole sweep
   uint32_t frames = 3;
   uint32_t temporal_frames = 0;
   bool resume = false;

@@ -93,7 +93,8 @@ int main(int argc, char** argv) {
     if (!reference && points_file.empty()) throw usage_error("--points is required unless --reference");
     if (reference && taa_frames > 0) throw usage_error("--taa-frames applies to foveated frames, not --reference");
     if (taa_frames > 10000) throw usage_error(fmt::format("--taa-frames must lie in 0..10000 (got {})", taa_frames));
-    if (footprint_text != "disc" && footprint_text != "pixel")
+    fov::texture_footprint footprint;
+    if (!fov::parse_texture_footprint(footprint_text, footprint))
       throw usage_error(fmt::format("--texture-footprint: unknown '{}' (disc, pixel)", footprint_text));
     if (pattern != "reseed" && pattern != "mirror" && pattern != "fixed")
       throw usage_error(fmt::format("--pattern: unknown '{}' (reseed, mirror, fixed)", pattern));
@@ -120,7 +121,7 @@ int main(int argc, char** argv) {
     tp.spp = spp;
     tp.seed = seed;
     tp.shadows = !no_shadows;
-    tp.footprint = footprint_text == "pixel" ? fov::texture_footprint::pixel : fov::texture_footprint::disc;
+    tp.footprint = footprint;
 
     json j;
     if (!no_warmup) {
@@ -232,7 +233,7 @@ int main(int argc, char** argv) {
     j["height"] = display.height;
     j["spp"] = spp;
     j["method"] = reference ? "reference" : fov::method_name(how);
-    if (!reference) j["k"] = k, j["texture_footprint"] = footprint_text;
+    if (!reference) j["k"] = k, j["texture_footprint"] = fov::texture_footprint_name(footprint);
 
     for (const std::string& output : outputs) fov::write_frame(image, output);
     if (!debug_view.empty()) {

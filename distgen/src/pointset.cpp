@@ -76,8 +76,7 @@ void set_knn_radii(knn_table& t, const std::vector<point>& points) {
   t.radius_by_rank.clear();
   t.max_radius = 0;
   if (t.k == 0 || t.entries.empty()) return;
-  const uint32_t tile = knn_table::radius_tile, tiles_x = t.radius_tiles_x();
-  const uint32_t tiles_y = (t.height + tile - 1) / tile;
+  const uint32_t tile = knn_table::radius_tile, tiles_x = t.radius_tiles_x(), tiles_y = t.radius_tiles_y();
   t.radius_by_tile.assign(size_t(tiles_x) * tiles_y * t.k, 0.0f);
   tbb::parallel_for(uint32_t(0), tiles_x * tiles_y, [&](uint32_t index) {
     float* r = t.radius_by_tile.data() + size_t(index) * t.k;
@@ -115,11 +114,10 @@ std::vector<uint8_t> traced_point_mask(const pointset& set, double gaze_x, doubl
   const float radius = t.radius_by_rank.size() == t.k ? t.radius_by_rank[k_used - 1] : t.max_radius;
   const int band = radius > 0 ? int(std::ceil(radius)) + 1 : std::max(d.width, d.height);
   // Pixels whose tile's radius (rank k_used) stays inside the screen are skipped.
-  const float* tile_radius = t.radius_by_tile.size() == size_t(t.radius_tiles_x()) *
-                                                            ((t.height + knn_table::radius_tile - 1) / knn_table::radius_tile) * t.k
+  const uint32_t tiles_x = t.radius_tiles_x();
+  const float* tile_radius = t.radius_by_tile.size() == size_t(tiles_x) * t.radius_tiles_y() * t.k
                                  ? t.radius_by_tile.data() + (k_used - 1)
                                  : nullptr;
-  const uint32_t tiles_x = t.radius_tiles_x();
   // On-screen points first: the band scan then tests a point's byte in the mask (580 KB
   // for the FOVE set, cache-resident) instead of reading its position (16 bytes each).
   tbb::parallel_for(tbb::blocked_range<size_t>(0, set.points.size(), 4096), [&](const tbb::blocked_range<size_t>& r) {

@@ -252,6 +252,14 @@ void check(const trace_params& p, int width, int height) {
 
 }  // namespace
 
+const char* texture_footprint_name(texture_footprint f) { return f == texture_footprint::pixel ? "pixel" : "disc"; }
+
+bool parse_texture_footprint(const std::string& name, texture_footprint& out) {
+  if (name == "disc") { out = texture_footprint::disc; return true; }
+  if (name == "pixel") { out = texture_footprint::pixel; return true; }
+  return false;
+}
+
 point_samples trace_points(const scene& sc, const camera& cam, const pointset& set, double gaze_x, double gaze_y,
                            uint32_t k_used, const trace_params& params) {
   const display_geometry& disp = set.model.display;

@@ -92,6 +92,7 @@ struct knn_table {
   static constexpr uint32_t radius_tile = 32;
   std::vector<float> radius_by_tile;
   uint32_t radius_tiles_x() const { return (width + radius_tile - 1) / radius_tile; }
+  uint32_t radius_tiles_y() const { return (height + radius_tile - 1) / radius_tile; }
   std::vector<uint32_t, table_allocator<uint32_t>> entries;  // width * height * k point indices
 
   uint64_t pixel_count() const { return uint64_t(width) * height; }

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -29,6 +30,8 @@ enum class texture_footprint {
   pixel,  // a full-resolution pixel's share, radius 0.5 / sqrt(spp): sharper and, where
           // textures are minified, cheaper (one MIP level), but peripheral points alias
 };
+const char* texture_footprint_name(texture_footprint f);  // "disc" or "pixel"
+bool parse_texture_footprint(const std::string& name, texture_footprint& out);
 
 struct trace_params {
   uint32_t spp = 32;     // rays per point (foveated) or per pixel (reference)
