@@ -183,8 +183,8 @@ int main(int argc, char** argv) {
           // The first launch compiles the kernel for its launch shape (PoCL) and, for RBF,
           // solves the weights of every canvas pixel the screen covers: reported apart, so
           // reconstruct_ms is what every later frame at this gaze costs. It also allocates
-          // the frame the timed runs reuse, as a live loop does (first-touch page faults of a
-          // FOVE frame: 50 ms here).
+          // the frame the timed runs reuse, as a live loop does (allocating and first touching
+          // a new FOVE frame inside the timed run cost about 50 ms here: docs/benchmarks.md).
           const auto first = std::chrono::steady_clock::now();
           if (device) {
             device->run(samples, rp, image);
