@@ -3,7 +3,12 @@
 // pattern (mirror_x, mirror_y) screen pixel (x, y) reads the table at the mirrored pixel.
 // Same rules as the C++ path (interp/include/fov/reconstruct.h), in float.
 
-#define MAX_K 32
+// Constants shared with C++ come from the host at build time (cl_reconstructor::
+// kernel_build_options): FOV_MAX_K = max_knn (knn_table.h), FOV_RBF_TILE =
+// rbf_weight_cache::tile (rbf_cache.h).
+#if !defined(FOV_MAX_K) || !defined(FOV_RBF_TILE)
+#error "build with -DFOV_MAX_K=... -DFOV_RBF_TILE=... (cl_reconstructor::kernel_build_options)"
+#endif
 
 // Offset of rank j of a canvas pixel in the grouped-plane table (docs/pointset-format.md).
 inline ulong table_offset(ulong pixel, uint j, uint k_stored, uint group, ulong pixel_count) {
@@ -58,8 +63,8 @@ __kernel void reconstruct_shepard(__global const uint* table, uint canvas_width,
   const int tx = mirror_x ? (int)width - 1 - sx : sx, ty = mirror_y ? (int)get_global_size(1) - 1 - sy : sy;
   const ulong pixel = (ulong)(ty + offset_y) * canvas_width + (ulong)(tx + offset_x);
   const float2 centre = (float2)((float)(tx + offset_x) + 0.5f, (float)(ty + offset_y) + 0.5f);
-  float h[MAX_K];
-  uint idx[MAX_K];
+  float h[FOV_MAX_K];
+  uint idx[FOV_MAX_K];
   for (uint j = 0; j < k; ++j) {
     idx[j] = table[table_offset(pixel, j, k_stored, group, pixel_count)];
     h[j] = distance(position[idx[j]], centre);
@@ -91,7 +96,7 @@ __kernel void reconstruct_shepard(__global const uint* table, uint canvas_width,
 }
 
 // Precomputed linear weights (RBF, interp/include/fov/rbf_cache.h): colour = sum w_j f_j with
-// the canvas pixel's k weights, stored tile-major (64 x 64 canvas pixels per tile); depth
+// the canvas pixel's k weights, stored tile-major (FOV_RBF_TILE^2 canvas pixels per tile); depth
 // as Shepard's.
 __kernel void reconstruct_weighted(__global const uint* table, uint canvas_width, uint k_stored, uint group,
                                    ulong pixel_count, int offset_x, int offset_y, uint width, uint mirror_x, uint mirror_y,
@@ -103,10 +108,12 @@ __kernel void reconstruct_weighted(__global const uint* table, uint canvas_width
   const uint cx = (uint)(tx + offset_x), cy = (uint)(ty + offset_y);
   const ulong pixel = (ulong)cy * canvas_width + cx;
   const float2 centre = (float2)((float)cx + 0.5f, (float)cy + 0.5f);
-  __global const float* w = weights + ((ulong)(cy / 64) * tiles_x + cx / 64) * (64 * 64 * (ulong)k) +
-                            ((ulong)(cy % 64) * 64 + cx % 64) * k;
-  float h[MAX_K];
-  uint idx[MAX_K];
+  __global const float* w = weights +
+                            ((ulong)(cy / FOV_RBF_TILE) * tiles_x + cx / FOV_RBF_TILE) *
+                                (FOV_RBF_TILE * FOV_RBF_TILE * (ulong)k) +
+                            ((ulong)(cy % FOV_RBF_TILE) * FOV_RBF_TILE + cx % FOV_RBF_TILE) * k;
+  float h[FOV_MAX_K];
+  uint idx[FOV_MAX_K];
   float4 acc = (float4)(0.0f);
   for (uint j = 0; j < k; ++j) {
     idx[j] = table[table_offset(pixel, j, k_stored, group, pixel_count)];

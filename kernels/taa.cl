@@ -2,11 +2,26 @@
 // (reprojection by depth, clipping towards the current 3x3 neighbourhood, blending with
 // the focus-lag ramp), one work item per pixel, in float.
 
-// A camera frame: origin, right, up, forward (xyz of float4s) and half extents.
+// A camera frame: origin, right, up, forward (xyz of float4s) and half extents. The host's
+// twin is cl_taa_camera (interp/src/cl_reconstruct.cpp); taa_camera_layout reports this
+// side's layout so a test holds the two equal.
 typedef struct {
   float4 origin, right, up, forward;
   float half_width, half_height;
 } taa_camera;
+
+// sizeof(taa_camera), then the byte offset of each field in declaration order.
+__kernel void taa_camera_layout(__global uint* out) {
+  taa_camera c;
+  __private const char* base = (__private const char*)&c;
+  out[0] = (uint)sizeof(taa_camera);
+  out[1] = (uint)((__private const char*)&c.origin - base);
+  out[2] = (uint)((__private const char*)&c.right - base);
+  out[3] = (uint)((__private const char*)&c.up - base);
+  out[4] = (uint)((__private const char*)&c.forward - base);
+  out[5] = (uint)((__private const char*)&c.half_width - base);
+  out[6] = (uint)((__private const char*)&c.half_height - base);
+}
 
 inline float3 taa_ray(const taa_camera* c, float sx, float sy, int w, int h) {
   const float u = (2 * sx / (float)w - 1) * c->half_width;
@@ -72,16 +87,18 @@ __kernel void taa_resolve(__global const float4* current, __global const float* 
   // 2. Clip the history towards the current colour, into the neighbourhood's box. Row and
   // column indices are clamped once; the clip runs on all four lanes at once (the fourth,
   // alpha, is 1 everywhere and never limits t).
+  // The moments are of the differences from c: in a near-flat neighbourhood the plain
+  // E[x^2] - E[x]^2 cancels to float noise, whose square root (~1e-3 x) moved the box.
   const int xl = max(x - 1, 0), xr = min(x + 1, w - 1);
   float4 sum = (float4)(0.0f), sum2 = (float4)(0.0f);
   for (int dy = -1; dy <= 1; ++dy) {
     __global const float4* row = current + clamp(y + dy, 0, h - 1) * w;
-    const float4 a = row[xl], b = row[x], e = row[xr];
+    const float4 a = row[xl] - c, b = row[x] - c, e = row[xr] - c;
     sum += a + b + e;
     sum2 += a * a + b * b + e * e;
   }
-  const float4 mean = sum / 9.0f;
-  const float4 sigma = sqrt(fmax(sum2 / 9.0f - mean * mean, (float4)(0.0f)));
+  const float4 offset = sum / 9.0f, mean = c + offset;
+  const float4 sigma = sqrt(fmax(sum2 / 9.0f - offset * offset, (float4)(0.0f)));
   const float4 lo = fmin(mean - gamma * sigma, c), hi = fmax(mean + gamma * sigma, c);
   const float4 d = hist - c;
   // Per channel the t at which c + t d leaves the box; channels with d = 0 never do.

@@ -8,6 +8,7 @@
 #include "fov/rbf_cache.h"
 #include "fov/dart_throwing.h"
 #include "fov/knn_table.h"
+#include "opencl_required.h"
 
 namespace fov {
 namespace {
@@ -22,7 +23,7 @@ struct device_fixture : ::testing::Test {
     kp.k = 32;
     kp.group = 4;
     set.table = build_knn_table(set.points, 112, 96, kp);
-    samples.offset = offset_for_gaze(set.model.display, 20, 30);
+    samples.offset = offset_for_gaze(set.model.display, {20, 30});
     std::mt19937 random(9);
     std::uniform_real_distribution<float> u(0, 1);
     samples.colour.resize(set.points.size());
@@ -36,7 +37,7 @@ struct device_fixture : ::testing::Test {
 
 TEST_F(device_fixture, KernelsMatchTheCppPathOnRandomFields) {
   cl_reconstructor device(set);
-  if (!device.available()) GTEST_SKIP() << "no OpenCL device: " << device.reason();
+  FOV_REQUIRE_DEVICE(device);
   std::cout << "OpenCL device: " << device.device() << "\n";
   for (method m : {method::nn, method::shepard, method::rbf})
     for (uint32_t k : {1u, 5u, 10u, 20u, 32u})
@@ -46,12 +47,13 @@ TEST_F(device_fixture, KernelsMatchTheCppPathOnRandomFields) {
         rp.how = m;
         rp.k = k;
         rp.renka = renka;
-        bool on_device = false;
         point_samples s = samples;
         s.mirror_x = k == 5 || k == 20, s.mirror_y = k == 10 || k == 20;  // mirrored patterns too
-        const frame a = device.run(s, rp, &on_device);
+        frame a;
+        const reconstruct_result ran = device.run(s, rp, a);
         const frame b = reconstruct(set, s, rp);
-        ASSERT_TRUE(on_device);
+        ASSERT_TRUE(ran.on_device);
+        EXPECT_GT(ran.kernel_ms, 0.0);
         ASSERT_EQ(a.rgb.size(), b.rgb.size());
         for (size_t i = 0; i < a.rgb.size(); ++i) {
           for (int c = 0; c < 3; ++c)
@@ -67,7 +69,7 @@ TEST_F(device_fixture, KernelsMatchTheCppPathOnRandomFields) {
 
 TEST_F(device_fixture, KernelsReproduceAConstantField) {
   cl_reconstructor device(set);
-  if (!device.available()) GTEST_SKIP() << "no OpenCL device: " << device.reason();
+  FOV_REQUIRE_DEVICE(device);
   for (glm::vec3& c : samples.colour) c = {0.25f, 0.5f, 0.75f};
   for (method m : {method::nn, method::shepard, method::rbf})
   for (uint32_t k : {1u, 2u, 5u, 10u, 20u, 32u}) {
@@ -84,12 +86,12 @@ TEST_F(device_fixture, KernelsReproduceAConstantField) {
 
 TEST_F(device_fixture, RbfWeightsAreComputedOncePerTileAndReused) {
   cl_reconstructor device(set);
-  if (!device.available()) GTEST_SKIP() << "no OpenCL device: " << device.reason();
+  FOV_REQUIRE_DEVICE(device);
   reconstruct_params rp;
   rp.how = method::rbf;
   rp.k = 10;
-  rbf_stats stats;
-  const frame first = device.run(samples, rp, nullptr, &stats);
+  frame first;
+  const rbf_stats stats = device.run(samples, rp, first).rbf;
   ASSERT_NE(device.rbf_cache(), nullptr);
   const size_t tiles = device.rbf_cache()->tiles_ready();
   EXPECT_EQ(tiles, 4u);  // the screen at offset (36, 18) touches all four tiles of the 112 x 96 canvas
@@ -126,7 +128,7 @@ TEST_F(device_fixture, RbfWeightsAreComputedOncePerTileAndReused) {
 
 TEST_F(device_fixture, TaaOnTheDeviceMatchesTheCppPath) {
   cl_reconstructor device(set);
-  if (!device.available()) GTEST_SKIP() << "no OpenCL device: " << device.reason();
+  FOV_REQUIRE_DEVICE(device);
   reconstruct_params rp;
   rp.k = 5;
   // Four frames: a still one, then the camera turns and moves while the gaze jumps; the
@@ -141,16 +143,16 @@ TEST_F(device_fixture, TaaOnTheDeviceMatchesTheCppPath) {
     for (int f = 0; f < 4; ++f) {
       for (glm::vec3& c : samples.colour) c = {u(random), u(random), u(random)};
       const camera cam = look_at({0.05f * f, 0, 0.1f * (f > 1)}, {0.3f - 0.05f * f, 0, -5}, 70);
-      const double gaze[2] = {20.0 + 8 * (f > 1), 30.0 - 10 * (f == 3)};
+      const gaze_point gaze{20.0 + 8 * (f > 1), 30.0 - 10 * (f == 3)};
       const display_geometry& d = set.model.display;
       const frame expected = taa_resolve(in_cpp, reconstruct(set, samples, rp), cam, d, gaze, tp);
       frame got;
       if (f == 2) {
         got = taa_resolve(on_device, reconstruct(set, samples, rp), cam, d, gaze, tp);
       } else {
-        bool ran = false;
-        got = device.run_taa(samples, rp, on_device, cam, gaze, tp, &ran);
-        ASSERT_TRUE(ran);
+        const reconstruct_result ran = device.run_taa(samples, rp, on_device, cam, gaze, tp, got);
+        ASSERT_TRUE(ran.on_device);
+        if (f == 3) EXPECT_GT(ran.taa_kernel_ms, 0.0);
       }
       ASSERT_EQ(got.rgb.size(), expected.rgb.size());
       for (size_t i = 0; i < got.rgb.size(); ++i)
@@ -159,7 +161,35 @@ TEST_F(device_fixture, TaaOnTheDeviceMatchesTheCppPath) {
       EXPECT_EQ(on_device.generation, in_cpp.generation);
     }
   }
-  EXPECT_GT(device.last_taa_kernel_ms(), 0.0);
+}
+
+// The kernels take every constant they share with C++ from the host (-D at build time),
+// and the struct the TAA kernel reads has the host's layout.
+TEST_F(device_fixture, KernelConstantsAndStructLayoutComeFromTheHost) {
+  const std::string options = cl_reconstructor::kernel_build_options();
+  EXPECT_NE(options.find("-DFOV_MAX_K=" + std::to_string(max_knn)), std::string::npos) << options;
+  EXPECT_NE(options.find("-DFOV_RBF_TILE=" + std::to_string(rbf_weight_cache::tile)), std::string::npos) << options;
+  cl_reconstructor device(set);
+  FOV_REQUIRE_DEVICE(device);
+  const std::vector<uint32_t> host = cl_reconstructor::host_taa_camera_layout(), dev = device.device_taa_camera_layout();
+  ASSERT_EQ(host.size(), 7u);
+  EXPECT_EQ(host, dev) << "sizeof and field offsets of taa_camera differ between host and device";
+}
+
+// The C++ mode never touches OpenCL and runs every method on the C++ path.
+TEST_F(device_fixture, TheCppModeRunsTheCppPath) {
+  cl_reconstructor cpp(set, reconstruct_device::cpp);
+  EXPECT_FALSE(cpp.available());
+  EXPECT_EQ(cpp.device(), "C++ (TBB)");
+  reconstruct_params rp;
+  rp.how = method::rbf;
+  rp.k = 5;
+  frame got;
+  const reconstruct_result ran = cpp.run(samples, rp, got);
+  EXPECT_FALSE(ran.on_device);
+  EXPECT_EQ(ran.rbf.pixels, 112u * 96u);
+  const frame expected = reconstruct(set, samples, rp);
+  for (size_t i = 0; i < got.rgb.size(); ++i) ASSERT_NEAR(got.rgb[i].r, expected.rgb[i].r, 1e-5) << i;
 }
 
 }  // namespace

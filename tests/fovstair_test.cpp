@@ -11,9 +11,12 @@
 #include <gtest/gtest.h>
 
 #include "analysis.h"
+#include "fov/dart_throwing.h"
+#include "fov/knn_table.h"
 #include "observer.h"
 #include "protocol.h"
 #include "session.h"
+#include "simulation.h"
 #include "staircase.h"
 
 namespace fov {
@@ -296,6 +299,60 @@ TEST(Observer, StaircaseEstimatesConverge) {
     const double target = 1.7 + std::log(rc.target_p / (1 - rc.target_p)) / 8;
     EXPECT_NEAR(sum / runs, target, 0.03) << rc.up << "-up/" << rc.down << "-down";
   }
+}
+
+// A protocol's hfov reaches the stimulus for every scene kind (the built-in scene and env:
+// images have a camera of their own that the old code kept): two protocols differing
+// only in hfov give different trial frames; without hfov the scene's camera is used.
+TEST(Protocol, HfovReachesTheTrialFrames) {
+  auto set = std::make_shared<pointset>();
+  set->model.display = {48, 40, 1.0};
+  set->points = throw_darts(set->model, {});
+  knn_params kp;
+  kp.k = 8;
+  set->table = build_knn_table(set->points, set->canvas_width(), set->canvas_height(), kp);
+  set_knn_radii(set->table, set->points);
+  const std::string base = "{\n\"fovstair_protocol\": 1,\n\"spp\": 2,\n\"taa\": false,\n\"conditions\": [{\"name\": \"A\", \"method\": \"nn\", \"k\": 1}]";
+  const stair_protocol wide = parse_protocol(base + "\n}", "wide.json");
+  const stair_protocol narrow = parse_protocol(base + ",\n\"hfov\": 40\n}", "narrow.json");
+  EXPECT_EQ(stimulus_params(narrow, narrow.conditions[0]).view.hfov_deg, 40.0f);
+  EXPECT_EQ(stimulus_params(wide, wide.conditions[0]).view.hfov_deg, 0.0f);
+  std::shared_ptr<const scene> scn = load_scene(wide.scene);
+  auto trial_frame = [&](const stair_protocol& p) {
+    const render_params rp = stimulus_params(p, p.conditions[0]);
+    renderer r(scn, rp);
+    r.use_pointset(set);
+    return std::make_pair(r.foveated({24, 20}, rp), r.cam().hfov_deg);
+  };
+  const auto [a, a_hfov] = trial_frame(wide);
+  const auto [b, b_hfov] = trial_frame(narrow);
+  EXPECT_EQ(a_hfov, scn->description().scene_camera->hfov_deg);
+  EXPECT_EQ(b_hfov, 40.0f);
+  double diff = 0;
+  for (size_t i = 0; i < a.rgb.size(); ++i) diff += glm::length(a.rgb[i] - b.rgb[i]);
+  EXPECT_GT(diff / double(a.rgb.size()), 0.01);
+}
+
+TEST(Simulation, LevittTargetsAndARuleConverges) {
+  EXPECT_NEAR(levitt_target_probability(1, 1), 0.5, 1e-12);
+  EXPECT_NEAR(levitt_target_probability(1, 2), std::sqrt(0.5), 1e-12);
+  EXPECT_NEAR(levitt_target_probability(1, 3), std::cbrt(0.5), 1e-12);
+  EXPECT_NEAR(levitt_target_probability(2, 1), 1 - std::sqrt(0.5), 1e-12);  // the mirror rule
+  // 2-up/2-down is symmetric in detections and misses: it targets 1/2.
+  EXPECT_NEAR(levitt_target_probability(2, 2), 0.5, 1e-12);
+  EXPECT_NEAR(down_run_probability(0.3, 1, 1), 0.3, 1e-12);
+  const observer_model m = parse_observer("logistic:threshold=1.7,slope=8");
+  EXPECT_NEAR(scale_at_probability(m, 0.5, false), 1.7, 1e-9);
+  EXPECT_NEAR(detect_probability(m, scale_at_probability(m, 0.8, true), true), 0.8, 1e-9);
+  stair_protocol p = parse_protocol("{\"fovstair_protocol\": 1, \"conditions\": [{\"name\": \"A\"}], \"catch_rate\": 0}", "p.json");
+  p.rule.initial_step = 0.1, p.rule.step = 0.02, p.rule.discard_reversals = 6, p.rule.thresholds = 16, p.rule.max_trials = 600;
+  const simulation_result r = simulate_rule(p, m, 100);
+  EXPECT_EQ(r.series, 100u);
+  EXPECT_EQ(r.incomplete, 0u);
+  EXPECT_EQ(r.estimates.size(), 100u);
+  EXPECT_NEAR(r.target_probability, 0.5, 1e-12);
+  EXPECT_NEAR(r.mean, r.target_scale, 0.03);
+  EXPECT_GT(r.sd, 0.0);
 }
 
 }  // namespace

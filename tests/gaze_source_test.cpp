@@ -23,16 +23,16 @@ std::string write_temp(const std::string& name, const std::string& text) {
 TEST(GazeTrace, ReplaysByTimeInPixelsOrNormalised) {
   auto g = trace_gaze(write_temp("px.csv", "t_ms,x,y\n0,10,20\n100,30,40\n250,50,60\n"), 200, 100);
   double x = 0, y = 0;
-  g->poll(0, x, y);
+  { const gaze_point p = g->poll(0); x = p.x, y = p.y; }
   EXPECT_EQ(x, 10);
-  g->poll(99.9, x, y);
+  { const gaze_point p = g->poll(99.9); x = p.x, y = p.y; }
   EXPECT_EQ(x, 10);  // the last sample at or before now: no interpolation
-  g->poll(100, x, y);
+  { const gaze_point p = g->poll(100); x = p.x, y = p.y; }
   EXPECT_EQ(y, 40);
-  g->poll(1000, x, y);
+  { const gaze_point p = g->poll(1000); x = p.x, y = p.y; }
   EXPECT_EQ(x, 50);  // after the end the gaze stays
   auto n = trace_gaze(write_temp("norm.csv", "t_ms,x_norm,y_norm\n0,0.25,0.5\n"), 200, 100);
-  n->poll(5, x, y);
+  { const gaze_point p = n->poll(5); x = p.x, y = p.y; }
   EXPECT_EQ(x, 50);
   EXPECT_EQ(y, 50);
 }
@@ -40,12 +40,12 @@ TEST(GazeTrace, ReplaysByTimeInPixelsOrNormalised) {
 TEST(GazeTrace, ClampsAndCountsOffScreenSamplesOnce) {
   auto g = trace_gaze(write_temp("off.csv", "t_ms,x,y\n0,-5,20\n10,300,20\n20,5,5\n"), 200, 100);
   double x = 0, y = 0;
-  g->poll(0, x, y);
+  { const gaze_point p = g->poll(0); x = p.x, y = p.y; }
   EXPECT_EQ(x, 0);
-  g->poll(1, x, y);  // the same sample again: not counted twice
-  g->poll(10, x, y);
+  { const gaze_point p = g->poll(1); x = p.x, y = p.y; }  // the same sample again: not counted twice
+  { const gaze_point p = g->poll(10); x = p.x, y = p.y; }
   EXPECT_EQ(x, 200);
-  g->poll(20, x, y);
+  { const gaze_point p = g->poll(20); x = p.x, y = p.y; }
   EXPECT_EQ(g->clamped, 2u);
 }
 
@@ -98,21 +98,21 @@ TEST(GazeUdp, ReadsLoopbackDatagramsClampsAndWarnsWhenSilent) {
     ::sendto(s, text.data(), text.size(), 0, reinterpret_cast<sockaddr*>(&to), sizeof(to));
   };
   double x = 0, y = 0;
-  g->poll(0, x, y);
+  { const gaze_point p = g->poll(0); x = p.x, y = p.y; }
   EXPECT_EQ(x, 200);  // nothing yet: the centre
   EXPECT_TRUE(g->silent(0));
   send("0.25 0.5");
   send("garbage");
   send("0.5 1.5");  // off screen: clamped
   std::this_thread::sleep_for(std::chrono::milliseconds(50));
-  g->poll(1000, x, y);
+  { const gaze_point p = g->poll(1000); x = p.x, y = p.y; }
   EXPECT_EQ(x, 200);  // the newest datagram wins
   EXPECT_EQ(y, 200);
   EXPECT_EQ(g->malformed, 1u);
   EXPECT_EQ(g->clamped, 1u);
   EXPECT_FALSE(g->silent(1400));
   EXPECT_TRUE(g->silent(1600));  // 500 ms without a datagram
-  g->poll(1600, x, y);
+  { const gaze_point p = g->poll(1600); x = p.x, y = p.y; }
   EXPECT_EQ(y, 200);  // keeps the last gaze
   ::close(s);
 }

@@ -24,7 +24,7 @@ struct fixture {
     knn_params kp;
     kp.k = 32;
     set.table = build_knn_table(set.points, 2 * w, 2 * h, kp);
-    samples.offset = offset_for_gaze(set.model.display, gx, gy);
+    samples.offset = offset_for_gaze(set.model.display, {gx, gy});
     samples.colour.resize(set.points.size());
     samples.depth.assign(set.points.size(), 2.0f);
     for (size_t i = 0; i < set.points.size(); ++i) samples.colour[i] = f(set.points[i].x, set.points[i].y);
@@ -140,7 +140,7 @@ float linear_of_byte(int b) {
 
 TEST(Metrics, IdenticalFramesAreInfinitelyClose) {
   const frame a = flat(32, 24, 0.3f);
-  const frame_comparison c = compare_frames(a, a, {32, 24, 1.0}, 16, 12);
+  const frame_comparison c = compare_frames(a, a, {32, 24, 1.0}, {16, 12});
   EXPECT_TRUE(std::isinf(c.overall.psnr));
   EXPECT_NEAR(c.overall.ssim, 1.0, 1e-9);
   EXPECT_EQ(c.overall.pixels, 32u * 24u);
@@ -149,7 +149,7 @@ TEST(Metrics, IdenticalFramesAreInfinitelyClose) {
 TEST(Metrics, AKnownOffsetGivesAKnownPsnr) {
   // Displayed bytes 0 against 10 everywhere: MSE 100, PSNR = 10 log10(255^2 / 100) = 28.1308 dB.
   const frame a = flat(32, 24, 0.0f), b = flat(32, 24, linear_of_byte(10));
-  const frame_comparison c = compare_frames(a, b, {32, 24, 1.0}, 16, 12);
+  const frame_comparison c = compare_frames(a, b, {32, 24, 1.0}, {16, 12});
   EXPECT_NEAR(c.overall.psnr, 28.1308, 1e-3);
   EXPECT_NEAR(c.fovea.psnr, 28.1308, 1e-3);
 }
@@ -167,7 +167,7 @@ TEST(Metrics, NoiseLowersSsimAndPsnrAsExpected) {
       mse += n * n;
     }
   mse /= 3.0 * 64 * 64;
-  const frame_comparison c = compare_frames(b, a, {64, 64, 1.0}, 32, 32);
+  const frame_comparison c = compare_frames(b, a, {64, 64, 1.0}, {32, 32});
   EXPECT_NEAR(c.overall.psnr, 10 * std::log10(255.0 * 255.0 / mse), 1e-6);
   EXPECT_NEAR(c.overall.psnr, 26.88, 0.3);
   EXPECT_LT(c.overall.ssim, 0.9);
@@ -177,10 +177,10 @@ TEST(Metrics, NoiseLowersSsimAndPsnrAsExpected) {
 TEST(Metrics, EccentricityBandsOnATinyScreen) {
   // 100 px wide at v = 1: 5 deg at 8.75 px, 30 deg at 57.7 px from the gaze.
   const display_geometry d{100, 100, 1.0};
-  EXPECT_NEAR(pixel_eccentricity_deg(d, 0.5, 0.5, 0, 0), 0.0, 1e-12);
-  EXPECT_NEAR(pixel_eccentricity_deg(d, 0.5, 0.5, 100 - 1, 0), std::atan(99.0 / 100) * 180 / M_PI, 1e-9);
+  EXPECT_NEAR(pixel_eccentricity_deg(d, {0.5, 0.5}, 0, 0), 0.0, 1e-12);
+  EXPECT_NEAR(pixel_eccentricity_deg(d, {0.5, 0.5}, 100 - 1, 0), std::atan(99.0 / 100) * 180 / M_PI, 1e-9);
   const frame a = flat(100, 100, 0.2f);
-  const frame_comparison c = compare_frames(a, a, d, 0, 0);
+  const frame_comparison c = compare_frames(a, a, d, {0, 0});
   // Count pixel centres within 8.749 px and 57.735 px of the corner gaze.
   uint64_t fovea = 0, mid = 0;
   for (int y = 0; y < 100; ++y)
@@ -203,7 +203,7 @@ TEST(Metrics, FiveBandsProfileAndFoveatedErrorOfAKnownOffset) {
   eye.display = d;
   eye.scale = 2.5;  // ignored: the weight is the eye's
   const frame a = flat(100, 100, linear_of_byte(100)), b = flat(100, 100, linear_of_byte(110));
-  const error_report r = measure_error(a, b, eye, 0, 0);
+  const error_report r = measure_error(a, b, eye, {0, 0});
   ASSERT_EQ(r.bands.size(), 5u);
   uint64_t pixels = 0;
   std::vector<uint64_t> expected(5, 0);
@@ -243,7 +243,7 @@ TEST(Metrics, FoveatedErrorWeighsFovealErrorsMore) {
       near_gaze.rgb[size_t(y) * 1280 + x] = glm::vec3(linear_of_byte(140));
       far_from_gaze.rgb[size_t(y) * 1280 + 1279 - x] = glm::vec3(linear_of_byte(140));
     }
-  const error_report a = measure_error(near_gaze, ref, eye, 0, 32), b = measure_error(far_from_gaze, ref, eye, 0, 32);
+  const error_report a = measure_error(near_gaze, ref, eye, {0, 32}), b = measure_error(far_from_gaze, ref, eye, {0, 32});
   EXPECT_NEAR(a.overall.psnr, b.overall.psnr, 1e-9);  // equal plain error
   EXPECT_GT(a.foveated_error, 2 * b.foveated_error);
 }
@@ -272,7 +272,7 @@ TEST(Metrics, LuminanceChangeOfAKnownStep) {
 }
 
 TEST(Metrics, MismatchedSizesAreRejected) {
-  EXPECT_THROW(compare_frames(flat(4, 4, 0), flat(4, 5, 0), {4, 4, 1.0}, 2, 2), std::invalid_argument);
+  EXPECT_THROW(compare_frames(flat(4, 4, 0), flat(4, 5, 0), {4, 4, 1.0}, {2, 2}), std::invalid_argument);
 }
 
 }  // namespace

@@ -151,8 +151,8 @@ TEST(TracedPoints, EveryPixelReadsOnlyTracedPoints) {
   EXPECT_EQ(set.table.radius_by_rank.back(), set.table.max_radius);
   for (uint32_t k_used : {1u, 5u, 20u})
   for (auto [gx, gy] : {std::pair{48.0, 40.0}, {0.0, 0.0}, {96.0, 80.0}, {10.4, 70.6}}) {
-    const std::vector<uint8_t> mask = traced_point_mask(set, gx, gy, k_used);
-    const canvas_offset o = offset_for_gaze(set.model.display, gx, gy);
+    const std::vector<uint8_t> mask = traced_point_mask(set, {gx, gy}, k_used);
+    const canvas_offset o = offset_for_gaze(set.model.display, {gx, gy});
     std::set<uint32_t> needed;
     for (int y = 0; y < h; ++y)
       for (int x = 0; x < w; ++x)
@@ -165,7 +165,7 @@ TEST(TracedPoints, EveryPixelReadsOnlyTracedPoints) {
       on_screen += on;
       off += !on && needed.count(i);
     }
-    const traced_set t = count_traced_points(set, gx, gy, k_used);
+    const traced_set t = count_traced_points(set, {gx, gy}, k_used);
     EXPECT_EQ(t.on_screen, on_screen);
     EXPECT_EQ(t.referenced_off_screen, off);
     if (k_used > 1) {
@@ -185,11 +185,11 @@ TEST(TracedPoints, TheListIsTheMaskInOrder) {
   kp.k = 5;
   set.table = build_knn_table(set.points, 2 * w, 2 * h, kp);
   for (auto [gx, gy] : {std::pair{160.0, 120.0}, {0.0, 240.0}}) {
-    const std::vector<uint8_t> mask = traced_point_mask(set, gx, gy, 5);
+    const std::vector<uint8_t> mask = traced_point_mask(set, {gx, gy}, 5);
     std::vector<uint32_t> expected;
     for (uint32_t i = 0; i < mask.size(); ++i)
       if (mask[i]) expected.push_back(i);
-    EXPECT_EQ(traced_points(set, gx, gy, 5), expected);
+    EXPECT_EQ(traced_points(set, {gx, gy}, 5), expected);
   }
 }
 
@@ -198,26 +198,26 @@ TEST(TracedPoints, ASetWithoutItsTableIsRefused) {
   set.model.display = {32, 24, 1.0};
   set.points = throw_darts(set.model, quick_darts());
   try {
-    count_traced_points(set, 16, 12, 20);
+    count_traced_points(set, {16, 12}, 20);
     FAIL() << "no table, yet counted";
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("table is not loaded"), std::string::npos);
   }
   set.table = build_knn_table(set.points, 64, 48, {});
-  EXPECT_NO_THROW(count_traced_points(set, 16, 12, 20));
+  EXPECT_NO_THROW(count_traced_points(set, {16, 12}, 20));
   set.table.entries.clear();  // the shape of a header-only load
-  EXPECT_THROW(traced_point_mask(set, 16, 12, 20), std::invalid_argument);
+  EXPECT_THROW(traced_point_mask(set, {16, 12}, 20), std::invalid_argument);
 }
 
 TEST(TracedPoints, GazeShiftRoundsHalfUpAndClamps) {
   const display_geometry d{100, 50, 1.0};
-  EXPECT_EQ(offset_for_gaze(d, 50, 25).x, 50);
-  EXPECT_EQ(offset_for_gaze(d, 10.5, 0).x, 89);  // round(10.5) = 11
-  EXPECT_EQ(offset_for_gaze(d, 10.49, 0).x, 90);
-  EXPECT_EQ(offset_for_gaze(d, -20, 0).x, 100);  // clamped to the screen
-  EXPECT_EQ(offset_for_gaze(d, 500, 0).x, 0);
-  EXPECT_EQ(offset_for_gaze(d, 0, 1e9).y, 0);
-  EXPECT_EQ(offset_for_gaze(d, NAN, NAN).x, 50);  // no gaze: centre
+  EXPECT_EQ(offset_for_gaze(d, {50, 25}).x, 50);
+  EXPECT_EQ(offset_for_gaze(d, {10.5, 0}).x, 89);  // round(10.5) = 11
+  EXPECT_EQ(offset_for_gaze(d, {10.49, 0}).x, 90);
+  EXPECT_EQ(offset_for_gaze(d, {-20, 0}).x, 100);  // clamped to the screen
+  EXPECT_EQ(offset_for_gaze(d, {500, 0}).x, 0);
+  EXPECT_EQ(offset_for_gaze(d, {0, 1e9}).y, 0);
+  EXPECT_EQ(offset_for_gaze(d, {NAN, NAN}).x, 50);  // no gaze: centre
 }
 
 }  // namespace

@@ -18,6 +18,11 @@ namespace {
 
 namespace fs = std::filesystem;
 
+trace_params with_k(trace_params p, uint32_t k) {
+  p.k = k;
+  return p;
+}
+
 // A scene of one mesh whose material only emits: colours are exact, no lighting.
 scene_description emitter(std::vector<glm::vec3> corners, glm::vec3 colour, material mat = {}) {
   scene_description d;
@@ -54,7 +59,7 @@ TEST(Tracer, KnownTriangleHitsKnownPixels) {
   scene s(emitter({{0, 0, -5}, {1, 0, -5}, {0, 1, -5}}, {1, 0, 0}));
   trace_params tp;
   tp.spp = 4;
-  const frame f = trace_reference(s, look_at({0, 0, 0}, {0, 0, -1}, 90), 101, 101, tp);
+  const frame f = trace_reference(s, look_at({0, 0, 0}, {0, 0, -1}, 90), 101, 101, tp).image;
   auto at = [&](int x, int y) { return f.rgb[size_t(y) * 101 + x]; };
   EXPECT_EQ(at(52, 48), glm::vec3(1, 0, 0));  // world (0.2, 0.2) inside
   EXPECT_NEAR(f.depth[48 * 101 + 52], 5.0f, 1e-4);
@@ -85,7 +90,7 @@ TEST(Tracer, AlphaMaskDropsHitsBelowTheCutoff) {
     scene s(std::move(d));
     trace_params tp;
     tp.spp = 2;
-    const frame f = trace_reference(s, look_at({0, 0, 0}, {0, 0, -1}, 60), 9, 9, tp);
+    const frame f = trace_reference(s, look_at({0, 0, 0}, {0, 0, -1}, 60), 9, 9, tp).image;
     const glm::vec3 expected = alpha < 0.5f ? glm::vec3(0, 1, 0) : glm::vec3(1, 0, 0);
     EXPECT_EQ(f.rgb[4 * 9 + 4], expected) << "alpha " << alpha;
     EXPECT_NEAR(f.depth[4 * 9 + 4], alpha < 0.5f ? 4.0f : 2.0f, 1e-4);
@@ -101,7 +106,7 @@ TEST(Tracer, LeafPatternMasksPerRay) {
   scene s(std::move(d));
   trace_params tp;
   tp.spp = 1;
-  const frame f = trace_reference(s, look_at({0, 0, 0}, {0, 0, -1}, 90), 41, 41, tp);
+  const frame f = trace_reference(s, look_at({0, 0, 0}, {0, 0, -1}, 90), 41, 41, tp).image;
   // Pixel row 11 covers v = 0.89 .. 0.94, where the leaf is at most 0.21 wide either side of u = 0.5.
   EXPECT_EQ(f.rgb[11 * 41 + 20], glm::vec3(1));  // u = 0.49 .. 0.51: inside
   EXPECT_EQ(f.rgb[11 * 41 + 15], glm::vec3(0));  // u = 0.23 .. 0.28: inside the quad, outside the leaf
@@ -120,14 +125,14 @@ TEST(Tracer, PointsAreDeterministicAcrossFramesAndThreads) {
   point_samples a, b;
   {
     tbb::global_control c(tbb::global_control::max_allowed_parallelism, 1);
-    a = trace_points(*s, cam, set, 30, 40, 20, tp);
+    a = trace_points(*s, cam, set, {30, 40}, with_k(tp, 20)).samples;
   }
   {
     tbb::global_control c(tbb::global_control::max_allowed_parallelism, 2);
-    b = trace_points(*s, cam, set, 30, 40, 20, tp);
+    b = trace_points(*s, cam, set, {30, 40}, with_k(tp, 20)).samples;
   }
   ASSERT_EQ(a.traced, b.traced);
-  EXPECT_EQ(a.traced.size(), count_traced_points(set, 30, 40, 20).total());
+  EXPECT_EQ(a.traced.size(), count_traced_points(set, {30, 40}, 20).total());
   EXPECT_EQ(a.rays, a.traced.size() * 8);
   for (uint32_t i : a.traced) {
     ASSERT_EQ(a.colour[i], b.colour[i]);
@@ -135,7 +140,7 @@ TEST(Tracer, PointsAreDeterministicAcrossFramesAndThreads) {
     ASSERT_TRUE(std::isfinite(a.colour[i].r + a.colour[i].g + a.colour[i].b));
   }
   tp.seed = 2;
-  const point_samples c = trace_points(*s, cam, set, 30, 40, 20, tp);
+  const point_samples c = trace_points(*s, cam, set, {30, 40}, with_k(tp, 20)).samples;
   size_t differ = 0;
   for (uint32_t i : a.traced) differ += a.colour[i] != c.colour[i];
   EXPECT_GT(differ, a.traced.size() / 10) << "another seed must move the rays";
@@ -154,7 +159,7 @@ TEST(Tracer, PointRayPositionsAreTheRaysTraced) {
     trace_params tp;
     tp.spp = 8;
     tp.mirror_x = mirror;
-    const point_samples traced = trace_points(s, cam, set, 40, 50, 5, tp);
+    const point_samples traced = trace_points(s, cam, set, {40, 50}, with_k(tp, 5)).samples;
     const std::vector<glm::vec2> at = point_ray_positions(set, traced, tp);
     ASSERT_EQ(at.size(), traced.traced.size() * 8);
     size_t checked = 0, mixed = 0;
@@ -179,11 +184,11 @@ TEST(Tracer, ReferenceTileTimesCoverTheScreenAndChangeNothing) {
   const auto s = load_scene("builtin");
   trace_params tp;
   tp.spp = 2;
-  const frame plain = trace_reference(*s, s->default_camera(), 37, 20, tp);
-  std::vector<double> tiles;
-  tp.tile_seconds = &tiles;
-  const frame timed = trace_reference(*s, s->default_camera(), 37, 20, tp);
-  EXPECT_EQ(plain.rgb, timed.rgb);
+  const frame plain = trace_reference(*s, s->default_camera(), 37, 20, tp).image;
+  tp.tile_costs = true;
+  const reference_trace timed = trace_reference(*s, s->default_camera(), 37, 20, tp);
+  EXPECT_EQ(plain.rgb, timed.image.rgb);
+  const std::vector<double>& tiles = timed.stats.tile_seconds;
   ASSERT_EQ(tiles.size(), size_t(5 * 3));  // ceil(37 / 8) x ceil(20 / 8)
   for (double t : tiles) EXPECT_GT(t, 0.0);
 }
@@ -198,9 +203,9 @@ TEST(Tracer, MirroredPatternsTraceTheSetPlacedForTheMirroredGaze) {
   trace_params tp;
   tp.spp = 2;
   tp.mirror_x = true;
-  const point_samples m = trace_points(*s, cam, set, 10, 30, 5, tp);
+  const point_samples m = trace_points(*s, cam, set, {10, 30}, with_k(tp, 5)).samples;
   tp.mirror_x = false;
-  const point_samples plain = trace_points(*s, cam, set, 48 - 10, 30, 5, tp);
+  const point_samples plain = trace_points(*s, cam, set, {48 - 10, 30}, with_k(tp, 5)).samples;
   EXPECT_TRUE(m.mirror_x);
   EXPECT_FALSE(m.mirror_y);
   EXPECT_EQ(m.offset.x, plain.offset.x);
@@ -248,7 +253,7 @@ TEST(Tracer, EnvironmentSceneReturnsTheImageAlongEachAxis) {
     glm::vec3 axis(0);
     axis[a / 2] = a % 2 ? -1.f : 1.f;
     const glm::vec3 up = a / 2 == 1 ? glm::vec3(0, 0, -1) : glm::vec3(0, 1, 0);
-    const frame f = trace_reference(*s, look_at({0, 0, 0}, axis, 5, up), 3, 3, tp);
+    const frame f = trace_reference(*s, look_at({0, 0, 0}, axis, 5, up), 3, 3, tp).image;
     const glm::vec3 c = f.rgb[4];
     EXPECT_NEAR(c.r, colours[a].r, 0.02) << "axis " << a;
     EXPECT_NEAR(c.g, colours[a].g, 0.02) << "axis " << a;
@@ -281,12 +286,12 @@ TEST(Tracer, EnvironmentLookupsAreFilteredByTheRayFootprint) {
   trace_params tp;
   tp.spp = 1;
   // 8 x 4 pixels over 120 degrees: each pixel spans about 15 degrees, some 10 texels.
-  const frame wide = trace_reference(*s, look_at({0, 0, 0}, {0, 0, -1}, 120), 8, 4, tp);
+  const frame wide = trace_reference(*s, look_at({0, 0, 0}, {0, 0, -1}, 120), 8, 4, tp).image;
   for (const glm::vec3& c : wide.rgb) EXPECT_NEAR(c.g, 0.5f, 0.05f);
   // 2000 pixels over 90 degrees along the centre of texel row 64: far below a texel, so
   // bilinear between texel centres, reaching 0 and 1 (the mean would be 0.5 throughout).
   const float below = std::tan(0.5f * 3.14159265f / h);
-  const frame sharp = trace_reference(*s, look_at({0, 0, 0}, {0, -below, -1}, 90), 2000, 1, tp);
+  const frame sharp = trace_reference(*s, look_at({0, 0, 0}, {0, -below, -1}, 90), 2000, 1, tp).image;
   float lo = 1, hi = 0;
   for (const glm::vec3& c : sharp.rgb) lo = std::min(lo, c.g), hi = std::max(hi, c.g);
   EXPECT_LT(lo, 0.05f);
@@ -308,9 +313,9 @@ TEST(Tracer, PointFootprintPrefiltersTheDiscAndPixelFootprintDoesNot) {
   const camera cam = look_at({0, 0, 0}, {0, 0, -1}, 30);
   trace_params tp;
   tp.spp = 1;
-  const point_samples disc = trace_points(*s, cam, set, 32, 36, 5, tp);
+  const point_samples disc = trace_points(*s, cam, set, {32, 36}, with_k(tp, 5)).samples;
   tp.footprint = texture_footprint::pixel;
-  const point_samples pixel = trace_points(*s, cam, set, 32, 36, 5, tp);
+  const point_samples pixel = trace_points(*s, cam, set, {32, 36}, with_k(tp, 5)).samples;
   ASSERT_EQ(disc.traced, pixel.traced);
   double off_disc = 0, off_pixel = 0;  // mean distance from the checker's mean, 0.5
   size_t wide = 0;
@@ -343,7 +348,7 @@ TEST(Tracer, MissingTexturesWarnOnceAndFallBack) {
   EXPECT_EQ(degenerate, 1);
   trace_params tp;
   tp.spp = 1;
-  const frame f = trace_reference(*s, look_at({0, 0, 0}, {0, 0, -1}, 60), 5, 5, tp);
+  const frame f = trace_reference(*s, look_at({0, 0, 0}, {0, 0, -1}, 60), 5, 5, tp).image;
   EXPECT_GT(f.rgb[12].b, f.rgb[12].r) << "falls back to Kd (0.2, 0.4, 0.6)";
   fs::remove_all(dir);
   EXPECT_THROW(load_scene((dir / "nothing.gltf").string()), std::runtime_error);
@@ -358,7 +363,7 @@ TEST(Tracer, FlightHelmetReportsItsThreeMissingTextures) {
   EXPECT_EQ(missing, 3);
   trace_params tp;
   tp.spp = 1;
-  const frame f = trace_reference(*s, s->default_camera(45), 64, 64, tp);
+  const frame f = trace_reference(*s, s->default_camera(45), 64, 64, tp).image;
   size_t hits = 0;
   for (float d : f.depth) hits += std::isfinite(d);
   EXPECT_GT(hits, 64u * 64u / 10) << "the helmet is in view";
@@ -377,7 +382,7 @@ TEST(Tracer, EveryAssimpSampleLoadsOrFailsCleanly) {
         const auto s = load_scene(e.path().string());
         trace_params tp;
         tp.spp = 1;
-        const frame f = trace_reference(*s, s->default_camera(), 8, 8, tp);
+        const frame f = trace_reference(*s, s->default_camera(), 8, 8, tp).image;
         for (const glm::vec3& c : f.rgb) ASSERT_TRUE(std::isfinite(c.r + c.g + c.b)) << e.path();
         ++loaded;
       } catch (const std::runtime_error& err) {
@@ -395,17 +400,17 @@ TEST(Tracer, OneByOneAndEightKScreensWork) {
   const auto s = load_scene("builtin");
   trace_params tp;
   tp.spp = 4;
-  const frame one = trace_reference(*s, s->default_camera(), 1, 1, tp);
+  const frame one = trace_reference(*s, s->default_camera(), 1, 1, tp).image;
   EXPECT_TRUE(std::isfinite(one.rgb[0].r));
   tp.spp = 1;
-  const frame big = trace_reference(*s, s->default_camera(), 7680, 4320, tp);
+  const frame big = trace_reference(*s, s->default_camera(), 7680, 4320, tp).image;
   EXPECT_EQ(big.rgb.size(), 7680u * 4320u);
   size_t finite = 0;
   for (const glm::vec3& c : big.rgb) finite += std::isfinite(c.r + c.g + c.b) && c.r >= 0;
   EXPECT_EQ(finite, big.rgb.size());
-  EXPECT_THROW(trace_reference(*s, s->default_camera(), 0, 10, tp), std::invalid_argument);
+  EXPECT_THROW(trace_reference(*s, s->default_camera(), 0, 10, tp).image, std::invalid_argument);
   tp.spp = 0;
-  EXPECT_THROW(trace_reference(*s, s->default_camera(), 10, 10, tp), std::invalid_argument);
+  EXPECT_THROW(trace_reference(*s, s->default_camera(), 10, 10, tp).image, std::invalid_argument);
 }
 
 }  // namespace

@@ -31,22 +31,24 @@ int run_tool(const char* tool, CLI::App& app, int argc, char** argv, const std::
   }
 }
 
-bool parse_gaze(const std::string& text, const display_geometry& d, double xy[2]) {
-  if (text == "centre" || text == "center") { xy[0] = 0.5 * d.width; xy[1] = 0.5 * d.height; return true; }
-  if (text == "corner") { xy[0] = d.width; xy[1] = d.height; return true; }
+bool parse_gaze(const std::string& text, const display_geometry& d, gaze_point& out) {
+  if (text == "centre" || text == "center") { out = screen_centre(d); return true; }
+  if (text == "corner") { out = {double(d.width), double(d.height)}; return true; }
   char* end = nullptr;
-  xy[0] = std::strtod(text.c_str(), &end);
+  out.x = std::strtod(text.c_str(), &end);
   if (end == text.c_str() || *end != ',') return false;
   const char* second = end + 1;
-  xy[1] = std::strtod(second, &end);
-  return end != second && *end == '\0' && std::isfinite(xy[0]) && std::isfinite(xy[1]);
+  out.y = std::strtod(second, &end);
+  return end != second && *end == '\0' && std::isfinite(out.x) && std::isfinite(out.y);
 }
 
-void require_gaze(const std::string& flag, const std::string& text, const display_geometry& d, double xy[2]) {
-  if (!parse_gaze(text, d, xy))
+gaze_point require_gaze(const std::string& flag, const std::string& text, const display_geometry& d) {
+  gaze_point g;
+  if (!parse_gaze(text, d, g))
     throw usage_error(fmt::format("{}: expected X,Y in screen pixels, 'centre' or 'corner' (got '{}')", flag, text));
-  if (xy[0] < 0 || xy[0] > d.width || xy[1] < 0 || xy[1] > d.height)
+  if (g.x < 0 || g.x > d.width || g.y < 0 || g.y > d.height)
     throw usage_error(fmt::format("{} {} lies outside the {}x{} screen", flag, text, d.width, d.height));
+  return g;
 }
 
 }  // namespace fov

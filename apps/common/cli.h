@@ -1,4 +1,4 @@
-// What the command-line tools share: usage errors and gaze arguments.
+// What the command-line tools share: usage errors, gaze arguments, enum options.
 #pragma once
 
 #include <functional>
@@ -8,6 +8,7 @@
 #include <CLI/CLI.hpp>
 
 #include "fov/acuity.h"
+#include "fov/labels.h"
 
 namespace fov {
 
@@ -21,9 +22,26 @@ struct usage_error : std::runtime_error {
 int run_tool(const char* tool, CLI::App& app, int argc, char** argv, const std::function<int()>& body);
 
 // "X,Y" in screen pixels, "centre"/"center" (W/2, H/2) or "corner" (W, H).
-bool parse_gaze(const std::string& text, const display_geometry& display, double xy[2]);
+bool parse_gaze(const std::string& text, const display_geometry& display, gaze_point& out);
 
 // parse_gaze, or a usage_error naming `flag` when the text is malformed or off screen.
-void require_gaze(const std::string& flag, const std::string& text, const display_geometry& display, double xy[2]);
+gaze_point require_gaze(const std::string& flag, const std::string& text, const display_geometry& display);
+
+// An option whose values are an enum's labels (its label table): CLI11 maps the text to
+// the value and rejects any other with one line; the choices appear in --help.
+// Works for a vector of the enum too (a list option).
+template <class T, class E, size_t N>
+CLI::Option* add_label_option(CLI::App& app, const std::string& name, T& value, const label_table<E, N>& table,
+                              const std::string& what) {
+  CLI::Validator labels(
+      [&table](std::string& text) -> std::string {
+        E e{};
+        if (!parse_label(table, text, e)) return "unknown '" + text + "' (" + label_list(table) + ")";
+        text = std::to_string(static_cast<long long>(e));  // CLI11 converts the number to the enum
+        return "";
+      },
+      "", "label");
+  return app.add_option(name, value, what + ": " + label_list(table))->transform(labels);
+}
 
 }  // namespace fov

@@ -17,25 +17,25 @@ glm::vec3 heat(float t) {  // 0 blue .. 0.5 green .. 1 red
 
 }  // namespace
 
-frame debug_overlay(const std::string& view, const frame& image, const pointset* set, const double gaze[2]) {
+frame debug_overlay(debug_view view, const frame& image, const pointset* set, gaze_point gaze) {
   frame out = image;
   const int w = image.width, h = image.height;
-  if (view == "eccentricity") {
+  if (view == debug_view::eccentricity) {
     const display_geometry d = set ? set->model.display : display_geometry{w, h, 1.0};
     for (double deg : {5.0, 10.0, 20.0, 30.0, 45.0}) {
       const double r = std::tan(deg * pi / 180) * d.width * d.viewing_distance;
       const int steps = int(2 * pi * r) + 8;
       for (int i = 0; i < steps; ++i) {
         const double a = 2 * pi * i / steps;
-        const int x = int(gaze[0] + r * std::cos(a)), y = int(gaze[1] + r * std::sin(a));
+        const int x = int(gaze.x + r * std::cos(a)), y = int(gaze.y + r * std::sin(a));
         if (x >= 0 && x < w && y >= 0 && y < h) out.rgb[size_t(y) * w + x] = {1, 0.9f, 0};
       }
     }
     return out;
   }
-  if (!set) throw std::invalid_argument("--debug-view " + view + " needs --points");
-  const canvas_offset o = offset_for_gaze(set->model.display, gaze[0], gaze[1]);
-  if (view == "points") {
+  if (!set) throw std::invalid_argument(std::string("--debug-view ") + label_of(debug_view_labels, view) + " needs --points");
+  const canvas_offset o = offset_for_gaze(set->model.display, gaze);
+  if (view == debug_view::points) {
     for (glm::vec3& c : out.rgb) c *= 0.35f;
     for (const point& p : set->points) {
       const int x = int(p.x) - o.x, y = int(p.y) - o.y;
@@ -43,7 +43,7 @@ frame debug_overlay(const std::string& view, const frame& image, const pointset*
     }
     return out;
   }
-  if (view == "density") {
+  {  // density
     // The set's own points per pixel, counted over 8 x 8-pixel blocks, on a log scale.
     const int block = 8, bw = (w + block - 1) / block, bh = (h + block - 1) / block;
     std::vector<int> count(size_t(bw) * bh, 0);
@@ -58,7 +58,6 @@ frame debug_overlay(const std::string& view, const frame& image, const pointset*
       }
     return out;
   }
-  throw std::invalid_argument("unknown debug view " + view);
 }
 
 }  // namespace fov

@@ -35,7 +35,11 @@ namespace {
 class fixed_source : public gaze_source {
  public:
   fixed_source(int w, int h, double x, double y) : x_(x), y_(y) { width_ = w, height_ = h; }
-  void poll(double, double& x, double& y) override { x = x_, y = y_, clamp_to_screen(x, y); }
+  gaze_point poll(double) override {
+    gaze_point g{x_, y_};
+    clamp_to_screen(g.x, g.y);
+    return g;
+  }
   std::string name() const override { return "fixed"; }
 
  private:
@@ -57,12 +61,13 @@ class trace_source : public gaze_source {
     }
     if (samples_.empty()) throw std::runtime_error(fmt::format("{}: no gaze samples", path));
   }
-  void poll(double now, double& x, double& y) override {
+  gaze_point poll(double now) override {
     while (next_ + 1 < samples_.size() && samples_[next_ + 1].t <= now) ++next_;
     const sample& s = samples_[next_];
-    x = s.x, y = s.y;
-    if (next_ != counted_) counted_ = next_, clamp_to_screen(x, y);  // count each sample once
-    else x = std::clamp(x, 0.0, double(width_)), y = std::clamp(y, 0.0, double(height_));
+    gaze_point g{s.x, s.y};
+    if (next_ != counted_) counted_ = next_, clamp_to_screen(g.x, g.y);  // count each sample once
+    else g.x = std::clamp(g.x, 0.0, double(width_)), g.y = std::clamp(g.y, 0.0, double(height_));
+    return g;
   }
   std::string name() const override { return "trace " + path_; }
 
@@ -90,7 +95,7 @@ class udp_source : public gaze_source {
     }
   }
   ~udp_source() override { ::close(fd_); }
-  void poll(double now, double& x, double& y) override {
+  gaze_point poll(double now) override {
     char buffer[256];
     for (;;) {
       const ssize_t n = ::recv(fd_, buffer, sizeof(buffer) - 1, 0);
@@ -104,7 +109,7 @@ class udp_source : public gaze_source {
       clamp_to_screen(x_, y_);
       last_ms_ = now;
     }
-    x = x_, y = y_;
+    return {x_, y_};
   }
   bool silent(double now) const override { return now - last_ms_ > 500; }
   std::string name() const override { return fmt::format("udp 127.0.0.1:{}", port_); }

@@ -7,14 +7,16 @@
 #include <string>
 #include <vector>
 
+#include "fov/acuity.h"
+
 namespace fov {
 
 class gaze_source {
  public:
   virtual ~gaze_source() = default;
-  // The gaze at `now_ms` (milliseconds since the source started). Returns false when the
-  // source has given nothing new for a while (silent()); x, y keep the last gaze then.
-  virtual void poll(double now_ms, double& x, double& y) = 0;
+  // The gaze at `now_ms` (milliseconds since the source started); the last one while the
+  // source gives nothing new (silent() tells when that has lasted a while).
+  virtual gaze_point poll(double now_ms) = 0;
   virtual std::string name() const = 0;
   virtual bool silent(double now_ms) const { (void)now_ms; return false; }
   uint64_t clamped = 0;    // samples outside the screen, clamped to it
@@ -44,7 +46,11 @@ class mouse_gaze : public gaze_source {
  public:
   mouse_gaze(int width, int height) { width_ = width, height_ = height, x_ = width / 2.0, y_ = height / 2.0; }
   void set(double x, double y) { x_ = x, y_ = y; }
-  void poll(double, double& x, double& y) override { x = x_, y = y_, clamp_to_screen(x, y); }
+  gaze_point poll(double) override {
+    gaze_point g{x_, y_};
+    clamp_to_screen(g.x, g.y);
+    return g;
+  }
   std::string name() const override { return "mouse"; }
 
  private:

@@ -3,7 +3,7 @@
 
 #include <string>
 
-#include "fov/trace.h"
+#include "fov/frame.h"
 
 namespace fov {
 

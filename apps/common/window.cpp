@@ -75,7 +75,7 @@ bool view_window::closed() const {
   }
 }
 
-void draw_overlay(cv::Mat& bgr, const std::vector<std::string>& lines, double gx, double gy) {
+void draw_overlay(cv::Mat& bgr, const std::vector<std::string>& lines, gaze_point gaze) {
   if (lines.empty()) return;
   constexpr int font = cv::FONT_HERSHEY_SIMPLEX;
   constexpr double scale = 0.5;
@@ -83,7 +83,7 @@ void draw_overlay(cv::Mat& bgr, const std::vector<std::string>& lines, double gx
   for (const std::string& l : lines) width = std::max(width, cv::getTextSize(l, font, scale, 1, nullptr).width);
   const int box_w = width + 16, box_h = int(lines.size()) * line_height + 12;
   // The corner farthest from the gaze.
-  const bool right = gx < bgr.cols / 2.0, bottom = gy < bgr.rows / 2.0;
+  const bool right = gaze.x < bgr.cols / 2.0, bottom = gaze.y < bgr.rows / 2.0;
   const int x0 = right ? bgr.cols - box_w - 8 : 8, y0 = bottom ? bgr.rows - box_h - 8 : 8;
   const cv::Rect box = cv::Rect(x0, y0, box_w, box_h) & cv::Rect(0, 0, bgr.cols, bgr.rows);
   cv::Mat roi = bgr(box);
@@ -92,8 +92,8 @@ void draw_overlay(cv::Mat& bgr, const std::vector<std::string>& lines, double gx
     cv::putText(bgr, lines[i], {x0 + 8, y0 + 8 + line_height * int(i + 1) - 4}, font, scale, {255, 255, 255}, 1, cv::LINE_AA);
 }
 
-void draw_gaze_cursor(cv::Mat& bgr, double gx, double gy) {
-  const cv::Point c{int(gx), int(gy)};
+void draw_gaze_cursor(cv::Mat& bgr, gaze_point gaze) {
+  const cv::Point c{int(gaze.x), int(gaze.y)};
   cv::circle(bgr, c, 9, {0, 0, 0}, 3, cv::LINE_AA);
   cv::circle(bgr, c, 9, {0, 255, 255}, 1, cv::LINE_AA);
 }

@@ -7,7 +7,7 @@
 
 #include <opencv2/core.hpp>
 
-#include "fov/trace.h"
+#include "fov/frame.h"
 
 namespace fov {
 
@@ -40,7 +40,7 @@ class view_window {
 
 // Text lines drawn in a box in the corner of the image farthest from (gx, gy), so the
 // overlay never covers the fovea.
-void draw_overlay(cv::Mat& bgr, const std::vector<std::string>& lines, double gx, double gy);
-void draw_gaze_cursor(cv::Mat& bgr, double gx, double gy);
+void draw_overlay(cv::Mat& bgr, const std::vector<std::string>& lines, gaze_point gaze);
+void draw_gaze_cursor(cv::Mat& bgr, gaze_point gaze);
 
 }  // namespace fov

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "fov/reconstruct.h"
+#include "fov/renderer.h"
 #include "sweep.h"
 
 namespace fov {
@@ -22,15 +22,14 @@ struct bench_options {
   std::vector<std::string> gazes{"centre"};
   std::string out = "out/bench";
   std::string points_dir = "precomputed";
-  texture_footprint footprint = texture_footprint::disc;  // of foveated rays, for the whole sweep
+  // Settings every configuration shares (seed, shadows, texture footprint, RBF kernel and
+  // shape, Renka, device, camera); method, k and spp come from the lists above.
+  render_params render;
   uint32_t frames = 3;
   uint32_t temporal_frames = 0;
   bool resume = false;
   double budget_psnr = std::numeric_limits<double>::quiet_NaN();
   double budget_foveated = std::numeric_limits<double>::quiet_NaN();
-  std::string device = "opencl";
-  uint64_t seed = 1;
-  double hfov = 0;
 };
 
 void write_bench_figures(const std::vector<result_row>& rows, const bench_options& o, const std::string& dir);

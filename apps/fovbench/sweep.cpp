@@ -19,7 +19,7 @@ const std::vector<std::string>& result_columns() {
       "reference_ms_max", "speedup", "psnr", "ssim", "psnr_fovea", "ssim_fovea", "psnr_5_10", "ssim_5_10",
       "psnr_10_20", "ssim_10_20", "psnr_20_30", "ssim_20_30", "psnr_periphery", "ssim_periphery", "foveated_error",
       "foveated_psnr", "psnr_vs_best_reference", "foveated_error_vs_best", "best_reference_spp", "flicker", "flicker_taa", "flicker_reference",
-      "error_profile", "device", "frames"};
+      "error_profile", "device", "frames", "render_settings"};
   return columns;
 }
 

@@ -9,6 +9,7 @@
 #include <fstream>
 #include <thread>
 #include <iostream>
+#include <optional>
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
@@ -237,11 +238,10 @@ int run_info(const std::string& file, const std::string& gaze_text, uint32_t k_u
   read_timings(j, file);
   j["spacing_violations"] = fov::count_spacing_violations(set.points, set.canvas_width(), set.canvas_height());
   if (!gaze_text.empty()) {
-    double xy[2];
-    fov::require_gaze("--gaze", gaze_text, set.model.display, xy);
+    const fov::gaze_point gaze = fov::require_gaze("--gaze", gaze_text, set.model.display);
     const uint32_t k = k_used ? std::min(k_used, set.table.k) : set.table.k;
-    const fov::traced_set t = fov::count_traced_points(set, xy[0], xy[1], k);
-    j["gaze"] = {xy[0], xy[1]};
+    const fov::traced_set t = fov::count_traced_points(set, gaze, k);
+    j["gaze"] = {gaze.x, gaze.y};
     j["k_used"] = k;
     j["points_on_screen"] = t.on_screen;
     j["points_referenced_off_screen"] = t.referenced_off_screen;
@@ -249,7 +249,7 @@ int run_info(const std::string& file, const std::string& gaze_text, uint32_t k_u
     j["knn_max_radius"] = set.table.max_radius;  // farthest k-th neighbour of any canvas pixel
     j["traced_fraction"] = double(t.total()) / double(set.points.size());
     // The thesis's rule for comparison: on-screen points plus a fixed 10-pixel margin.
-    const fov::canvas_offset o = fov::offset_for_gaze(set.model.display, xy[0], xy[1]);
+    const fov::canvas_offset o = fov::offset_for_gaze(set.model.display, gaze);
     const int w = set.model.display.width, h = set.model.display.height;
     uint64_t margin10 = 0;
     for (const fov::point& p : set.points)
@@ -307,14 +307,14 @@ int main(int argc, char** argv) {
       fov::load_params lp;
       lp.table = !plot_gaze.empty();
       const fov::pointset set = fov::load_pointset(plot_file, lp);
-      double xy[2];
-      if (!plot_gaze.empty()) fov::require_gaze("--gaze", plot_gaze, set.model.display, xy);
+      std::optional<fov::gaze_point> gaze;
+      if (!plot_gaze.empty()) gaze = fov::require_gaze("--gaze", plot_gaze, set.model.display);
       try {
         fov::check_writable(plot_out);
       } catch (const fov::file_error& e) {
         throw usage_error(e.what());
       }
-      fov::plot_points(set, plot_out, plot_gaze.empty() ? nullptr : xy, plot_k ? plot_k : set.table.k);
+      fov::plot_points(set, plot_out, gaze, plot_k ? plot_k : set.table.k);
       return 0;
     }
     if (*sweep) {
@@ -359,8 +359,8 @@ int main(int argc, char** argv) {
           gen_seconds = made.stats.seconds + made.knn_seconds;
         }
         const fov::pointset set = fov::load_pointset(path);
-        const fov::traced_set centre = fov::count_traced_points(set, 0.5 * m.display.width, 0.5 * m.display.height, set.table.k);
-        const fov::traced_set corner = fov::count_traced_points(set, m.display.width, m.display.height, set.table.k);
+        const fov::traced_set centre = fov::count_traced_points(set, {0.5 * m.display.width, 0.5 * m.display.height}, set.table.k);
+        const fov::traced_set corner = fov::count_traced_points(set, {m.display.width, m.display.height}, set.table.k);
         counts.series[0].x.push_back(s), counts.series[0].y.push_back(double(set.points.size()));
         counts.series[1].x.push_back(s), counts.series[1].y.push_back(double(centre.total()));
         counts.series[2].x.push_back(s), counts.series[2].y.push_back(double(corner.total()));

@@ -1,6 +1,7 @@
 // Pictures fovgen writes: every point of a set, and simple labelled line plots.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -11,7 +12,7 @@ namespace fov {
 // Every point as a dot on the canvas (thesis Fig. 12). With a gaze, the screen
 // window is outlined, on-screen points are black, off-screen points the renderer
 // must still trace are red and unused points grey.
-void plot_points(const pointset& set, const std::string& path, const double* gaze_xy, uint32_t k_used);
+void plot_points(const pointset& set, const std::string& path, std::optional<gaze_point> gaze, uint32_t k_used);
 
 struct plot_series {
   std::string label;

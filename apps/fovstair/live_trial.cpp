@@ -53,10 +53,7 @@ trial_answer run_live_trial(live_context& ctx, const trial_plan& t, const points
   const int w = set.model.display.width, h = set.model.display.height;
   const stair_protocol& p = ctx.protocol;
   const stair_condition& c = p.conditions[t.condition];
-  live_settings s;
-  s.reconstruct = c.reconstruct;
-  s.spp = c.spp ? c.spp : p.spp;
-  s.taa = p.taa;
+  const render_params s = stimulus_params(p, c);
   const double fx = t.fixation_x * w, fy = t.fixation_y * h;
   if (t.break_before) {
     ctx.window.show(message_screen(w, h, {"Break.", "Press Space to continue."}));
@@ -71,7 +68,7 @@ trial_answer run_live_trial(live_context& ctx, const trial_plan& t, const points
     ctx.window.key(600);
     ctx.renderer.reset_history();
     frame reference;
-    if (t.is_catch || p.mode == stair_mode::two_afc) reference = ctx.renderer.reference(w, h, s.spp, s.shadows);
+    if (t.is_catch || p.mode == stair_mode::two_afc) reference = ctx.renderer.reference(w, h, s).image;
     const auto start = clock_type::now();
     double sum[2] = {0, 0}, sum2[2] = {0, 0};
     uint64_t frames = 0;
@@ -81,11 +78,10 @@ trial_answer run_live_trial(live_context& ctx, const trial_plan& t, const points
     auto show = [&](bool foveated, double max_ms, const std::string& keys) -> int {
       const auto begin = clock_type::now();
       for (;;) {
-        double gx = fx, gy = fy;
-        if (ctx.gaze) ctx.gaze->poll(ms_between(start, clock_type::now()), gx, gy);
-        sum[0] += gx, sum[1] += gy, sum2[0] += gx * gx, sum2[1] += gy * gy;
+        const gaze_point g = ctx.gaze ? ctx.gaze->poll(ms_between(start, clock_type::now())) : gaze_point{fx, fy};
+        sum[0] += g.x, sum[1] += g.y, sum2[0] += g.x * g.x, sum2[1] += g.y * g.y;
         ++a.gaze_samples;
-        const frame& f = foveated ? ctx.renderer.foveated(gx, gy, s) : reference;
+        const frame& f = foveated ? ctx.renderer.foveated(g, s) : reference;
         ++frames;
         ctx.window.show(display_image(f));
         int k = ctx.window.key(1);

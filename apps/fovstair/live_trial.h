@@ -5,8 +5,8 @@
 #include <string>
 
 #include "../common/gaze_source.h"
-#include "../common/live_renderer.h"
 #include "../common/window.h"
+#include "fov/renderer.h"
 #include "protocol.h"
 #include "session.h"
 
@@ -24,7 +24,7 @@ struct trial_answer {
 
 struct live_context {
   const stair_protocol& protocol;
-  live_renderer& renderer;
+  fov::renderer& renderer;
   view_window& window;
   gaze_source* gaze = nullptr;  // null: the gaze is the fixation target
   // Testing: answers taken from here, one character per answer, instead of the keyboard

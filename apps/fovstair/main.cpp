@@ -17,7 +17,7 @@
 
 #include "../common/cli.h"
 #include "../common/gaze_source.h"
-#include "../common/live_renderer.h"
+#include "fov/renderer.h"
 #include "../common/window.h"
 #include "analysis.h"
 #include "fov/pointset_io.h"
@@ -27,6 +27,7 @@
 #include "observer.h"
 #include "protocol.h"
 #include "session.h"
+#include "simulation.h"
 #include "staircase_plot.h"
 
 namespace {
@@ -127,7 +128,7 @@ int run_command(const std::string& protocol_path, const std::string& subject, st
   }
   // A person: the window, the scene and the point sets.
   std::unique_ptr<fov::view_window> window;
-  std::unique_ptr<fov::live_renderer> renderer;
+  std::unique_ptr<fov::renderer> renderer;
   std::unique_ptr<fov::gaze_source> gaze;
   std::map<double, std::shared_ptr<const fov::pointset>> sets;
   if (!observer) {
@@ -140,8 +141,7 @@ int run_command(const std::string& protocol_path, const std::string& subject, st
     auto first = std::make_shared<const fov::pointset>(fov::load_pointset(fov::pointset_path(p, state.next().scale)));
     const fov::display_geometry& d = first->model.display;
     std::shared_ptr<const fov::scene> scn = fov::load_scene(p.scene);
-    fov::camera cam = scn->default_camera(p.hfov > 0 ? float(p.hfov) : 90.0f);
-    renderer = std::make_unique<fov::live_renderer>(scn, cam);
+    renderer = std::make_unique<fov::renderer>(scn, fov::stimulus_params(p, p.conditions.front()));
     window = std::make_unique<fov::view_window>("fovstair " + p.name, d.width, d.height);
     if (!gaze_trace.empty()) gaze = fov::trace_gaze(gaze_trace, d.width, d.height);
     else if (gaze_udp > 0) gaze = fov::udp_gaze(uint16_t(gaze_udp), d.width, d.height);
@@ -252,66 +252,30 @@ int simulate_command(const std::string& protocol_path, const std::string& observ
     throw usage_error(fmt::format("--observer {}", e.what()));
   }
   const bool two_afc = base.mode == fov::stair_mode::two_afc;
-  std::vector<double> estimates;
-  uint64_t incomplete = 0, trials = 0, series = 0;
-  for (uint32_t r = 0; r < runs; ++r) {
-    fov::stair_protocol p = base;
-    p.seed = base.seed + r;
-    const std::string subject = fmt::format("sim{}", r + 1);
-    fov::stair_session s(p, subject);
-    const uint64_t seed = fov::stream_seed(p.seed, fov::subject_number(subject));
-    while (!s.finished()) {
-      const fov::trial_plan t = s.next();
-      s.record(t, fov::observer_answer(m, seed, t.index, t.scale, t.is_catch, two_afc));
-    }
-    trials += s.trials();
-    for (uint32_t c = 0; c < p.conditions.size(); ++c) {
-      const fov::staircase& st = s.series(c);
-      ++series;
-      if (!st.complete()) { ++incomplete; continue; }
-      double mean = 0;
-      for (double v : st.thresholds()) mean += v / double(st.thresholds().size());
-      estimates.push_back(mean);
-    }
-  }
-  double mean = 0, ss = 0;
-  for (double e : estimates) mean += e / double(estimates.size());
-  for (double e : estimates) ss += (e - mean) * (e - mean);
-  const double sd = estimates.size() > 1 ? std::sqrt(ss / double(estimates.size() - 1)) : 0;
-  // Where the rule converges: P(detect)^down = (1 - P(detect))^up (Levitt 1971), solved by bisection.
-  double lo = 0, hi = 1;
-  for (int i = 0; i < 100; ++i) {
-    const double mid = (lo + hi) / 2;
-    (std::pow(mid, base.rule.down) < std::pow(1 - mid, base.rule.up) ? lo : hi) = mid;
-  }
-  const double target_p = (lo + hi) / 2;
-  // The scale at which the observer detects with that probability.
-  double slo = 0.01, shi = 100;
-  for (int i = 0; i < 200; ++i) {
-    const double mid = (slo + shi) / 2;
-    (fov::detect_probability(m, mid, two_afc) < target_p ? slo : shi) = mid;
-  }
+  const fov::simulation_result r = fov::simulate_rule(base, m, runs);
+  const bool none = r.estimates.empty();
   json j = {{"true_threshold", m.threshold},
-            {"estimate_mean", estimates.empty() ? json(nullptr) : json(mean)},
-            {"estimate_sd", estimates.empty() ? json(nullptr) : json(sd)},
-            {"bias", estimates.empty() ? json(nullptr) : json(mean - m.threshold)},
+            {"estimate_mean", none ? json(nullptr) : json(r.mean)},
+            {"estimate_sd", none ? json(nullptr) : json(r.sd)},
+            {"bias", none ? json(nullptr) : json(r.mean - m.threshold)},
             {"runs", runs},
-            {"series", series},
-            {"incomplete_series", incomplete},
-            {"mean_trials_per_run", double(trials) / runs},
+            {"series", r.series},
+            {"incomplete_series", r.incomplete},
+            {"mean_trials_per_run", double(r.trials) / runs},
             {"rule", {{"up", base.rule.up}, {"down", base.rule.down}, {"initial_step", base.rule.initial_step},
                       {"step", base.rule.step}, {"thresholds", base.rule.thresholds},
                       {"discard_reversals", base.rule.discard_reversals}, {"start", base.scale_start}}},
             {"mode", two_afc ? "2afc" : "yes-no"},
-            {"target_probability", target_p},
-            {"target_scale", (slo + shi) / 2},
+            {"target_probability", r.target_probability},
+            {"target_scale", r.target_scale},
             {"observer", fov::observer_text(m)}};
   if (as_json) {
     std::cout << j.dump(2) << "\n";
   } else {
     fmt::print("true threshold {:.3f}: estimate {:.3f} +- {:.3f} (bias {:+.3f}) over {} series of {} runs; {} incomplete\n",
-               m.threshold, mean, sd, mean - m.threshold, estimates.size(), runs, incomplete);
-    fmt::print("the rule converges on P(detect) = {:.3f}, which this observer reaches at s = {:.3f}\n", target_p, (slo + shi) / 2);
+               m.threshold, r.mean, r.sd, r.mean - m.threshold, r.estimates.size(), runs, r.incomplete);
+    fmt::print("the rule converges on P(detect) = {:.3f}, which this observer reaches at s = {:.3f}\n", r.target_probability,
+               r.target_scale);
   }
   return 0;
 }

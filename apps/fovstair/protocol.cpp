@@ -298,4 +298,13 @@ std::string pointset_path(const stair_protocol& p, double scale) {
   return fmt::format("{}/{}-s{:.2f}.fovset", p.points_dir, p.display, scale);
 }
 
+render_params stimulus_params(const stair_protocol& p, const stair_condition& c) {
+  render_params r;
+  r.reconstruct = c.reconstruct;
+  r.spp = c.spp ? c.spp : p.spp;
+  r.taa = p.taa;
+  r.view.hfov_deg = float(p.hfov);
+  return r;
+}
+
 }  // namespace fov

@@ -6,7 +6,8 @@
 #include <string>
 #include <vector>
 
-#include "fov/reconstruct.h"
+#include "fov/reconstruct_params.h"
+#include "fov/renderer.h"
 
 namespace fov {
 
@@ -67,6 +68,10 @@ stair_protocol parse_protocol(const std::string& text, const std::string& name_f
 
 // The scales a series can visit: scale_min + i x step (and the initial steps), rounded to 0.01.
 std::vector<double> reachable_scales(const stair_protocol& p);
+
+// The render parameters a condition's stimulus is shown with: its reconstruction and
+// rays, the protocol's TAA and camera (hfov) and the renderer's defaults for the rest.
+render_params stimulus_params(const stair_protocol& p, const stair_condition& c);
 
 // The point-set file for a scale: <points_dir>/<display>-s<scale, 2 decimals>.fovset.
 std::string pointset_path(const stair_protocol& p, double scale);

@@ -20,11 +20,12 @@
 #include "../common/debug_views.h"
 #include "../common/gaze_source.h"
 #include "../common/image_io.h"
-#include "../common/live_renderer.h"
+#include "../common/render_flags.h"
 #include "../common/window.h"
 #include "camera_path.h"
 #include "fov/metrics.h"
 #include "fov/pointset_io.h"
+#include "fov/renderer.h"
 #include "fov/scene.h"
 
 namespace {
@@ -94,26 +95,26 @@ int main(int argc, char** argv) {
   mallopt(M_MMAP_THRESHOLD, 1 << 30);
   mallopt(M_TRIM_THRESHOLD, 1 << 30);
   CLI::App app{"fovview: gaze-contingent foveated rendering in a window"};
-  std::string scene_spec = "builtin", points, points_dir, method_text = "shepard", gaze_trace, camera_path_file, fixed_gaze;
+  std::string scene_spec = "builtin", points, points_dir, gaze_trace, camera_path_file, fixed_gaze;
   std::vector<std::string> screenshot_at;
   std::string screenshot_dir = ".", compare;
-  uint32_t k = 5, spp = 4, frames = 0;
+  uint32_t frames = 0;
   int gaze_udp = 0;
-  double scale = 0, target_fps = 0, hfov = 0;
+  double scale = 0, target_fps = 0;
+  fov::render_params settings;
+  settings.spp = 4;  // live: the most --target-fps may use
+  settings.taa = true;
   bool no_taa = false, exit_after = false, as_json = false, pipeline = false;
   app.add_option("--scene", scene_spec, "builtin, a glTF/OBJ file, or env:IMAGE");
   app.add_option("--points", points, "A point set (.fovset)");
   app.add_option("--points-dir", points_dir, "A family of point sets to switch between with [ and ]");
   app.add_option("--scale", scale, "With --points-dir: the scale to start at (default the smallest)");
-  app.add_option("--method", method_text, "nn, shepard or rbf");
-  app.add_option("--k", k, "Neighbours per pixel");
-  app.add_option("--spp", spp, "Rays per point (the most --target-fps may use)");
+  fov::add_render_flags(app, settings);
   app.add_option("--target-fps", target_fps, "Adapt rays per point to keep this frame rate");
   app.add_flag("--no-taa", no_taa, "Start with TAA off");
   app.add_flag("--pipeline", pipeline,
                "Trace the next frame while showing this one (more latency; pays where tracing and reconstruction "
                "use different processors)");
-  app.add_option("--hfov", hfov, "Horizontal field of view in degrees (default: the scene's, else 90)");
   app.add_option("--gaze-trace", gaze_trace, "Replay gaze from CSV (t_ms,x,y or t_ms,x_norm,y_norm)");
   app.add_option("--gaze-udp", gaze_udp, "Gaze from UDP datagrams 'x y' (normalised) on 127.0.0.1:PORT");
   app.add_option("--gaze", fixed_gaze, "A fixed gaze X,Y|centre|corner (default: the mouse)");
@@ -126,14 +127,11 @@ int main(int argc, char** argv) {
   app.add_flag("--json", as_json, "At exit, print frame-time statistics as JSON (medians after 5 warm-up frames)");
 
   return fov::run_tool("fovview", app, argc, argv, [&]() -> int {
-    fov::method how;
-    if (!fov::parse_method(method_text, how)) throw usage_error(fmt::format("--method: unknown '{}' (nn, shepard, rbf)", method_text));
+    fov::require_valid(settings);
     if (points.empty() == points_dir.empty()) throw usage_error("give --points SET or --points-dir DIR");
     if ((!gaze_trace.empty()) + (gaze_udp != 0) + (!fixed_gaze.empty()) > 1) throw usage_error("choose one gaze source");
     if (gaze_udp < 0 || gaze_udp > 65535) throw usage_error(fmt::format("--gaze-udp {}: not a port", gaze_udp));
-    if (spp < 1 || spp > 1024) throw usage_error("--spp must lie in 1..1024");
-    if (target_fps < 0 || target_fps > 1000) throw usage_error("--target-fps must lie in 0..1000");
-    if (hfov < 0 || hfov >= 180) throw usage_error("--hfov must lie in (0, 180)");
+    if (!(target_fps >= 0 && target_fps <= 1000)) throw usage_error("--target-fps must lie in 0..1000");
     if (exit_after && frames == 0) throw usage_error("--exit needs --frames N");
     long shot_frame = -1;
     std::string shot_file;
@@ -154,14 +152,13 @@ int main(int argc, char** argv) {
     }
     std::shared_ptr<const fov::pointset> set = family.get(level);
     const fov::display_geometry display = set->model.display;
-    if (k < 1 || k > set->table.k) throw usage_error(fmt::format("--k must lie in 1..{} (the set's k)", set->table.k));
+    fov::require_valid(settings, set.get());
+    settings.taa = !no_taa;
+    const uint32_t spp = settings.spp;
     const int w = display.width, h = display.height;
 
     std::shared_ptr<const fov::scene> scn = fov::load_scene(scene_spec);
     for (const std::string& warning : scn->warnings()) std::cerr << "fovview: warning: " << warning << "\n";
-    const float fov_deg = hfov > 0 ? float(hfov) : 90.0f;
-    fov::camera cam = scn->default_camera(fov_deg);
-    if (hfov > 0) cam.hfov_deg = float(hfov);
     std::optional<fov::camera_path> path;
     if (!camera_path_file.empty()) path = fov::load_camera_path(camera_path_file);
     fov::frame reference_image;
@@ -177,23 +174,18 @@ int main(int argc, char** argv) {
     if (!gaze_trace.empty()) gaze = fov::trace_gaze(gaze_trace, w, h);
     else if (gaze_udp) gaze = fov::udp_gaze(uint16_t(gaze_udp), w, h);
     else if (!fixed_gaze.empty()) {
-      double xy[2];
-      fov::require_gaze("--gaze", fixed_gaze, display, xy);
-      gaze = fov::fixed_gaze(w, h, xy[0], xy[1]);
+      const fov::gaze_point at = fov::require_gaze("--gaze", fixed_gaze, display);
+      gaze = fov::fixed_gaze(w, h, at.x, at.y);
     } else {
       auto m = std::make_unique<fov::mouse_gaze>(w, h);
       mouse = m.get();
       gaze = std::move(m);
     }
 
-    fov::live_renderer renderer(scn, cam);
+    fov::renderer renderer(scn, settings);
     renderer.use_pointset(set);
+    if (const std::string warning = fov::device_warning(renderer); !warning.empty()) std::cerr << "fovview: " << warning << "\n";
     fov::view_window window("fovview", w, h);
-    fov::live_settings settings;
-    settings.reconstruct.how = how;
-    settings.reconstruct.k = k;
-    settings.spp = spp;
-    settings.taa = !no_taa;
     bool show_reference = false, show_cursor = true, show_help = false;
     const std::vector<std::string> views = {"", "points", "density", "eccentricity", "error"};
     size_t view = 0;
@@ -208,7 +200,8 @@ int main(int argc, char** argv) {
     // What a frame shows: the gaze and camera when they were read. With pipelining the next
     // frame's are read (and its trace started) before this frame is shown.
     struct frame_inputs {
-      double gx, gy, poll_ms;
+      fov::gaze_point gaze;
+      double poll_ms;
       fov::camera cam;
     };
     auto read_inputs = [&](const fov::camera& current) {
@@ -217,8 +210,7 @@ int main(int argc, char** argv) {
         double x, y;
         if (window.mouse(x, y)) mouse->set(x, y);
       }
-      frame_inputs in{w / 2.0, h / 2.0, now_ms, path ? path->at(now_ms, current.hfov_deg) : current};
-      gaze->poll(now_ms, in.gx, in.gy);
+      frame_inputs in{gaze->poll(now_ms), now_ms, path ? path->at(now_ms, current.hfov_deg) : current};
       return in;
     };
     std::optional<frame_inputs> next;  // read ahead, with its trace under way
@@ -228,19 +220,18 @@ int main(int argc, char** argv) {
       const double now_ms = ms_between(start, frame_start);
       const frame_inputs in = next ? *next : read_inputs(renderer.cam());
       next.reset();
-      const double gx = in.gx, gy = in.gy;
+      const fov::gaze_point g = in.gaze;
       if (path) renderer.cam() = in.cam;
 
-      fov::live_timing timing;
+      fov::frame_timing timing;
       fov::frame reference_frame;
       const fov::frame& image = show_reference
-                                    ? (reference_frame = renderer.reference(w, h, settings.spp, settings.shadows, &timing))
-                                    : renderer.foveated(gx, gy, settings, &timing);
+                                    ? (reference_frame = renderer.reference(w, h, settings, &timing).image)
+                                    : renderer.foveated(g, settings, &timing);
       if (pipeline && !show_reference) {  // the next frame traces while this one is shown
         next = read_inputs(renderer.cam());
-        renderer.begin_trace(next->gx, next->gy, next->cam, settings);
+        renderer.begin_trace(next->gaze, next->cam, settings);
       }
-      const double gaze_xy[2] = {gx, gy};
       const std::string& v = views[view];
       fov::frame overlay;  // only the debug views draw into a copy
       const fov::frame* shown = &image;
@@ -249,20 +240,22 @@ int main(int argc, char** argv) {
         shown = &overlay;
         const fov::camera& c = renderer.cam();
         if (error_reference.rgb.empty() || !fov::same_view(c, error_reference_cam)) {
-          error_reference = renderer.reference(w, h, std::max<uint32_t>(settings.spp, 4), settings.shadows);
+          fov::render_params at_least_4 = settings;
+          at_least_4.spp = std::max<uint32_t>(settings.spp, 4);
+          error_reference = renderer.reference(w, h, at_least_4).image;
           error_reference_cam = c;
         }
         for (size_t i = 0; i < overlay.rgb.size(); ++i) {  // |error| x 4, grey scale
           const glm::vec3 d = glm::abs(image.rgb[i] - error_reference.rgb[i]);
           overlay.rgb[i] = glm::vec3(std::min(1.0f, 4.0f * (d.r + d.g + d.b) / 3.0f));
         }
-      } else if (!v.empty()) {
-        overlay = fov::debug_overlay(v, image, show_reference ? nullptr : renderer.current_set(), gaze_xy);
+      } else if (fov::debug_view dv; fov::parse_label(fov::debug_view_labels, v, dv)) {
+        overlay = fov::debug_overlay(dv, image, show_reference ? nullptr : renderer.current_set(), g);
         shown = &overlay;
       }
       const auto display_start = clock_type::now();
       cv::Mat bgr = fov::display_image(*shown);
-      if (show_cursor) fov::draw_gaze_cursor(bgr, gx, gy);
+      if (show_cursor) fov::draw_gaze_cursor(bgr, g);
       std::vector<std::string> lines = {
           fmt::format("{:.1f} fps  trace {:.1f}{}  reconstruct {:.1f}  TAA {:.1f}  display {:.1f}  gaze-to-screen {:.1f} ms",
                       fps, timing.trace_ms, timing.traced_ahead ? " (ahead)" : "", timing.reconstruct_ms, timing.taa_ms,
@@ -272,14 +265,14 @@ int main(int argc, char** argv) {
                                        fov::method_name(settings.reconstruct.how), settings.reconstruct.k,
                                        renderer.current_set()->model.scale, settings.spp, settings.taa ? "on" : "off",
                                        timing.points_traced, timing.rays),
-          fmt::format("gaze {} ({:.0f}, {:.0f}){}  view {}  device {}", gaze->name(), gx, gy,
+          fmt::format("gaze {} ({:.0f}, {:.0f}){}  view {}  device {}", gaze->name(), g.x, g.y,
                       gaze->clamped ? fmt::format(" clamped {}", gaze->clamped) : "", v.empty() ? "frame" : v,
                       timing.on_device ? "OpenCL" : "C++")};
       if (gaze->silent(now_ms)) lines.push_back("WARNING: gaze source silent; keeping the last gaze");
       if (!status.empty()) lines.push_back(status);
       if (show_help) lines.insert(lines.end(), std::begin(help_lines), std::end(help_lines));
       else lines.push_back("H: help");
-      fov::draw_overlay(bgr, lines, gx, gy);
+      fov::draw_overlay(bgr, lines, g);
       window.show(bgr);
       latency_ms = ms_between(start, clock_type::now()) - in.poll_ms;
 
@@ -294,7 +287,7 @@ int main(int argc, char** argv) {
                   {"k", settings.reconstruct.k},
                   {"spp", settings.spp},
                   {"taa", settings.taa},
-                  {"gaze", {gx, gy}},
+                  {"gaze", {g.x, g.y}},
                   {"gaze_source", gaze->name()},
                   {"camera", {{"position", {renderer.cam().position.x, renderer.cam().position.y, renderer.cam().position.z}},
                               {"forward", {renderer.cam().forward.x, renderer.cam().forward.y, renderer.cam().forward.z}},
@@ -306,7 +299,7 @@ int main(int argc, char** argv) {
                   {"rays", timing.rays},
                   {"points_traced", timing.points_traced}};
         if (!reference_image.rgb.empty()) {
-          const fov::frame_comparison c = fov::compare_frames(image, reference_image, display, gx, gy);
+          const fov::frame_comparison c = fov::compare_frames(image, reference_image, display, g);
           auto band = [](const fov::band_metrics& m) { return json{{"psnr", m.psnr}, {"ssim", m.ssim}, {"pixels", m.pixels}}; };
           j["metrics"] = {{"overall", band(c.overall)}, {"fovea", band(c.fovea)}, {"mid", band(c.mid)}, {"periphery", band(c.periphery)}};
         }

@@ -27,7 +27,8 @@ void* allocate_table_bytes(size_t bytes) {
 
 void free_table_bytes(void* p) { std::free(p); }
 
-canvas_offset offset_for_gaze(const display_geometry& display, double gaze_x, double gaze_y) {
+canvas_offset offset_for_gaze(const display_geometry& display, gaze_point gaze) {
+  double gaze_x = gaze.x, gaze_y = gaze.y;
   if (!std::isfinite(gaze_x)) gaze_x = 0.5 * display.width;
   if (!std::isfinite(gaze_y)) gaze_y = 0.5 * display.height;
   gaze_x = std::clamp(gaze_x, 0.0, double(display.width));
@@ -101,10 +102,10 @@ void require_table(const pointset& set) {
     throw std::invalid_argument("the point set's k-NN table is not loaded");
 }
 
-std::vector<uint8_t> traced_point_mask(const pointset& set, double gaze_x, double gaze_y, uint32_t k_used) {
+std::vector<uint8_t> traced_point_mask(const pointset& set, gaze_point gaze, uint32_t k_used) {
   require_table(set);
   const display_geometry& d = set.model.display;
-  const canvas_offset o = offset_for_gaze(d, gaze_x, gaze_y);
+  const canvas_offset o = offset_for_gaze(d, gaze);
   std::vector<uint8_t> mask(set.points.size(), 0);
   const knn_table& t = set.table;
   k_used = std::min(k_used, t.k);
@@ -150,8 +151,8 @@ std::vector<uint8_t> traced_point_mask(const pointset& set, double gaze_x, doubl
   return mask;
 }
 
-std::vector<uint32_t> traced_points(const pointset& set, double gaze_x, double gaze_y, uint32_t k_used) {
-  const std::vector<uint8_t> mask = traced_point_mask(set, gaze_x, gaze_y, k_used);
+std::vector<uint32_t> traced_points(const pointset& set, gaze_point gaze, uint32_t k_used) {
+  const std::vector<uint8_t> mask = traced_point_mask(set, gaze, k_used);
   // Compaction in two parallel passes over fixed blocks: count, then write at each
   // block's prefix sum. The result is the same on any number of threads.
   constexpr size_t block = 16384;
@@ -171,10 +172,10 @@ std::vector<uint32_t> traced_points(const pointset& set, double gaze_x, double g
   return out;
 }
 
-traced_set count_traced_points(const pointset& set, double gaze_x, double gaze_y, uint32_t k_used) {
-  const std::vector<uint8_t> mask = traced_point_mask(set, gaze_x, gaze_y, k_used);
+traced_set count_traced_points(const pointset& set, gaze_point gaze, uint32_t k_used) {
+  const std::vector<uint8_t> mask = traced_point_mask(set, gaze, k_used);
   const display_geometry& d = set.model.display;
-  const canvas_offset o = offset_for_gaze(d, gaze_x, gaze_y);
+  const canvas_offset o = offset_for_gaze(d, gaze);
   traced_set out;
   for (size_t i = 0; i < set.points.size(); ++i) {
     if (!mask[i]) continue;

@@ -4,6 +4,7 @@
 #include <CL/cl.h>
 
 #include <algorithm>
+#include <cstddef>
 #include <cmath>
 #include <stdexcept>
 #include <vector>
@@ -53,8 +54,7 @@ struct cl_reconstructor::impl {
   cl_context context = nullptr;
   cl_command_queue queue = nullptr;
   cl_program program = nullptr;
-  cl_kernel nn = nullptr, shepard = nullptr, weighted = nullptr, copy = nullptr, taa = nullptr;
-  double last_kernel_ms = 0, last_taa_ms = 0;
+  cl_kernel nn = nullptr, shepard = nullptr, weighted = nullptr, copy = nullptr, taa = nullptr, layout = nullptr;
   cl_mem history = nullptr, taa_out = nullptr;  // TAA: the previous output and the next one
   uint64_t history_generation = 0;              // taa_state::generation that `history` holds
   cl_mem table = nullptr, position = nullptr, colour = nullptr, depth = nullptr, out_rgb = nullptr, out_depth = nullptr;
@@ -75,7 +75,7 @@ struct cl_reconstructor::impl {
       if (m) clReleaseMemObject(m);
     for (rbf_slot& r : rbf)
       if (r.weights) clReleaseMemObject(r.weights);
-    for (cl_kernel k : {nn, shepard, weighted, copy, taa})
+    for (cl_kernel k : {nn, shepard, weighted, copy, taa, layout})
       if (k) clReleaseKernel(k);
     if (program) clReleaseProgram(program);
     if (queue) clReleaseCommandQueue(queue);
@@ -106,7 +106,8 @@ struct cl_reconstructor::impl {
     const char* sources[2] = {kernel_sources::reconstruct, kernel_sources::taa};
     program = clCreateProgramWithSource(context, 2, sources, nullptr, &status);
     check(status, "clCreateProgramWithSource");
-    if (clBuildProgram(program, 1, &dev, "-cl-std=CL1.2", nullptr, nullptr) != CL_SUCCESS) {
+    const std::string options = kernel_build_options();
+    if (clBuildProgram(program, 1, &dev, options.c_str(), nullptr, nullptr) != CL_SUCCESS) {
       size_t n = 0;
       clGetProgramBuildInfo(program, dev, CL_PROGRAM_BUILD_LOG, 0, nullptr, &n);
       std::string log(n, '\0');
@@ -123,6 +124,8 @@ struct cl_reconstructor::impl {
     check(status, "clCreateKernel(taa_resolve)");
     copy = clCreateKernel(program, "copy_float4", &status);
     check(status, "clCreateKernel(copy_float4)");
+    layout = clCreateKernel(program, "taa_camera_layout", &status);
+    check(status, "clCreateKernel(taa_camera_layout)");
 
     const knn_table& t = set.table;
     table = clCreateBuffer(context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, t.entries.size() * sizeof(uint32_t),
@@ -150,8 +153,13 @@ struct cl_reconstructor::impl {
   }
 };
 
-cl_reconstructor::cl_reconstructor(const pointset& set) : impl_(std::make_unique<impl>()), set_(set) {
+cl_reconstructor::cl_reconstructor(const pointset& set, reconstruct_device where)
+    : impl_(std::make_unique<impl>()), set_(set) {
   require_table(set);
+  if (where == reconstruct_device::cpp) {
+    impl_->reason = "the C++ path was asked for";
+    return;
+  }
   try {
     impl_->setup(set);
   } catch (const cl_failure& e) {
@@ -162,29 +170,36 @@ cl_reconstructor::cl_reconstructor(const pointset& set) : impl_(std::make_unique
 
 cl_reconstructor::~cl_reconstructor() = default;
 bool cl_reconstructor::available() const { return impl_->ok; }
-const std::string& cl_reconstructor::device() const { return impl_->device; }
+const std::string& cl_reconstructor::device() const {
+  static const std::string cpp = "C++ (TBB)";
+  return impl_->ok ? impl_->device : cpp;
+}
 const std::string& cl_reconstructor::reason() const { return impl_->reason; }
 
-frame cl_reconstructor::run(const point_samples& samples, const reconstruct_params& params, bool* on_device,
-                            rbf_stats* stats) {
+std::string cl_reconstructor::kernel_build_options() {
+  return fmt::format("-cl-std=CL1.2 -DFOV_MAX_K={} -DFOV_RBF_TILE={}", max_knn, rbf_weight_cache::tile);
+}
+
+frame cl_reconstructor::run(const point_samples& samples, const reconstruct_params& params) {
   frame out;
-  run(samples, params, out, on_device, stats);
+  run(samples, params, out);
   return out;
 }
 
-void cl_reconstructor::run(const point_samples& samples, const reconstruct_params& params, frame& out, bool* on_device,
-                           rbf_stats* stats) {
+reconstruct_result cl_reconstructor::run(const point_samples& samples, const reconstruct_params& params, frame& out) {
   impl& d = *impl_;
   check_reconstruct_inputs(set_, samples, params);
-  if (on_device) *on_device = d.ok;
+  reconstruct_result result;
+  result.on_device = d.ok;
   if (!d.ok) {
-    out = reconstruct(set_, samples, params, stats, prepare_rbf(params));
-    return;
+    out = reconstruct(set_, samples, params, &result.rbf, prepare_rbf(params));
+    return result;
   }
-  cl_event done = launch(samples, params, stats);
+  cl_event done = launch(samples, params, result);
   read_back(impl_->out_rgb, out);
-  d.last_kernel_ms = event_ms(done);
+  result.kernel_ms = event_ms(done);
   clReleaseEvent(done);
+  return result;
 }
 
 rbf_weight_cache* cl_reconstructor::prepare_rbf(const reconstruct_params& params) {
@@ -205,7 +220,8 @@ rbf_weight_cache* cl_reconstructor::prepare_rbf(const reconstruct_params& params
   return slot->cache.get();
 }
 
-cl_event cl_reconstructor::launch(const point_samples& samples, const reconstruct_params& params, rbf_stats* stats) {
+cl_event cl_reconstructor::launch(const point_samples& samples, const reconstruct_params& params,
+                                  reconstruct_result& result) {
   impl& d = *impl_;
   const knn_table& t = set_.table;
   rbf_weight_cache* cache = prepare_rbf(params);
@@ -224,7 +240,7 @@ cl_event cl_reconstructor::launch(const point_samples& samples, const reconstruc
       check(clEnqueueWriteBuffer(d.queue, weights, CL_FALSE, index * tile_bytes, tile_bytes,
                                  cache->data() + size_t(index) * cache->tile_floats(), 0, nullptr, nullptr),
             "RBF weight upload");
-    if (stats) *stats = cache->stats();
+    result.rbf = cache->stats();
   }
 
   // Colours are written straight into the mapped device buffer (on a CPU device a
@@ -287,7 +303,7 @@ void cl_reconstructor::read_back(cl_mem rgb, frame& out) {
 
 namespace {
 
-struct alignas(16) cl_taa_camera {  // kernels/taa.cl: taa_camera
+struct alignas(16) cl_taa_camera {  // kernels/taa.cl: taa_camera (host_taa_camera_layout)
   cl_float4 origin, right, up, forward;
   cl_float half_width, half_height;
 };
@@ -299,30 +315,56 @@ cl_taa_camera to_cl(const camera_frame& f) {
 
 }  // namespace
 
-frame cl_reconstructor::run_taa(const point_samples& samples, const reconstruct_params& params, taa_state& state,
-                                const camera& cam, const double gaze[2], const taa_params& taa, bool* on_device,
-                                rbf_stats* stats) {
-  frame out;
-  run_taa(samples, params, state, cam, gaze, taa, out, on_device, stats);
+std::vector<uint32_t> cl_reconstructor::host_taa_camera_layout() {
+  return {uint32_t(sizeof(cl_taa_camera)),
+          uint32_t(offsetof(cl_taa_camera, origin)),
+          uint32_t(offsetof(cl_taa_camera, right)),
+          uint32_t(offsetof(cl_taa_camera, up)),
+          uint32_t(offsetof(cl_taa_camera, forward)),
+          uint32_t(offsetof(cl_taa_camera, half_width)),
+          uint32_t(offsetof(cl_taa_camera, half_height))};
+}
+
+std::vector<uint32_t> cl_reconstructor::device_taa_camera_layout() {
+  impl& d = *impl_;
+  if (!d.ok) return {};
+  std::vector<uint32_t> out(7, 0);
+  cl_int status = 0;
+  cl_mem buffer = clCreateBuffer(d.context, CL_MEM_WRITE_ONLY, out.size() * sizeof(uint32_t), nullptr, &status);
+  check(status, "layout buffer");
+  check(clSetKernelArg(d.layout, 0, sizeof(cl_mem), &buffer), "clSetKernelArg");
+  const size_t one = 1;
+  check(clEnqueueNDRangeKernel(d.queue, d.layout, 1, nullptr, &one, nullptr, 0, nullptr, nullptr), "layout launch");
+  check(clEnqueueReadBuffer(d.queue, buffer, CL_TRUE, 0, out.size() * sizeof(uint32_t), out.data(), 0, nullptr, nullptr),
+        "layout read");
+  clReleaseMemObject(buffer);
   return out;
 }
 
-void cl_reconstructor::run_taa(const point_samples& samples, const reconstruct_params& params, taa_state& state,
-                               const camera& cam, const double gaze[2], const taa_params& taa, frame& out,
-                               bool* on_device, rbf_stats* stats) {
+frame cl_reconstructor::run_taa(const point_samples& samples, const reconstruct_params& params, taa_state& state,
+                                const camera& cam, gaze_point gaze, const taa_params& taa) {
+  frame out;
+  run_taa(samples, params, state, cam, gaze, taa, out);
+  return out;
+}
+
+reconstruct_result cl_reconstructor::run_taa(const point_samples& samples, const reconstruct_params& params,
+                                             taa_state& state, const camera& cam, gaze_point gaze,
+                                             const taa_params& taa, frame& out) {
   impl& d = *impl_;
   check_reconstruct_inputs(set_, samples, params);
   if (!(taa.alpha > 0 && taa.alpha <= 1)) throw std::invalid_argument("TAA alpha must lie in (0, 1]");
   const display_geometry& display = set_.model.display;
-  if (on_device) *on_device = d.ok;
+  reconstruct_result result;
+  result.on_device = d.ok;
   if (!d.ok) {
-    const frame current = reconstruct(set_, samples, params, stats, prepare_rbf(params));
+    const frame current = reconstruct(set_, samples, params, &result.rbf, prepare_rbf(params));
     out = taa_resolve(state, current, cam, display, gaze, taa);
-    return;
+    return result;
   }
   const int w = display.width, h = display.height;
   const size_t pixels = size_t(w) * h;
-  cl_event done = launch(samples, params, stats);
+  cl_event done = launch(samples, params, result);
   const bool usable = state.valid && state.history.width == w && state.history.height == h;
   double taa_ms = 0;
   if (usable) {
@@ -334,10 +376,10 @@ void cl_reconstructor::run_taa(const point_samples& samples, const reconstruct_p
     }
     const camera_frame now = make_frame(cam, w, h), before = make_frame(state.cam, w, h);
     const cl_uint still_camera = same_view(cam, state.cam);
-    const cl_uint still_gaze = gaze[0] == state.gaze[0] && gaze[1] == state.gaze[1];
+    const cl_uint still_gaze = gaze == state.gaze;
     const cl_taa_camera cn = to_cl(now), cb = to_cl(before);
     const cl_int cw = w, ch = h;
-    const cl_float gx = float(gaze[0]), gy = float(gaze[1]), bx = float(state.gaze[0]), by = float(state.gaze[1]);
+    const cl_float gx = float(gaze.x), gy = float(gaze.y), bx = float(state.gaze.x), by = float(state.gaze.y);
     const cl_float width_v = float(double(display.width) * display.viewing_distance);
     cl_uint a = 0;
     auto arg = [&](const auto& value) { check(clSetKernelArg(d.taa, a++, sizeof(value), &value), "clSetKernelArg"); };
@@ -357,15 +399,14 @@ void cl_reconstructor::run_taa(const point_samples& samples, const reconstruct_p
           "history copy");
   }
   read_back(d.history, out);
-  d.last_kernel_ms = event_ms(done);
-  d.last_taa_ms = taa_ms;
+  result.kernel_ms = event_ms(done);
+  result.taa_kernel_ms = taa_ms;
   clReleaseEvent(done);
   taa_remember(state, out, cam, gaze);
   d.history_generation = state.generation;
+  return result;
 }
 
-double cl_reconstructor::last_kernel_ms() const { return impl_->last_kernel_ms; }
-double cl_reconstructor::last_taa_kernel_ms() const { return impl_->last_taa_ms; }
 const rbf_weight_cache* cl_reconstructor::rbf_cache() const {
   return impl_->last_rbf ? impl_->last_rbf->cache.get() : nullptr;
 }

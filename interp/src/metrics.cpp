@@ -30,8 +30,8 @@ cv::Mat to_display(const frame& f) {
 
 }  // namespace
 
-double pixel_eccentricity_deg(const display_geometry& d, double gaze_x, double gaze_y, int x, int y) {
-  const double dist = std::hypot(x + 0.5 - gaze_x, y + 0.5 - gaze_y);
+double pixel_eccentricity_deg(const display_geometry& d, gaze_point gaze, int x, int y) {
+  const double dist = std::hypot(x + 0.5 - gaze.x, y + 0.5 - gaze.y);
   return std::atan(dist / (double(d.width) * d.viewing_distance)) * 180 / pi;
 }
 
@@ -59,8 +59,8 @@ band_metrics finish(const sums& s) {
 
 }  // namespace
 
-error_report measure_error(const frame& test, const frame& reference, const spacing_model& eye, double gaze_x,
-                           double gaze_y, const std::vector<double>& edges, double bin_deg) {
+error_report measure_error(const frame& test, const frame& reference, const spacing_model& eye, gaze_point gaze,
+                           const std::vector<double>& edges, double bin_deg) {
   if (test.width != reference.width || test.height != reference.height)
     throw std::invalid_argument("frames differ in size");
   if (!(bin_deg > 0)) throw std::invalid_argument("bin width must be positive");
@@ -86,7 +86,7 @@ error_report measure_error(const frame& test, const frame& reference, const spac
       for (int c = 0; c < 3; ++c) se += double(p[c] - q[c]) * double(p[c] - q[c]);
       const cv::Vec3f s = ssim_map.at<cv::Vec3f>(y, x);
       const double ssim = (double(s[0]) + s[1] + s[2]) / 3;
-      const double e = pixel_eccentricity_deg(eye.display, gaze_x, gaze_y, x, y);
+      const double e = pixel_eccentricity_deg(eye.display, gaze, x, y);
       const size_t band = size_t(std::upper_bound(edges.begin(), edges.end(), e) - edges.begin());
       for (sums* t : {&all, &bands[band]}) t->squared += se, t->ssim += ssim, ++t->pixels;
       const double unit = se / (3.0 * 255.0 * 255.0);  // squared error in full-scale units, mean over RGB
@@ -106,10 +106,10 @@ error_report measure_error(const frame& test, const frame& reference, const spac
 }
 
 frame_comparison compare_frames(const frame& test, const frame& reference, const display_geometry& display,
-                                double gaze_x, double gaze_y) {
+                                gaze_point gaze) {
   spacing_model eye;
   eye.display = display;
-  const error_report r = measure_error(test, reference, eye, gaze_x, gaze_y, {5, 30});
+  const error_report r = measure_error(test, reference, eye, gaze, {5, 30});
   return {r.overall, r.bands[0], r.bands[1], r.bands[2]};
 }
 

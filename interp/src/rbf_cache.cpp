@@ -1,5 +1,7 @@
 #include "fov/rbf_cache.h"
 
+#include "fov/reconstruct.h"
+
 #include <algorithm>
 #include <chrono>
 #include <mutex>

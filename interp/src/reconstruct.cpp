@@ -24,22 +24,6 @@ struct rgbd {
 
 }  // namespace
 
-const char* method_name(method m) {
-  switch (m) {
-    case method::nn: return "nn";
-    case method::shepard: return "shepard";
-    case method::rbf: return "rbf";
-  }
-  return "unknown";
-}
-
-bool parse_method(const std::string& name, method& out) {
-  if (name == "nn") { out = method::nn; return true; }
-  if (name == "shepard") { out = method::shepard; return true; }
-  if (name == "rbf") { out = method::rbf; return true; }
-  return false;
-}
-
 namespace {
 
 double phi(double r, double c, rbf_kernel kernel) {
@@ -160,13 +144,17 @@ void pixel_weights(const pointset& set, const reconstruct_params& params, uint32
   shepard_weights(dist, k, params.renka, w);
 }
 
-void check_reconstruct_inputs(const pointset& set, const point_samples& samples, const reconstruct_params& params) {
-  require_table(set);
-  if (params.k < 1 || params.k > set.table.k)
-    throw std::invalid_argument(fmt::format("k must lie in 1..{} (the set's k), got {}", set.table.k, params.k));
-  if (samples.colour.size() != set.points.size()) throw std::invalid_argument("samples do not belong to this set");
+void check_reconstruct_params(const reconstruct_params& params, uint32_t k_stored) {
+  if (params.k < 1 || params.k > k_stored)
+    throw std::invalid_argument(fmt::format("k must lie in 1..{} (the set's k), got {}", k_stored, params.k));
   if (params.how == method::rbf && !(params.shape > 0 && std::isfinite(params.shape)))
     throw std::invalid_argument("RBF shape must be positive");
+}
+
+void check_reconstruct_inputs(const pointset& set, const point_samples& samples, const reconstruct_params& params) {
+  require_table(set);
+  check_reconstruct_params(params, set.table.k);
+  if (samples.colour.size() != set.points.size()) throw std::invalid_argument("samples do not belong to this set");
 }
 
 frame reconstruct(const pointset& set, const point_samples& samples, const reconstruct_params& params,

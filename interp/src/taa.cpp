@@ -28,7 +28,7 @@ glm::vec3 bilinear(const frame& f, float x, float y) {  // x, y in pixel-centre 
 }  // namespace
 
 frame taa_resolve(taa_state& state, const frame& current, const camera& cam, const display_geometry& display,
-                  const double gaze[2], const taa_params& params) {
+                  gaze_point gaze, const taa_params& params) {
   if (current.rgb.size() != size_t(current.width) * current.height || current.depth.size() != current.rgb.size())
     throw std::invalid_argument("TAA needs a frame with colour and depth for every pixel");
   if (!(params.alpha > 0 && params.alpha <= 1)) throw std::invalid_argument("TAA alpha must lie in (0, 1]");
@@ -41,7 +41,7 @@ frame taa_resolve(taa_state& state, const frame& current, const camera& cam, con
     // pixel onto itself, and a
     // still gaze changes no eccentricity.
     const bool still_camera = same_view(cam, state.cam);
-    const bool still_gaze = gaze[0] == state.gaze[0] && gaze[1] == state.gaze[1];
+    const bool still_gaze = gaze == state.gaze;
     tbb::parallel_for(tbb::blocked_range<int>(0, h, 8), [&](const tbb::blocked_range<int>& rows) {
       for (int y = rows.begin(); y < rows.end(); ++y)
         for (int x = 0; x < w; ++x) {
@@ -59,21 +59,23 @@ frame taa_resolve(taa_state& state, const frame& current, const camera& cam, con
             if (!(depth_before > 0) || s.x < 0 || s.y < 0 || s.x >= float(w) || s.y >= float(h)) continue;
             hist = bilinear(state.history, s.x - 0.5f, s.y - 0.5f);
           }
-          // 2. Clip the history towards the current neighbourhood's mean.
+          // 2. Clip the history towards the current neighbourhood's mean. The moments are of
+          // the differences from the current colour c: in a near-flat neighbourhood the plain
+          // E[x^2] - E[x]^2 cancels to float noise, whose square root (~1e-3 x) moved the box.
+          const glm::vec3 c = current.rgb[i];
           glm::vec3 sum(0), sum2(0);
           int n = 0;
           for (int dy = -1; dy <= 1; ++dy)
             for (int dx = -1; dx <= 1; ++dx) {
               const int nx = std::clamp(x + dx, 0, w - 1), ny = std::clamp(y + dy, 0, h - 1);
-              const glm::vec3 c = current.rgb[size_t(ny) * w + nx];
-              sum += c, sum2 += c * c, ++n;
+              const glm::vec3 v = current.rgb[size_t(ny) * w + nx] - c;
+              sum += v, sum2 += v * v, ++n;
             }
-          const glm::vec3 mean = sum / float(n);
-          const glm::vec3 sigma = glm::sqrt(glm::max(sum2 / float(n) - mean * mean, glm::vec3(0)));
+          const glm::vec3 offset = sum / float(n), mean = c + offset;
+          const glm::vec3 sigma = glm::sqrt(glm::max(sum2 / float(n) - offset * offset, glm::vec3(0)));
           // The box mean +- gamma sigma, widened to hold the current colour c; the history is
           // moved along the line towards c until it is inside, so it always lies between
           // the current colour and where it was.
-          const glm::vec3 c = current.rgb[i];
           const glm::vec3 lo = glm::min(mean - params.clip_gamma * sigma, c);
           const glm::vec3 hi = glm::max(mean + params.clip_gamma * sigma, c);
           const glm::vec3 d = hist - c;
@@ -85,8 +87,8 @@ frame taa_resolve(taa_state& state, const frame& current, const camera& cam, con
           hist = c + std::max(t, 0.0f) * d;
           // 3. Blend; pixels that moved towards the gaze (focus lag) prefer the current frame.
           const double drop = still_gaze ? 0.0
-                                         : pixel_eccentricity_deg(display, state.gaze[0], state.gaze[1], x, y) -
-                                               pixel_eccentricity_deg(display, gaze[0], gaze[1], x, y);
+                                         : pixel_eccentricity_deg(display, state.gaze, x, y) -
+                                               pixel_eccentricity_deg(display, gaze, x, y);
           const float lag = params.focus_lag_deg > 0 ? std::clamp(float(drop) / params.focus_lag_deg, 0.0f, 1.0f) : 0;
           const float a = params.alpha + (1 - params.alpha) * lag;
           out.rgb[i] = a * current.rgb[i] + (1 - a) * hist;
@@ -97,12 +99,11 @@ frame taa_resolve(taa_state& state, const frame& current, const camera& cam, con
   return out;
 }
 
-void taa_remember(taa_state& state, const frame& output, const camera& cam, const double gaze[2]) {
+void taa_remember(taa_state& state, const frame& output, const camera& cam, gaze_point gaze) {
   state.history.width = output.width, state.history.height = output.height;
   state.history.rgb = output.rgb;  // reprojection reads colours only
   state.cam = cam;
-  state.gaze[0] = gaze[0];
-  state.gaze[1] = gaze[1];
+  state.gaze = gaze;
   state.valid = true;
   ++state.generation;
 }

@@ -66,7 +66,7 @@ void BM_WeightedGather(benchmark::State& state) {
   const fov::knn_table& t = layout(group);
   const std::vector<rgba>& colour = point_colours();
   const int w = set.model.display.width, h = set.model.display.height;
-  const fov::canvas_offset o = fov::offset_for_gaze(set.model.display, 0.5 * w, 0.5 * h);
+  const fov::canvas_offset o = fov::offset_for_gaze(set.model.display, {0.5 * w, 0.5 * h});
   std::vector<rgba> out(size_t(w) * h);
   for (auto _ : state) {
     tbb::parallel_for(tbb::blocked_range<int>(0, h, 8), [&](const tbb::blocked_range<int>& rows) {
@@ -120,7 +120,7 @@ void BM_TracedPointMask(benchmark::State& state) {
   const fov::pointset& set = bench_set();
   for (auto _ : state)
     benchmark::DoNotOptimize(
-        fov::traced_point_mask(set, 0.5 * set.model.display.width, 0.5 * set.model.display.height, uint32_t(state.range(0))).data());
+        fov::traced_point_mask(set, {0.5 * set.model.display.width, 0.5 * set.model.display.height}, uint32_t(state.range(0))).data());
   state.counters["band_radius_px"] = set.table.radius_by_rank[size_t(state.range(0) - 1)];
 }
 BENCHMARK(BM_TracedPointMask)->ArgName("k_used")->Arg(5)->Arg(20)->Unit(benchmark::kMillisecond)->UseRealTime();

@@ -30,7 +30,7 @@ const fov::point_samples& bench_samples() {
   static const fov::point_samples s = [] {
     fov::point_samples out;
     const fov::pointset& set = bench_set();
-    out.offset = fov::offset_for_gaze(set.model.display, 0.5 * set.model.display.width, 0.5 * set.model.display.height);
+    out.offset = fov::offset_for_gaze(set.model.display, {0.5 * set.model.display.width, 0.5 * set.model.display.height});
     out.colour.resize(set.points.size());
     out.depth.assign(set.points.size(), 3.0f);
     for (size_t i = 0; i < out.colour.size(); ++i) out.colour[i] = glm::vec3((i % 13) / 13.f, (i % 7) / 7.f, 0.3f);
@@ -66,9 +66,13 @@ void BM_Reconstruct(benchmark::State& state) {
   double kernel_ms = 1e30;
   fov::frame f;  // on the device, reused frame to frame as a live loop does
   for (auto _ : state) {
-    if (on_device) device().run(bench_samples(), rp, f, &ran_on_device);
-    else f = fov::reconstruct(bench_set(), bench_samples(), rp, nullptr, cache.get());
-    if (ran_on_device) kernel_ms = std::min(kernel_ms, device().last_kernel_ms());
+    if (on_device) {
+      const fov::reconstruct_result r = device().run(bench_samples(), rp, f);
+      ran_on_device = r.on_device;
+      if (ran_on_device) kernel_ms = std::min(kernel_ms, r.kernel_ms);
+    } else {
+      f = fov::reconstruct(bench_set(), bench_samples(), rp, nullptr, cache.get());
+    }
     benchmark::DoNotOptimize(f.rgb.data());
   }
   state.counters["on_device"] = ran_on_device ? 1 : 0;

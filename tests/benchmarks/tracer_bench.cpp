@@ -31,6 +31,11 @@ namespace {
 namespace fs = std::filesystem;
 constexpr int width = 1280, height = 1440;
 
+fov::trace_params with_k(fov::trace_params p, uint32_t k) {
+  p.k = k;
+  return p;
+}
+
 // A 2048x1024 lat-long image of smooth colour bands: an env: scene in which every ray
 // costs the same (one filtered lookup), so foveated and reference rays compare fairly.
 std::string uniform_cost_envmap() {
@@ -65,7 +70,7 @@ const fov::scene& get_scene(size_t i) {
     // Warm-up, untimed: OpenImageIO builds MIP levels on first use of each texture.
     fov::trace_params tp;
     tp.spp = 1;
-    fov::trace_reference(*s, s->default_camera(90), width, height, tp);
+    fov::trace_reference(*s, s->default_camera(90), width, height, tp).image;
   }
   return *s;
 }
@@ -140,7 +145,7 @@ void BM_BareEmbreeSameRays(benchmark::State& state) {
   const fov::pointset& set = get_set(double(state.range(2)) / 100);
   fov::trace_params tp;
   tp.spp = uint32_t(state.range(1));
-  const fov::point_samples traced = fov::trace_points(s, bench_camera(s), set, width / 2.0, height / 2.0, set.table.k, tp);
+  const fov::point_samples traced = fov::trace_points(s, bench_camera(s), set, {width / 2.0, height / 2.0}, with_k(tp, set.table.k)).samples;
   const std::vector<glm::vec2> at = fov::point_ray_positions(set, traced, tp);
   const fov::camera_frame f = fov::make_frame(bench_camera(s), width, height);
   RTCScene top = s.internals().top;
@@ -163,8 +168,8 @@ void BM_BareEmbreeSameRays(benchmark::State& state) {
 // ray for each stage (the timed iterations above it run without the clock reads).
 template <class Trace>
 void report_stages(benchmark::State& state, Trace&& trace) {
-  fov::trace_timing t;
-  const double rays = double(trace(&t));
+  const auto [ray_count, t] = trace();  // (rays, trace_stats::timing) of a trace with time_stages on
+  const double rays = double(ray_count);
   state.counters["setup_ns"] = 1e9 * t.setup / rays;
   state.counters["intersect_ns"] = 1e9 * t.intersect / rays;
   state.counters["shade_ns"] = 1e9 * t.shade / rays;
@@ -179,12 +184,13 @@ void BM_TraceReference(benchmark::State& state) {
   fov::trace_params tp;
   tp.spp = uint32_t(state.range(1));
   uint64_t rays = 0;
-  for (auto _ : state) rays += fov::trace_reference(s, bench_camera(s), width, height, tp).rays;
+  for (auto _ : state) rays += fov::trace_reference(s, bench_camera(s), width, height, tp).image.rays;
   state.counters["Mrays/s"] = benchmark::Counter(double(rays) / 1e6, benchmark::Counter::kIsRate);
   state.counters["rays"] = double(rays) / double(state.iterations());
-  report_stages(state, [&](fov::trace_timing* t) {
-    tp.timing = t;
-    return fov::trace_reference(s, bench_camera(s), width, height, tp).rays;
+  report_stages(state, [&] {
+    tp.time_stages = true;
+    const fov::reference_trace r = fov::trace_reference(s, bench_camera(s), width, height, tp);
+    return std::make_pair(r.image.rays, r.stats.timing);
   });
 }
 
@@ -196,12 +202,13 @@ void BM_TracePoints(benchmark::State& state) {
   fov::trace_params tp;
   tp.spp = uint32_t(state.range(1));
   uint64_t rays = 0;
-  for (auto _ : state) rays += fov::trace_points(s, bench_camera(s), set, width / 2.0, height / 2.0, set.table.k, tp).rays;
+  for (auto _ : state) rays += fov::trace_points(s, bench_camera(s), set, {width / 2.0, height / 2.0}, with_k(tp, set.table.k)).samples.rays;
   state.counters["Mrays/s"] = benchmark::Counter(double(rays) / 1e6, benchmark::Counter::kIsRate);
   state.counters["rays"] = double(rays) / double(state.iterations());
-  report_stages(state, [&](fov::trace_timing* t) {
-    tp.timing = t;
-    return fov::trace_points(s, bench_camera(s), set, width / 2.0, height / 2.0, set.table.k, tp).rays;
+  report_stages(state, [&] {
+    tp.time_stages = true;
+    const fov::points_trace r = fov::trace_points(s, bench_camera(s), set, {width / 2.0, height / 2.0}, with_k(tp, set.table.k));
+    return std::make_pair(r.samples.rays, r.stats.timing);
   });
 }
 
@@ -216,11 +223,12 @@ void BM_TracePointsByGaze(benchmark::State& state) {
   fov::trace_params tp;
   tp.spp = 4;
   uint64_t rays = 0;
-  for (auto _ : state) rays += fov::trace_points(s, bench_camera(s), set, gx[g], gy[g], set.table.k, tp).rays;
+  for (auto _ : state) rays += fov::trace_points(s, bench_camera(s), set, {gx[g], gy[g]}, with_k(tp, set.table.k)).samples.rays;
   state.counters["rays"] = double(rays) / double(state.iterations());
-  report_stages(state, [&](fov::trace_timing* t) {
-    tp.timing = t;
-    return fov::trace_points(s, bench_camera(s), set, gx[g], gy[g], set.table.k, tp).rays;
+  report_stages(state, [&] {
+    tp.time_stages = true;
+    const fov::points_trace r = fov::trace_points(s, bench_camera(s), set, {gx[g], gy[g]}, with_k(tp, set.table.k));
+    return std::make_pair(r.samples.rays, r.stats.timing);
   });
 }
 // args: scene, spp, scale x 100, pixel footprint (0: disc, the default; 1: pixel; see
@@ -229,7 +237,7 @@ void BM_TracePointsByGaze(benchmark::State& state) {
 // frame's time with its share of the reference's rays (ray_over_time: ray ratio / time
 // ratio). Rays do not all cost the same, and foveated rays crowd under the gaze, so the
 // content-weighted ratio prices each traced point's rays at what the reference's rays
-// cost in the 8 x 8-pixel tile where the point lies (trace_params::tile_seconds):
+// cost in the 8 x 8-pixel tile where the point lies (trace_params::tile_costs):
 // content_over_time (content-weighted ratio / time ratio) is the tracer's own overhead
 // for foveated tracing, with the scene's uneven cost taken out.
 void BM_ContentWeightedRatio(benchmark::State& state) {
@@ -250,14 +258,15 @@ void BM_ContentWeightedRatio(benchmark::State& state) {
   double ray_ratio = 0;
   for (auto _ : state) {
     auto t0 = clock::now();
-    const fov::point_samples samples = fov::trace_points(s, bench_camera(s), set, d.width / 2.0, d.height / 2.0, 5, tp);
+    const fov::point_samples samples = fov::trace_points(s, bench_camera(s), set, {d.width / 2.0, d.height / 2.0}, with_k(tp, 5)).samples;
     fov_ms.push_back(ms_since(t0));
-    std::vector<double> tiles;
     fov::trace_params rp = tp;
-    rp.tile_seconds = &tiles;
+    rp.tile_costs = true;
     t0 = clock::now();
-    const fov::frame reference = fov::trace_reference(s, bench_camera(s), d.width, d.height, rp);
+    const fov::reference_trace traced = fov::trace_reference(s, bench_camera(s), d.width, d.height, rp);
     ref_ms.push_back(ms_since(t0));
+    const fov::frame& reference = traced.image;
+    const std::vector<double>& tiles = traced.stats.tile_seconds;
     ray_ratio = double(samples.rays) / double(reference.rays);
     // Each traced point's rays at the per-ray cost of the reference tile it lies in
     // (points off the screen: the nearest tile).

@@ -370,4 +370,18 @@ camera scene::default_camera(float hfov_deg) const {
   return look_at(centre + glm::vec3(0, 0, distance), centre, hfov_deg);
 }
 
+std::string validate(const camera_overrides& o) {
+  if (o.hfov_deg != 0 && !(o.hfov_deg > 0 && o.hfov_deg < 180))
+    return fmt::format("the field of view must lie in (0, 180) degrees (got {})", o.hfov_deg);
+  return "";
+}
+
+camera setup_camera(const scene& s, const camera_overrides& o) {
+  const std::string problem = validate(o);
+  if (!problem.empty()) throw std::invalid_argument(problem);
+  camera cam = s.default_camera(o.hfov_deg > 0 ? o.hfov_deg : 90.0f);
+  if (o.hfov_deg > 0) cam.hfov_deg = o.hfov_deg;
+  return cam;
+}
+
 }  // namespace fov

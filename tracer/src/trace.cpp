@@ -7,6 +7,7 @@
 #include <mutex>
 #include <stdexcept>
 
+#include <fmt/format.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
@@ -168,7 +169,13 @@ void trace_rays(const scene::impl& d, const camera_frame& f, const sample_ray* r
     alignas(64) RTCRay16 shadow;
     bool any_shadow = false;
     for (int i = 0; i < 16; ++i) {
+      // Every lane holds a well-formed ray, active or not: Debian's Embree checks the
+      // lanes of its 8-wide halves with assertions on (an unset lane aborted on AVX2).
       shadow_valid[i] = 0;
+      shadow.org_x[i] = shadow.org_y[i] = shadow.org_z[i] = 0;
+      shadow.dir_x[i] = shadow.dir_y[i] = 0, shadow.dir_z[i] = 1;
+      shadow.tnear[i] = 0, shadow.tfar[i] = 0, shadow.time[i] = 0;
+      shadow.mask[i] = 0xFFFFFFFFu, shadow.id[i] = unsigned(i), shadow.flags[i] = 0;
       if (i >= n) continue;
       if (!hit[i]) {
         result[i].colour = d.environment_radiance(dirs[i], 2 * radius[i] * f.pixel_angle);
@@ -246,45 +253,45 @@ void point_rays(const pointset& set, uint32_t i, canvas_offset offset, const tra
 }
 
 void check(const trace_params& p, int width, int height) {
-  if (p.spp < 1 || p.spp > 65535) throw std::invalid_argument("spp must lie in 1..65535");
+  if (p.spp < 1 || p.spp > max_spp) throw std::invalid_argument(fmt::format("spp must lie in 1..{}", max_spp));
   if (width < 1 || height < 1) throw std::invalid_argument("screen size must be positive");
 }
 
 }  // namespace
 
-const char* texture_footprint_name(texture_footprint f) { return f == texture_footprint::pixel ? "pixel" : "disc"; }
+const char* texture_footprint_name(texture_footprint f) { return label_of(texture_footprint_labels, f); }
 
 bool parse_texture_footprint(const std::string& name, texture_footprint& out) {
-  if (name == "disc") { out = texture_footprint::disc; return true; }
-  if (name == "pixel") { out = texture_footprint::pixel; return true; }
-  return false;
+  return parse_label(texture_footprint_labels, name, out);
 }
 
-point_samples trace_points(const scene& sc, const camera& cam, const pointset& set, double gaze_x, double gaze_y,
-                           uint32_t k_used, const trace_params& params) {
+points_trace trace_points(const scene& sc, const camera& cam, const pointset& set, gaze_point gaze,
+                          const trace_params& params) {
   const display_geometry& disp = set.model.display;
   check(params, disp.width, disp.height);
   const scene::impl& d = sc.internals();
   const camera_frame f = make_frame(cam, disp.width, disp.height);
-  point_samples out;
-  stage_timer choose(params.timing != nullptr);
+  points_trace result;
+  point_samples& out = result.samples;
+  trace_timing* timing_total = params.time_stages ? &result.stats.timing : nullptr;
+  stage_timer choose(timing_total != nullptr);
   // A mirrored pattern is the set placed for the mirrored gaze, then mirrored on screen.
   const bool mx = params.mirror_x, my = params.mirror_y;
-  const double gx = mx ? disp.width - gaze_x : gaze_x, gy = my ? disp.height - gaze_y : gaze_y;
-  out.offset = offset_for_gaze(disp, gx, gy);
+  const gaze_point placed{mx ? disp.width - gaze.x : gaze.x, my ? disp.height - gaze.y : gaze.y};
+  out.offset = offset_for_gaze(disp, placed);
   out.mirror_x = mx, out.mirror_y = my;
-  out.traced = traced_points(set, gx, gy, k_used);
+  out.traced = traced_points(set, placed, params.k);
   const size_t n = set.points.size();
   out.colour.assign(n, glm::vec3(0));
   out.depth.assign(n, infinity);
   out.hits.assign(n, 0);
-  if (params.timing) choose.mark(params.timing->setup);
+  if (timing_total) choose.mark(timing_total->setup);
   const uint32_t spp = params.spp;
   const float radius_scale = 1.0f / std::sqrt(float(spp));
   const bool pixel_footprint = params.footprint == texture_footprint::pixel;
   const size_t chunk = std::max<size_t>(1, 256 / spp);  // points per task: about 256 rays
   tbb::parallel_for(tbb::blocked_range<size_t>(0, out.traced.size(), chunk), [&](const tbb::blocked_range<size_t>& r) {
-    task_timing timing(params.timing);
+    task_timing timing(timing_total);
     std::vector<sample_ray> rays;
     rays.reserve((r.end() - r.begin()) * spp);
     for (size_t k = r.begin(); k < r.end(); ++k) {
@@ -300,7 +307,7 @@ point_samples trace_points(const scene& sc, const camera& cam, const pointset& s
                }));
   });
   out.rays = uint64_t(out.traced.size()) * spp;
-  return out;
+  return result;
 }
 
 std::vector<glm::vec2> point_ray_positions(const pointset& set, const point_samples& samples, const trace_params& params) {
@@ -313,11 +320,14 @@ std::vector<glm::vec2> point_ray_positions(const pointset& set, const point_samp
   return out;
 }
 
-frame trace_reference(const scene& sc, const camera& cam, int width, int height, const trace_params& params) {
+reference_trace trace_reference(const scene& sc, const camera& cam, int width, int height, const trace_params& params) {
   check(params, width, height);
   const scene::impl& d = sc.internals();
   const camera_frame f = make_frame(cam, width, height);
-  frame out;
+  reference_trace result;
+  frame& out = result.image;
+  trace_timing* timing_total = params.time_stages ? &result.stats.timing : nullptr;
+  std::vector<double>* tile_seconds = params.tile_costs ? &result.stats.tile_seconds : nullptr;
   out.width = width;
   out.height = height;
   out.rgb.assign(size_t(width) * height, glm::vec3(0));
@@ -327,12 +337,12 @@ frame trace_reference(const scene& sc, const camera& cam, int width, int height,
   // 8x8-pixel tiles keep each packet's rays close together.
   constexpr int t = reference_tile;
   const int tiles_x = (width + t - 1) / t, tiles_y = (height + t - 1) / t;
-  if (params.tile_seconds) params.tile_seconds->assign(size_t(tiles_x) * tiles_y, 0.0);
+  if (tile_seconds) tile_seconds->assign(size_t(tiles_x) * tiles_y, 0.0);
   tbb::parallel_for(tbb::blocked_range<int>(0, tiles_x * tiles_y), [&](const tbb::blocked_range<int>& r) {
-    task_timing timing(params.timing);
+    task_timing timing(timing_total);
     std::vector<sample_ray> rays;
     for (int tile = r.begin(); tile < r.end(); ++tile) {
-      const auto tile_start = params.tile_seconds ? std::chrono::steady_clock::now() : std::chrono::steady_clock::time_point();
+      const auto tile_start = tile_seconds ? std::chrono::steady_clock::now() : std::chrono::steady_clock::time_point();
       const int x0 = (tile % tiles_x) * t, y0 = (tile / tiles_x) * t;
       rays.clear();
       for (int y = y0; y < std::min(height, y0 + t); ++y)
@@ -347,13 +357,13 @@ frame trace_reference(const scene& sc, const camera& cam, int width, int height,
                    out.rgb[pixel] = c;
                    out.depth[pixel] = depth;
                  }));
-      if (params.tile_seconds)
-        (*params.tile_seconds)[size_t(tile)] =
+      if (tile_seconds)
+        (*tile_seconds)[size_t(tile)] =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - tile_start).count();
     }
   });
   out.rays = uint64_t(width) * height * spp;
-  return out;
+  return result;
 }
 
 }  // namespace fov

@@ -14,6 +14,15 @@ struct display_geometry {
   double viewing_distance = 1.0;  // v: eye-to-screen distance / screen width
 };
 
+// Where the viewer looks: a screen position in pixels, continuous; (0, 0) is the top-left
+// corner of the top-left pixel, y grows downwards. The one gaze type of every library and app.
+struct gaze_point {
+  double x = 0, y = 0;
+  bool operator==(const gaze_point& o) const { return x == o.x && y == o.y; }
+  bool operator!=(const gaze_point& o) const { return !(*this == o); }
+};
+inline gaze_point screen_centre(const display_geometry& d) { return {0.5 * d.width, 0.5 * d.height}; }
+
 // Named displays (documented in docs/fovgen.md). Returns false for an unknown name.
 bool display_preset(const std::string& name, display_geometry& out);
 

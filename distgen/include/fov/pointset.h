@@ -125,7 +125,7 @@ struct pointset {
 struct canvas_offset {
   int x = 0, y = 0;
 };
-canvas_offset offset_for_gaze(const display_geometry& display, double gaze_x, double gaze_y);
+canvas_offset offset_for_gaze(const display_geometry& display, gaze_point gaze);
 
 // True when a canvas point falls on the screen placed at `offset` (canvas = screen + offset).
 inline bool on_screen(const point& p, const display_geometry& display, canvas_offset offset) {
@@ -155,13 +155,12 @@ struct traced_set {
   uint64_t referenced_off_screen = 0;
   uint64_t total() const { return on_screen + referenced_off_screen; }
 };
-traced_set count_traced_points(const pointset& set, double gaze_x, double gaze_y, uint32_t k_used);
+traced_set count_traced_points(const pointset& set, gaze_point gaze, uint32_t k_used);
 
 // Marks (1) every point that must be traced for the gaze, as above; size = points.size().
-std::vector<uint8_t> traced_point_mask(const pointset& set, double gaze_x, double gaze_y,
-                                       uint32_t k_used);
+std::vector<uint8_t> traced_point_mask(const pointset& set, gaze_point gaze, uint32_t k_used);
 
 // The marked points' indices in ascending (Morton) order: what trace_points traces.
-std::vector<uint32_t> traced_points(const pointset& set, double gaze_x, double gaze_y, uint32_t k_used);
+std::vector<uint32_t> traced_points(const pointset& set, gaze_point gaze, uint32_t k_used);
 
 }  // namespace fov

@@ -1,9 +1,12 @@
 // Reconstruction on an OpenCL device (PoCL on the CPU here), with the C++ path behind it.
 #pragma once
 
+#include <cstdint>
 #include <memory>
 #include <string>
+#include <vector>
 
+#include "fov/labels.h"
 #include "fov/reconstruct.h"
 #include "fov/taa.h"
 
@@ -14,57 +17,71 @@ namespace fov {
 
 class rbf_weight_cache;
 
+// Where reconstruction runs: the OpenCL kernels (falling back to C++ when no device can
+// be had) or the C++ path alone.
+enum class reconstruct_device : uint8_t { opencl, cpp };
+inline constexpr std::pair<const char*, reconstruct_device> reconstruct_device_labels[] = {
+    {"opencl", reconstruct_device::opencl}, {"cpp", reconstruct_device::cpp}};
+
+// What one run did.
+struct reconstruct_result {
+  bool on_device = false;    // the kernels ran (else the C++ path)
+  rbf_stats rbf;             // RBF only: the weight solves' fallbacks and conditioning
+  double kernel_ms = 0;      // device time of the reconstruction kernel (profiling events)
+  double taa_kernel_ms = 0;  // run_taa on the device: the TAA kernel's time (0 without history)
+};
+
 class cl_reconstructor {
  public:
   // Builds the kernels and uploads the set's points and table once. Never throws for a
   // missing or failing OpenCL platform: available() is then false and reason() says why.
+  // With reconstruct_device::cpp no platform is touched and every run takes the C++ path.
   // The table is copied to the device once (on PoCL that is a second copy in host
   // memory); the set must outlive the reconstructor, which falls back to it.
-  explicit cl_reconstructor(const pointset& set);
+  explicit cl_reconstructor(const pointset& set, reconstruct_device where = reconstruct_device::opencl);
   ~cl_reconstructor();
   cl_reconstructor(const cl_reconstructor&) = delete;
   cl_reconstructor& operator=(const cl_reconstructor&) = delete;
 
   bool available() const;
-  const std::string& device() const;  // platform and device names
+  const std::string& device() const;  // platform and device names, or "C++ (TBB)"
   const std::string& reason() const;  // why unavailable
 
-  // Every method runs on the device, or on the C++ path when the device is unavailable;
-  // `on_device` tells which ran. RBF reads geometry-only weights (rbf_cache.h) that the
-  // first RBF run for the screen's tiles computes on the host and copies to the device;
-  // later runs with the same k, kernel and shape only form weighted sums.
-  frame run(const point_samples& samples, const reconstruct_params& params, bool* on_device = nullptr,
-            rbf_stats* stats = nullptr);
-  // The same into `out`, reusing its storage when it has the screen's size (a live loop
-  // saves zero-filling 29 MB a FOVE frame).
-  void run(const point_samples& samples, const reconstruct_params& params, frame& out, bool* on_device = nullptr,
-           rbf_stats* stats = nullptr);
+  // Every method runs on the device, or on the C++ path when the device is unavailable.
+  // RBF reads geometry-only weights (rbf_cache.h) that the first RBF run for the screen's
+  // tiles computes on the host and copies to the device; later runs with the same k,
+  // kernel and shape only form weighted sums. `out` keeps its storage when it has the
+  // screen's size (a live loop saves zero-filling 29 MB a FOVE frame).
+  reconstruct_result run(const point_samples& samples, const reconstruct_params& params, frame& out);
+  frame run(const point_samples& samples, const reconstruct_params& params);
 
   // run() followed by taa_resolve(), with the frame kept on the device in between and the
   // history kept there across calls (uploaded only when `state` was last advanced
   // elsewhere). Same results as the C++ pair within float rounding; falls back to it.
+  reconstruct_result run_taa(const point_samples& samples, const reconstruct_params& params, taa_state& state,
+                             const camera& cam, gaze_point gaze, const taa_params& taa, frame& out);
   frame run_taa(const point_samples& samples, const reconstruct_params& params, taa_state& state, const camera& cam,
-                const double gaze[2], const taa_params& taa = {}, bool* on_device = nullptr, rbf_stats* stats = nullptr);
-  void run_taa(const point_samples& samples, const reconstruct_params& params, taa_state& state, const camera& cam,
-               const double gaze[2], const taa_params& taa, frame& out, bool* on_device = nullptr,
-               rbf_stats* stats = nullptr);
+                gaze_point gaze, const taa_params& taa = {});
 
   // The RBF weights kept so far (null before the first RBF run): its seconds() is the
   // one-time cost, its stats() the solves' fallbacks and condition numbers.
   const rbf_weight_cache* rbf_cache() const;
 
-  // Device time of the last kernel run() launched (profiling events; transfers excluded).
-  double last_kernel_ms() const;
-  // Device time of the last TAA kernel run_taa() launched (0 when it had no history).
-  double last_taa_kernel_ms() const;
   // Bandwidth of a plain copy kernel over `bytes` (read + write counted), best of `repeats`.
   double copy_gigabytes_per_second(size_t bytes, int repeats = 5);
+
+  // The options the kernels are built with: every constant they share with C++ (-D).
+  static std::string kernel_build_options();
+  // The layout of the TAA camera struct, as the host sees it and as the device's compiler
+  // lays it out: sizeof, then the offset of each field. They must be equal (a test checks).
+  static std::vector<uint32_t> host_taa_camera_layout();
+  std::vector<uint32_t> device_taa_camera_layout();  // empty when no device
 
  private:
   struct impl;
   std::unique_ptr<impl> impl_;
   rbf_weight_cache* prepare_rbf(const reconstruct_params& params);  // null unless RBF
-  ::_cl_event* launch(const point_samples& samples, const reconstruct_params& params, rbf_stats* stats);
+  ::_cl_event* launch(const point_samples& samples, const reconstruct_params& params, reconstruct_result& result);
   void read_back(::_cl_mem* rgb, frame& out);
   const pointset& set_;
 };

@@ -5,7 +5,7 @@
 #include <vector>
 
 #include "fov/acuity.h"
-#include "fov/trace.h"
+#include "fov/frame.h"
 
 namespace fov {
 
@@ -20,15 +20,15 @@ struct frame_comparison {
   band_metrics overall, fovea, mid, periphery;
 };
 
-// Eccentricity (degrees) of screen pixel (x, y)'s centre seen with the gaze at (gx, gy):
+// Eccentricity (degrees) of screen pixel (x, y)'s centre seen with the gaze at `gaze`:
 // atan(d / (W v)) for a screen W pixels wide viewed from v widths (thesis Eq. 1, s = 1).
-double pixel_eccentricity_deg(const display_geometry& display, double gaze_x, double gaze_y, int x, int y);
+double pixel_eccentricity_deg(const display_geometry& display, gaze_point gaze, int x, int y);
 
 // Compares two frames of the same size. Both are tone-mapped the way PNGs are written
 // (clamped to [0, 1], sRGB-encoded, 8 bits): errors are measured on what is displayed.
 // SSIM is OpenCV's (quality module, 11x11 Gaussian window), averaged over each band.
 frame_comparison compare_frames(const frame& test, const frame& reference, const display_geometry& display,
-                                double gaze_x, double gaze_y);
+                                gaze_point gaze);
 
 // How much a pixel's error matters at an eccentricity: the acuity model's cut-off
 // frequency there relative to the display's Nyquist frequency, min(fc(e), fd) / fd in
@@ -50,8 +50,8 @@ struct error_report {
   std::vector<double> profile_rmse;    // bin i covers [i bin_deg, (i + 1) bin_deg)
   std::vector<uint64_t> profile_pixels;
 };
-error_report measure_error(const frame& test, const frame& reference, const spacing_model& eye, double gaze_x,
-                           double gaze_y, const std::vector<double>& edges_deg = {5, 10, 20, 30}, double bin_deg = 2.5);
+error_report measure_error(const frame& test, const frame& reference, const spacing_model& eye, gaze_point gaze,
+                           const std::vector<double>& edges_deg = {5, 10, 20, 30}, double bin_deg = 2.5);
 
 // Mean absolute change of display luminance (Rec. 709 weights on sRGB-encoded values,
 // 0..1) between two frames of the same size: the flicker measure.

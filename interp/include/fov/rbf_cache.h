@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "fov/pointset.h"
-#include "fov/reconstruct.h"
+#include "fov/reconstruct_params.h"
 
 namespace fov {
 

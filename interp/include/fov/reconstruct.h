@@ -7,37 +7,10 @@
 
 #include "fov/pointset.h"
 #include "fov/knn_table.h"
-#include "fov/trace.h"
+#include "fov/frame.h"
+#include "fov/reconstruct_params.h"
 
 namespace fov {
-
-enum class method : uint8_t {
-  nn,       // colour of the nearest point
-  shepard,  // modified Shepard (thesis Eqs. 5-6)
-  rbf,      // radial basis functions with a constant term (thesis Eqs. 7-10, augmented)
-};
-
-enum class rbf_kernel : uint8_t {
-  multiquadric,  // phi(r) = sqrt(r^2 + c^2)
-  gaussian,      // phi(r) = exp(-(r / c)^2)
-};
-const char* method_name(method m);
-bool parse_method(const std::string& name, method& out);
-
-struct reconstruct_params {
-  method how = method::shepard;
-  uint32_t k = 5;       // neighbours read, 1..the set's k
-  bool renka = false;   // Shepard: Renka's squared weights ((R - h) / (R h))^2
-  rbf_kernel kernel = rbf_kernel::multiquadric;
-  double shape = 1.0;   // RBF: c = shape x the mean spacing p of the pixel's k neighbours
-};
-
-// What an RBF reconstruction met: systems too close to singular to solve (those pixels
-// fall back to Shepard) and the worst 1-norm condition number among sampled pixels.
-struct rbf_stats {
-  uint64_t pixels = 0, fallbacks = 0, sampled = 0;
-  double worst_condition = 0;
-};
 
 // RBF weights of one pixel: s(x) = sum w[i] f[i] for any values f at the k points.
 // Solves [A 1; 1' 0] [w; m] = [phi(|x - x_i|); 1] with partial pivoting (A is symmetric,

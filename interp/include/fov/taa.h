@@ -4,7 +4,7 @@
 
 #include "fov/acuity.h"
 #include "fov/camera.h"
-#include "fov/trace.h"
+#include "fov/frame.h"
 
 namespace fov {
 
@@ -18,7 +18,7 @@ struct taa_params {
 struct taa_state {
   frame history;
   camera cam;
-  double gaze[2] = {0, 0};
+  gaze_point gaze;
   bool valid = false;
   uint64_t generation = 0;  // advanced by every resolve (device copies of the history check it)
 };
@@ -34,10 +34,10 @@ struct taa_state {
 //     proportion to how far the pixel's eccentricity dropped (up to focus_lag_deg).
 // Returns the output and makes it the new history.
 frame taa_resolve(taa_state& state, const frame& current, const camera& cam, const display_geometry& display,
-                  const double gaze[2], const taa_params& params = {});
+                  gaze_point gaze, const taa_params& params = {});
 
 // Makes `output` (seen with `cam`, gaze at `gaze`) the history of the next resolve.
 // taa_resolve calls it; so does any other path that resolves frames (cl_reconstruct.h).
-void taa_remember(taa_state& state, const frame& output, const camera& cam, const double gaze[2]);
+void taa_remember(taa_state& state, const frame& output, const camera& cam, gaze_point gaze);
 
 }  // namespace fov

@@ -98,6 +98,17 @@ class scene {
   std::unique_ptr<impl> impl_;
 };
 
+// What a user may change about a scene's camera; every tool applies it with setup_camera.
+struct camera_overrides {
+  float hfov_deg = 0;  // horizontal field of view in degrees, (0, 180); 0: the scene's own
+};
+// Returns the empty string when the overrides are valid, else the reason.
+std::string validate(const camera_overrides& o);
+
+// The camera a tool renders `s` with: the scene's default camera (the file's, else one
+// framing its bounds) with the overrides applied, for every scene kind.
+camera setup_camera(const scene& s, const camera_overrides& o = {});
+
 // "builtin", "env:FILE" (an environment image and no geometry) or a glTF 2.0 / OBJ
 // file (through Assimp). Missing textures and degenerate triangles are warned about
 // once each and skipped; an unreadable file throws std::runtime_error naming it.

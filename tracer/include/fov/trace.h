@@ -8,13 +8,15 @@
 #include <glm/glm.hpp>
 
 #include "fov/camera.h"
+#include "fov/frame.h"
+#include "fov/labels.h"
 #include "fov/pointset.h"
 #include "fov/scene.h"
 
 namespace fov {
 
-// Where tracing time goes, in thread-seconds summed over worker threads. Filled only
-// when trace_params::timing points here: each stage costs two clock reads a packet.
+// Where tracing time goes, in thread-seconds summed over worker threads. Measured only
+// when trace_params::time_stages is set: each stage costs two clock reads a packet.
 struct trace_timing {
   double setup = 0;      // choosing points, generating rays
   double intersect = 0;  // rtcIntersect16 of primary rays
@@ -30,8 +32,14 @@ enum class texture_footprint {
   pixel,  // a full-resolution pixel's share, radius 0.5 / sqrt(spp): sharper and, where
           // textures are minified, cheaper (one MIP level), but peripheral points alias
 };
-const char* texture_footprint_name(texture_footprint f);  // "disc" or "pixel"
+// The one label table of the enum: names for the command lines, JSON and CSV files.
+inline constexpr std::pair<const char*, texture_footprint> texture_footprint_labels[] = {
+    {"disc", texture_footprint::disc}, {"pixel", texture_footprint::pixel}};
+const char* texture_footprint_name(texture_footprint f);  // its label
 bool parse_texture_footprint(const std::string& name, texture_footprint& out);
+
+// The most rays a point or pixel may cast (hit counts are 16-bit).
+constexpr uint32_t max_spp = 65535;
 
 struct trace_params {
   uint32_t spp = 32;     // rays per point (foveated) or per pixel (reference)
@@ -41,48 +49,46 @@ struct trace_params {
   // 3.3: four patterns from one set, so TAA can blend frames with different samples).
   bool mirror_x = false, mirror_y = false;
   texture_footprint footprint = texture_footprint::disc;  // foveated only
-  trace_timing* timing = nullptr;  // accumulates stage times when set
-  // Reference only: when set, receives each 8 x 8-pixel tile's thread-seconds (row-major,
-  // ceil(W / 8) x ceil(H / 8) tiles): a map of what rays cost where on the screen, so a
-  // foveated frame's time can be compared with what the same content costs at full
-  // resolution (tracer_bench's content-weighted ray ratio).
-  std::vector<double>* tile_seconds = nullptr;
+  // Foveated only: the neighbours each pixel's reconstruction reads; it decides which
+  // off-screen points must be traced too (traced_point_mask).
+  uint32_t k = 5;
+  bool time_stages = false;  // measure trace_stats::timing
+  // Reference only: measure trace_stats::tile_seconds.
+  bool tile_costs = false;
+};
+
+// What a trace measured, when trace_params asked for it.
+struct trace_stats {
+  trace_timing timing;  // time_stages
+  // tile_costs: each 8 x 8-pixel tile's thread-seconds (row-major, ceil(W / 8) x ceil(H / 8)
+  // tiles): a map of what rays cost where on the screen, so a foveated frame's time can be
+  // compared with what the same content costs at full resolution (tracer_bench's
+  // content-weighted ray ratio).
+  std::vector<double> tile_seconds;
+};
+struct points_trace {
+  point_samples samples;
+  trace_stats stats;
+};
+struct reference_trace {
+  frame image;
+  trace_stats stats;
 };
 // The tiles of trace_params::tile_seconds.
 constexpr int reference_tile = 8;
 
-// Per-point results, indexed like the point set (untraced points stay zero).
-struct point_samples {
-  std::vector<glm::vec3> colour;  // mean linear RGB of the point's rays
-  std::vector<float> depth;       // mean camera-space depth of the rays that hit; +inf if none did
-  std::vector<uint16_t> hits;     // rays that hit geometry
-  std::vector<uint32_t> traced;   // the traced points, in Morton order
-  canvas_offset offset;           // canvas = (mirrored) screen + offset for this gaze
-  // The pattern was mirrored (trace_params): screen pixel (x, y) reads the table at
-  // (W - 1 - x, y) and/or (x, H - 1 - y), with the offset of the mirrored gaze.
-  bool mirror_x = false, mirror_y = false;
-  uint64_t rays = 0;
-};
-
-// Traces every point the screen needs for this gaze (traced_point_mask with k_used):
+// Traces every point the screen needs for this gaze (traced_point_mask with params.k):
 // each casts params.spp rays through uniform random positions in the disc of radius
 // p around it (fixed per point: seeded by params.seed and the point's index).
-point_samples trace_points(const scene& s, const camera& cam, const pointset& set, double gaze_x, double gaze_y,
-                           uint32_t k_used, const trace_params& params);
+points_trace trace_points(const scene& s, const camera& cam, const pointset& set, gaze_point gaze,
+                          const trace_params& params);
 
 // The screen positions (pixels) of the rays trace_points cast for `samples` (its traced
 // points, placement and mirroring), in the order it cast them: params.spp per point.
 // The same rays without the tracer, for a bare intersection loop over them.
 std::vector<glm::vec2> point_ray_positions(const pointset& set, const point_samples& samples, const trace_params& params);
 
-struct frame {
-  int width = 0, height = 0;
-  std::vector<glm::vec3> rgb;  // linear
-  std::vector<float> depth;    // mean camera-space depth of hits; +inf where none
-  uint64_t rays = 0;
-};
-
 // Full resolution: params.spp rays per pixel, jittered uniformly inside the pixel.
-frame trace_reference(const scene& s, const camera& cam, int width, int height, const trace_params& params);
+reference_trace trace_reference(const scene& s, const camera& cam, int width, int height, const trace_params& params);
 
 }  // namespace fov

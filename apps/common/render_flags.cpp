@@ -1,0 +1,48 @@
+#include "render_flags.h"
+
+namespace fov {
+
+void add_render_flags(CLI::App& app, render_params& p, unsigned groups) {
+  if (groups & flags_spp)
+    app.add_option("--spp", p.spp, "Rays per point (foveated) or per pixel (reference)")
+        ->check(CLI::Range(1u, max_spp))
+        ->capture_default_str();
+  if (groups & flags_trace) {
+    app.add_option("--seed", p.seed, "Seed of the ray positions")->capture_default_str();
+    app.add_flag("--no-shadows", [&p](int64_t) { p.shadows = false; }, "Skip shadow rays");
+    add_label_option(app, "--texture-footprint", p.footprint, texture_footprint_labels,
+                     "Foveated rays filter textures over their share of the point's disc (disc: the thesis's "
+                     "prefilter) or of a pixel (pixel: sharper, cheaper, aliased periphery)");
+  }
+  if (groups & flags_method) {
+    add_label_option(app, "--method", p.reconstruct.how, method_labels, "Reconstruction");
+    app.add_option("--k", p.reconstruct.k, "Neighbours each pixel reads (1..the set's k)")->capture_default_str();
+  }
+  if (groups & flags_reconstruct) {
+    app.add_flag("--renka", p.reconstruct.renka, "Shepard with Renka's squared weights");
+    add_label_option(app, "--rbf-kernel", p.reconstruct.kernel, rbf_kernel_labels, "RBF kernel");
+    app.add_option("--rbf-shape", p.reconstruct.shape, "RBF shape c in units of the neighbours' mean spacing p")
+        ->capture_default_str();
+  }
+  if (groups & flags_pattern)
+    add_label_option(app, "--pattern", p.pattern, ray_pattern_labels,
+                     "With TAA, how each frame's rays differ: reseed (new positions), mirror (the set mirrored: four "
+                     "patterns, thesis Sec. 3.3) or fixed");
+  if (groups & flags_device)
+    add_label_option(app, "--device", p.device, reconstruct_device_labels,
+                     "Reconstruct with OpenCL (falls back to C++ with a warning) or C++");
+  if (groups & flags_view)
+    app.add_option("--hfov", p.view.hfov_deg, "Horizontal field of view in degrees (default: the scene's camera, else 90)");
+}
+
+void require_valid(const render_params& p, const pointset* set) {
+  const std::string problem = validate(p, set);
+  if (!problem.empty()) throw usage_error(problem);
+}
+
+std::string device_warning(const renderer& r) {
+  const std::string problem = r.device_problem();
+  return problem.empty() ? "" : "warning: " + problem + "; using the C++ path";
+}
+
+}  // namespace fov

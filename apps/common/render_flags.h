@@ -1,0 +1,34 @@
+// The render flags every tool binds the same way, straight into fov::render_params.
+#pragma once
+
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+#include "cli.h"
+#include "fov/renderer.h"
+
+namespace fov {
+
+// The groups of render flags; each tool binds the groups it takes. Ranges are checked by
+// CLI11 (one line, exit 2); what depends on the point set (k) by fov::validate.
+enum render_flags : unsigned {
+  flags_spp = 1,           // --spp
+  flags_trace = 2,         // --seed, --no-shadows, --texture-footprint
+  flags_method = 4,        // --method, --k
+  flags_reconstruct = 8,   // --renka, --rbf-kernel, --rbf-shape
+  flags_pattern = 16,      // --pattern
+  flags_device = 32,       // --device
+  flags_view = 64,         // --hfov
+  flags_all = 127,
+};
+void add_render_flags(CLI::App& app, render_params& p, unsigned groups = flags_all);
+
+// One line naming the flag when `p` is not valid (for `set`'s k when given): a usage_error.
+void require_valid(const render_params& p, const pointset* set = nullptr);
+
+// The warning a tool prints when OpenCL was asked for and the C++ path runs instead
+// (empty when there is nothing to say).
+std::string device_warning(const renderer& r);
+
+}  // namespace fov

@@ -1,0 +1,47 @@
+// The sweep fovbench runs: every configuration of scene x scale x gaze x spp x method x k
+// traced and reconstructed by the shared renderer, timed against a full-resolution
+// reference of the same scene, measured and written to results.csv.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "fov/renderer.h"
+#include "report.h"
+
+namespace fov {
+
+// A gaze of the sweep, with the name its rows carry ("centre", "corner", "X_Y", "randomN").
+struct named_gaze {
+  std::string name;
+  gaze_point at;
+};
+
+// "centre", "corner", "X,Y" or "N" (N gazes drawn with `seed`); throws usage_error naming --gazes.
+std::vector<named_gaze> parse_gazes(const std::vector<std::string>& items, const display_geometry& d, uint64_t seed);
+
+// A preset name (fove, vive, desktop1080) or "WxH" (8..8192, v = 1); throws usage_error naming --display.
+display_geometry parse_display(const std::string& text);
+
+// The options' render settings that every row shares, as one text (its render_settings
+// column): a results.csv holds rows of one setting only, so --resume can refuse others.
+std::string render_settings_label(const render_params& p);
+
+// Checks the options before anything is measured or written (usage_error for flags,
+// runtime_error for missing scenes); returns the sweep's display.
+display_geometry check_bench_options(const bench_options& o);
+
+// Where the sweep reports: progress(done, todo, what) as it goes, line(text) for what the
+// user must read on a line of its own (the plan, scene warnings, the C++ fallback).
+struct bench_reporter {
+  std::function<void(size_t done, size_t todo, const std::string& what)> progress;
+  std::function<void(const std::string& text)> line;
+};
+
+// Runs the sweep into o.out/results.csv (rows already there are skipped with o.resume).
+// Returns the number of rows measured.
+size_t run_bench(const bench_options& o, const bench_reporter& report);
+
+}  // namespace fov

@@ -1,0 +1,34 @@
+// Simulated sessions: a rule's bias and spread against an observer whose threshold is known.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "observer.h"
+#include "protocol.h"
+
+namespace fov {
+
+// The probability that, from a fresh start, `down` consecutive detections come before `up`
+// consecutive misses when each trial detects with probability p.
+double down_run_probability(double p, uint32_t up, uint32_t down);
+
+// The detection probability a transformed up-down rule converges on (Levitt 1971): where
+// that run has probability 1/2 (0.5 for 1-up/1-down, 0.707 for 1-up/2-down, 0.794 for
+// 1-up/3-down), by bisection.
+double levitt_target_probability(uint32_t up, uint32_t down);
+
+// The scale at which the observer detects with `probability` (bisection over 0.01..100).
+double scale_at_probability(const observer_model& m, double probability, bool two_afc);
+
+struct simulation_result {
+  std::vector<double> estimates;  // each complete series' mean threshold
+  double mean = 0, sd = 0;        // of the estimates (sd with n - 1; 0 for fewer than 2)
+  uint64_t series = 0, incomplete = 0, trials = 0;
+  double target_probability = 0, target_scale = 0;  // where the rule converges for this observer
+};
+
+// `runs` sessions of the protocol answered by the observer, seeded seed + run.
+simulation_result simulate_rule(const stair_protocol& base, const observer_model& m, uint32_t runs);
+
+}  // namespace fov

@@ -1,0 +1,49 @@
+// What a reconstruction is asked for: the method, its neighbours and its parameters.
+// Shared by the C++ path, the OpenCL kernels' host side and the RBF weight cache.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include "fov/labels.h"
+
+namespace fov {
+
+enum class method : uint8_t {
+  nn,       // colour of the nearest point
+  shepard,  // modified Shepard (thesis Eqs. 5-6)
+  rbf,      // radial basis functions with a constant term (thesis Eqs. 7-10, augmented)
+};
+
+enum class rbf_kernel : uint8_t {
+  multiquadric,  // phi(r) = sqrt(r^2 + c^2)
+  gaussian,      // phi(r) = exp(-(r / c)^2)
+};
+// The label tables: names for the command lines, JSON and CSV files.
+inline constexpr std::pair<const char*, method> method_labels[] = {
+    {"nn", method::nn}, {"shepard", method::shepard}, {"rbf", method::rbf}};
+inline constexpr std::pair<const char*, rbf_kernel> rbf_kernel_labels[] = {
+    {"multiquadric", rbf_kernel::multiquadric}, {"gaussian", rbf_kernel::gaussian}};
+inline const char* method_name(method m) { return label_of(method_labels, m); }
+inline bool parse_method(const std::string& name, method& out) { return parse_label(method_labels, name, out); }
+
+struct reconstruct_params {
+  method how = method::shepard;
+  uint32_t k = 5;       // neighbours read, 1..the set's k
+  bool renka = false;   // Shepard: Renka's squared weights ((R - h) / (R h))^2
+  rbf_kernel kernel = rbf_kernel::multiquadric;
+  double shape = 1.0;   // RBF: c = shape x the mean spacing p of the pixel's k neighbours
+};
+
+// What an RBF reconstruction met: systems too close to singular to solve (those pixels
+// fall back to Shepard) and the worst 1-norm condition number among sampled pixels.
+struct rbf_stats {
+  uint64_t pixels = 0, fallbacks = 0, sampled = 0;
+  double worst_condition = 0;
+};
+
+// Throws std::invalid_argument unless k lies in 1..k_stored and an RBF shape is positive
+// and finite; returns quietly otherwise.
+void check_reconstruct_params(const reconstruct_params& params, uint32_t k_stored);
+
+}  // namespace fov

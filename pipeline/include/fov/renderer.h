@@ -1,0 +1,159 @@
+// The foveated frame pipeline every tool drives: trace the point set's points at the gaze,
+// reconstruct (OpenCL kernels, C++ behind them), blend with TAA; or trace the
+// full-resolution reference. One object owns the scene, the camera, the point set, the
+// reconstruction device with its RBF weight caches, the TAA history and the trace that
+// runs ahead; each stage's time is measured here and nowhere else.
+#pragma once
+
+#include <cstdint>
+#include <future>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "fov/camera.h"
+#include "fov/cl_reconstruct.h"
+#include "fov/frame.h"
+#include "fov/labels.h"
+#include "fov/pointset.h"
+#include "fov/reconstruct_params.h"
+#include "fov/scene.h"
+#include "fov/taa.h"
+#include "fov/trace.h"
+
+namespace fov {
+
+// How the rays of consecutive TAA frames differ (without TAA the pattern stays fixed:
+// nothing integrates new positions).
+enum class ray_pattern : uint8_t {
+  reseed,  // new ray positions every frame (seed + frame number)
+  mirror,  // the set mirrored in turn: four patterns from one set (thesis Sec. 3.3)
+  fixed,   // the same rays every frame (what the thesis's static view sees)
+};
+inline constexpr std::pair<const char*, ray_pattern> ray_pattern_labels[] = {
+    {"reseed", ray_pattern::reseed}, {"mirror", ray_pattern::mirror}, {"fixed", ray_pattern::fixed}};
+
+// Everything that decides a frame. Every tool parses its flags (or its protocol) into one.
+struct render_params {
+  // Tracing.
+  uint32_t spp = 32;  // rays per point (foveated) or per pixel (reference), 1..max_spp
+  uint64_t seed = 1;  // the ray positions
+  bool shadows = true;
+  texture_footprint footprint = texture_footprint::disc;
+  // Reconstruction (its k also decides which off-screen points are traced).
+  reconstruct_params reconstruct;
+  // Temporal anti-aliasing.
+  bool taa = false;
+  ray_pattern pattern = ray_pattern::reseed;
+  taa_params temporal;
+  // Where reconstruction runs (read when a point set is put in use).
+  reconstruct_device device = reconstruct_device::opencl;
+  // The camera (read when the renderer is made).
+  camera_overrides view;
+};
+
+// The empty string when `p` is valid (for `set`'s k when given), else the reason, naming
+// the setting as the tools' flags do (e.g. "--spp must lie in 1..65535 (got 0)").
+std::string validate(const render_params& p, const pointset* set = nullptr);
+
+// What one frame cost, in milliseconds of wall time, and what it traced.
+//  - trace_ms: trace_points (on a trace that ran ahead: its own duration);
+//  - reconstruct_ms: reconstruction into the renderer's reused frame, TAA excluded;
+//  - taa_ms: on the device, the TAA kernel's time; on the C++ path, taa_resolve's.
+struct frame_timing {
+  double trace_ms = 0, reconstruct_ms = 0, taa_ms = 0;
+  bool traced_ahead = false;  // the trace ran in the background (begin_trace)
+  double trace_wait_ms = 0;   // how long the frame still waited for it
+  uint64_t rays = 0, points_traced = 0;
+  bool on_device = false;
+  rbf_stats rbf;
+  double total_ms() const { return trace_ms + reconstruct_ms + taa_ms; }
+};
+
+// What warm_up spent, untimed in every frame after it.
+struct warm_up_report {
+  double trace_ms = 0;        // textures read and MIP-mapped on first use
+  double reconstruct_ms = 0;  // the first launch: kernel compilation for its shape, RBF weights
+  double rbf_weights_ms = 0;  // the RBF weights alone (their one-time solve)
+};
+
+class renderer {
+ public:
+  // The camera is setup_camera(scene, p.view); p.device is kept for use_pointset.
+  renderer(std::shared_ptr<const scene> s, const render_params& p);
+  ~renderer();
+  renderer(const renderer&) = delete;
+  renderer& operator=(const renderer&) = delete;
+
+  // Uses `set` from now on: builds its device state (seconds on a big set) and drops the
+  // TAA history. The same set again changes nothing.
+  void use_pointset(std::shared_ptr<const pointset> set);
+  const pointset* current_set() const { return set_.get(); }
+  camera& cam() { return cam_; }
+  const camera& cam() const { return cam_; }
+  const scene& current_scene() const { return *scene_; }
+
+  const std::string& device() const;  // what reconstructs: the OpenCL device's name, or "C++ (TBB)"
+  bool on_device() const;
+  // Why OpenCL is not in use although p.device asked for it (empty when it is, or when
+  // cpp was asked for); the tools print it as a warning.
+  std::string device_problem() const;
+  double device_setup_ms() const { return device_setup_ms_; }
+
+  // The stages, for tools that time or combine them themselves (fovbench):
+  // trace() casts the next frame's rays (the pattern advances by one frame);
+  points_trace trace(gaze_point gaze, const render_params& p, frame_timing& t);
+  // reconstruct() rebuilds the frame into the renderer's reused storage, then blends it
+  // with the TAA history when p.taa (the history is left alone otherwise).
+  const frame& reconstruct(const point_samples& samples, gaze_point gaze, const render_params& p, frame_timing& t);
+
+  // One foveated frame at the gaze (trace, or take the trace begun ahead, then
+  // reconstruct), valid until the next call. Without TAA the history is dropped, so
+  // turning TAA on starts afresh.
+  const frame& foveated(gaze_point gaze, const render_params& p, frame_timing* t = nullptr);
+  // Pipelining: starts tracing the frame for this gaze, camera and params in the
+  // background, so it overlaps whatever the caller does next (showing the frame before).
+  // The next foveated() with the same gaze, camera (cam() set to `view`), tracing params
+  // and set takes those samples; any other call drops them and traces anew.
+  void begin_trace(gaze_point gaze, const camera& view, const render_params& p);
+
+  // The full-resolution reference, p.spp rays per pixel (no TAA, no pattern).
+  reference_trace reference(int width, int height, const render_params& p, frame_timing* t = nullptr);
+
+  // Untimed first use: one trace (textures, MIP levels) and one reconstruction (kernel
+  // compilation, RBF weights for the screen's tiles) at this gaze. Neither the pattern
+  // nor the TAA history moves.
+  warm_up_report warm_up(gaze_point gaze, const render_params& p);
+  warm_up_report warm_up_reference(int width, int height, const render_params& p);  // one 1-spp pass
+  // The untimed first reconstruction alone, for samples traced elsewhere.
+  warm_up_report prepare(const point_samples& samples, const render_params& p);
+
+  void reset_history() { taa_ = taa_state{}; }
+  uint64_t frames_traced() const { return frames_traced_; }
+
+  // The trace_params of the frame numbered `n` under p (n counts the renderer's traces).
+  static trace_params frame_trace_params(const render_params& p, uint64_t n);
+
+ private:
+  std::shared_ptr<const scene> scene_;
+  camera cam_;
+  reconstruct_device device_kind_;
+  std::shared_ptr<const pointset> set_;
+  std::unique_ptr<cl_reconstructor> device_;
+  double device_setup_ms_ = 0;
+  taa_state taa_;
+  uint64_t frames_traced_ = 0;
+  frame frame_;  // what reconstruct() and foveated() return
+
+  struct pending_trace {
+    gaze_point gaze;
+    camera view;
+    render_params params;
+    std::shared_ptr<const pointset> set;
+    std::future<std::pair<points_trace, double>> result;  // the trace and its ms
+  };
+  std::optional<pending_trace> pending_;  // last: waited for before the rest goes
+  void require_set() const;
+};
+
+}  // namespace fov

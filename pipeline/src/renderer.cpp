@@ -1,0 +1,209 @@
+#include "fov/renderer.h"
+
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+#include "fov/rbf_cache.h"
+
+namespace fov {
+
+namespace {
+
+using clock_type = std::chrono::steady_clock;
+double ms_since(clock_type::time_point t) {
+  return std::chrono::duration<double, std::milli>(clock_type::now() - t).count();
+}
+
+// The settings a traced frame depends on (besides gaze, camera and set).
+bool same_trace(const render_params& a, const render_params& b) {
+  return a.spp == b.spp && a.seed == b.seed && a.shadows == b.shadows && a.footprint == b.footprint &&
+         a.reconstruct.k == b.reconstruct.k && a.taa == b.taa && a.pattern == b.pattern;
+}
+
+}  // namespace
+
+std::string validate(const render_params& p, const pointset* set) {
+  if (p.spp < 1 || p.spp > max_spp) return fmt::format("--spp must lie in 1..{} (got {})", max_spp, p.spp);
+  const uint32_t k_max = set ? set->table.k : max_knn;
+  if (p.reconstruct.k < 1 || p.reconstruct.k > k_max)
+    return fmt::format("--k must lie in 1..{}{} (got {})", k_max, set ? " (the set's k)" : "", p.reconstruct.k);
+  if (!(p.reconstruct.shape > 0 && std::isfinite(p.reconstruct.shape)))
+    return fmt::format("--rbf-shape must be positive (got {})", p.reconstruct.shape);
+  if (!(p.temporal.alpha > 0 && p.temporal.alpha <= 1))
+    return fmt::format("TAA alpha must lie in (0, 1] (got {})", p.temporal.alpha);
+  const std::string view = validate(p.view);
+  if (!view.empty()) return "--hfov: " + view;  // the tools bind view.hfov_deg to --hfov
+  return "";
+}
+
+trace_params renderer::frame_trace_params(const render_params& p, uint64_t n) {
+  trace_params tp;
+  tp.spp = p.spp;
+  tp.seed = p.seed;
+  tp.shadows = p.shadows;
+  tp.footprint = p.footprint;
+  tp.k = p.reconstruct.k;
+  if (p.taa && p.pattern == ray_pattern::reseed) tp.seed = p.seed + n;
+  if (p.taa && p.pattern == ray_pattern::mirror) tp.mirror_x = (n & 1) != 0, tp.mirror_y = (n & 2) != 0;
+  return tp;
+}
+
+renderer::renderer(std::shared_ptr<const scene> s, const render_params& p)
+    : scene_(std::move(s)), cam_(setup_camera(*scene_, p.view)), device_kind_(p.device) {}
+
+renderer::~renderer() = default;
+
+void renderer::use_pointset(std::shared_ptr<const pointset> set) {
+  if (set == set_) return;
+  pending_.reset();
+  device_.reset();  // holds a reference to the old set
+  set_ = std::move(set);
+  const auto t0 = clock_type::now();
+  device_ = std::make_unique<cl_reconstructor>(*set_, device_kind_);
+  device_setup_ms_ = ms_since(t0);
+  reset_history();
+}
+
+void renderer::require_set() const {
+  if (!set_) throw std::logic_error("renderer: no point set in use (use_pointset)");
+}
+
+const std::string& renderer::device() const {
+  static const std::string cpp = "C++ (TBB)";
+  return device_ ? device_->device() : cpp;
+}
+
+bool renderer::on_device() const { return device_ && device_->available(); }
+
+std::string renderer::device_problem() const {
+  if (!device_ || device_kind_ == reconstruct_device::cpp || device_->available()) return "";
+  return device_->reason();
+}
+
+points_trace renderer::trace(gaze_point gaze, const render_params& p, frame_timing& t) {
+  require_set();
+  const trace_params tp = frame_trace_params(p, frames_traced_++);
+  const auto t0 = clock_type::now();
+  points_trace out = trace_points(*scene_, cam_, *set_, gaze, tp);
+  t.trace_ms = ms_since(t0);
+  t.traced_ahead = false;
+  t.trace_wait_ms = 0;
+  t.rays = out.samples.rays;
+  t.points_traced = out.samples.traced.size();
+  return out;
+}
+
+const frame& renderer::reconstruct(const point_samples& samples, gaze_point gaze, const render_params& p,
+                                   frame_timing& t) {
+  require_set();
+  const auto t0 = clock_type::now();
+  reconstruct_result r;
+  t.taa_ms = 0;
+  if (p.taa && device_->available()) {
+    // Reconstruction and TAA on the device, the frame kept there in between; TAA's share
+    // is its kernel's time.
+    r = device_->run_taa(samples, p.reconstruct, taa_, cam_, gaze, p.temporal, frame_);
+    t.taa_ms = r.taa_kernel_ms;
+    t.reconstruct_ms = ms_since(t0) - t.taa_ms;
+  } else {
+    r = device_->run(samples, p.reconstruct, frame_);
+    t.reconstruct_ms = ms_since(t0);
+    if (p.taa) {
+      const auto t1 = clock_type::now();
+      frame_ = taa_resolve(taa_, frame_, cam_, set_->model.display, gaze, p.temporal);
+      t.taa_ms = ms_since(t1);
+    }
+  }
+  t.on_device = r.on_device;
+  t.rbf = r.rbf;
+  return frame_;
+}
+
+void renderer::begin_trace(gaze_point gaze, const camera& view, const render_params& p) {
+  require_set();
+  pending_.reset();  // waits for one still running
+  const trace_params tp = frame_trace_params(p, frames_traced_++);
+  auto job = [scn = scene_, set = set_, view, gaze, tp] {
+    const auto t0 = clock_type::now();
+    points_trace out = trace_points(*scn, view, *set, gaze, tp);
+    return std::make_pair(std::move(out), ms_since(t0));
+  };
+  pending_ = pending_trace{gaze, view, p, set_, std::async(std::launch::async, std::move(job))};
+}
+
+const frame& renderer::foveated(gaze_point gaze, const render_params& p, frame_timing* timing) {
+  require_set();
+  frame_timing t;
+  std::optional<points_trace> traced;
+  if (pending_) {
+    const auto t0 = clock_type::now();
+    const bool ahead = pending_->gaze == gaze && same_view(pending_->view, cam_) && pending_->set == set_ &&
+                       same_trace(pending_->params, p);
+    auto [result, ms] = pending_->result.get();  // rethrows what the trace threw
+    pending_.reset();
+    if (ahead) {
+      t.traced_ahead = true;
+      t.trace_ms = ms;
+      t.trace_wait_ms = ms_since(t0);
+      t.rays = result.samples.rays;
+      t.points_traced = result.samples.traced.size();
+      traced = std::move(result);
+    }
+  }
+  if (!traced) traced = trace(gaze, p, t);
+  if (!p.taa) reset_history();
+  reconstruct(traced->samples, gaze, p, t);
+  if (timing) *timing = t;
+  return frame_;
+}
+
+reference_trace renderer::reference(int width, int height, const render_params& p, frame_timing* t) {
+  pending_.reset();
+  trace_params tp = frame_trace_params(p, 0);
+  tp.mirror_x = tp.mirror_y = false;
+  tp.seed = p.seed;
+  const auto t0 = clock_type::now();
+  reference_trace out = trace_reference(*scene_, cam_, width, height, tp);
+  if (t) {
+    *t = frame_timing{};
+    t->trace_ms = ms_since(t0);
+    t->rays = out.image.rays;
+  }
+  return out;
+}
+
+warm_up_report renderer::warm_up(gaze_point gaze, const render_params& p) {
+  require_set();
+  const auto t0 = clock_type::now();
+  const points_trace traced = trace_points(*scene_, cam_, *set_, gaze, frame_trace_params(p, 0));
+  const double trace_ms = ms_since(t0);
+  warm_up_report r = prepare(traced.samples, p);
+  r.trace_ms = trace_ms;
+  return r;
+}
+
+warm_up_report renderer::warm_up_reference(int width, int height, const render_params& p) {
+  // The reference reads MIP levels no coarser than a 1-spp full-resolution pass builds.
+  render_params once = p;
+  once.spp = 1;
+  warm_up_report r;
+  const auto t0 = clock_type::now();
+  reference(width, height, once);
+  r.trace_ms = ms_since(t0);
+  return r;
+}
+
+warm_up_report renderer::prepare(const point_samples& samples, const render_params& p) {
+  require_set();
+  warm_up_report r;
+  const auto t0 = clock_type::now();
+  device_->run(samples, p.reconstruct, frame_);
+  r.reconstruct_ms = ms_since(t0);
+  if (p.reconstruct.how == method::rbf && device_->rbf_cache()) r.rbf_weights_ms = 1e3 * device_->rbf_cache()->seconds();
+  return r;
+}
+
+}  // namespace fov

@@ -1,0 +1,311 @@
+// The one frame pipeline every tool drives (fov::renderer): it must give what the library
+// calls it stands for give, honour the camera overrides for every scene kind, follow the
+// ray pattern under TAA, trace ahead without ever showing a stale frame, and the flicker
+// experiment built on it must measure what it says.
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <iostream>
+
+#include <gtest/gtest.h>
+#include <OpenImageIO/imageio.h>
+
+#include "fov/dart_throwing.h"
+#include "fov/flicker.h"
+#include "fov/knn_table.h"
+#include "fov/metrics.h"
+#include "fov/renderer.h"
+#include "opencl_required.h"
+
+namespace fov {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::shared_ptr<const pointset> small_set(int w = 64, int h = 48) {
+  auto set = std::make_shared<pointset>();
+  set->model.display = {w, h, 1.0};
+  set->points = throw_darts(set->model, {});
+  knn_params kp;
+  kp.k = 8;
+  set->table = build_knn_table(set->points, set->canvas_width(), set->canvas_height(), kp);
+  set_knn_radii(set->table, set->points);
+  return set;
+}
+
+float max_difference(const frame& a, const frame& b) {
+  EXPECT_EQ(a.rgb.size(), b.rgb.size());
+  float m = 0;
+  for (size_t i = 0; i < a.rgb.size() && i < b.rgb.size(); ++i)
+    for (int c = 0; c < 3; ++c) m = std::max(m, std::fabs(a.rgb[i][c] - b.rgb[i][c]));
+  return m;
+}
+
+double mean_abs(const frame& a, const frame& b) {
+  double sum = 0;
+  for (size_t i = 0; i < a.rgb.size(); ++i)
+    for (int c = 0; c < 3; ++c) sum += std::fabs(a.rgb[i][c] - b.rgb[i][c]);
+  return sum / double(3 * a.rgb.size());
+}
+
+// A small lat-long image with a horizontal ramp: an env: scene whose camera has its own
+// field of view (90 degrees), like the built-in scene's and a file camera's.
+std::string ramp_envmap() {
+  const std::string path = (fs::path(::testing::TempDir()) / "fovray-renderer-env.exr").string();
+  const int w = 256, h = 128;
+  std::vector<float> px(size_t(w) * h * 3);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      for (int c = 0; c < 3; ++c) px[(size_t(y) * w + x) * 3 + c] = float(x) / w * (c + 1) / 3.0f + float(y) / h * 0.2f;
+  auto out = OIIO::ImageOutput::create(path);
+  out->open(path, OIIO::ImageSpec(w, h, 3, OIIO::TypeDesc::FLOAT));
+  out->write_image(OIIO::TypeDesc::FLOAT, px.data());
+  out->close();
+  return "env:" + path;
+}
+
+struct pipeline : ::testing::Test {
+  std::shared_ptr<const scene> scn = load_scene("builtin");
+  std::shared_ptr<const pointset> set = small_set();
+  render_params params;
+  void SetUp() override {
+    params.spp = 2;
+    params.taa = false;  // a fixed ray pattern: each frame depends on gaze and camera only
+    params.reconstruct.k = 5;
+    params.device = reconstruct_device::cpp;
+  }
+};
+
+TEST_F(pipeline, AFrameIsTheTraceAndReconstructionItStandsFor) {
+  renderer r(scn, params);
+  r.use_pointset(set);
+  const gaze_point g{20, 30};
+  frame_timing t;
+  const frame got = r.foveated(g, params, &t);
+  trace_params tp;
+  tp.spp = params.spp;
+  tp.k = params.reconstruct.k;
+  const points_trace direct = trace_points(*scn, setup_camera(*scn), *set, g, tp);
+  const frame expected = reconstruct(*set, direct.samples, params.reconstruct);
+  EXPECT_EQ(max_difference(got, expected), 0.0f);
+  EXPECT_EQ(t.rays, direct.samples.rays);
+  EXPECT_EQ(t.points_traced, direct.samples.traced.size());
+  EXPECT_GT(t.trace_ms, 0.0);
+  EXPECT_GT(t.reconstruct_ms, 0.0);
+  EXPECT_EQ(t.taa_ms, 0.0);  // no TAA asked for
+  EXPECT_DOUBLE_EQ(t.total_ms(), t.trace_ms + t.reconstruct_ms);
+  // The reference is the library's too.
+  const frame ref = r.reference(64, 48, params).image;
+  EXPECT_EQ(max_difference(ref, trace_reference(*scn, setup_camera(*scn), 64, 48, tp).image), 0.0f);
+}
+
+TEST_F(pipeline, CameraOverridesApplyToEverySceneKind) {
+  const std::string env = ramp_envmap();
+  for (const std::string spec : {std::string("builtin"), env}) {
+    std::shared_ptr<const scene> s = load_scene(spec);
+    ASSERT_TRUE(s->description().scene_camera) << spec << ": the case where the override was lost";
+    render_params narrow = params;
+    narrow.view.hfov_deg = 40;
+    renderer wide_r(s, params), narrow_r(s, narrow);
+    EXPECT_EQ(narrow_r.cam().hfov_deg, 40.0f) << spec;
+    EXPECT_EQ(wide_r.cam().hfov_deg, s->description().scene_camera->hfov_deg) << spec;
+    wide_r.use_pointset(set);
+    narrow_r.use_pointset(set);
+    const frame a = wide_r.foveated({32, 24}, params);
+    EXPECT_GT(max_difference(a, narrow_r.foveated({32, 24}, narrow)), 0.02f) << spec;
+  }
+  render_params bad = params;
+  bad.view.hfov_deg = 180;
+  EXPECT_NE(validate(bad), "");
+  EXPECT_THROW(renderer(scn, bad), std::invalid_argument);
+}
+
+TEST_F(pipeline, RayPatternsFollowTheFrameNumberUnderTaaOnly) {
+  render_params p = params;
+  p.seed = 10;
+  for (uint64_t n : {0, 1, 2, 3, 7}) {
+    EXPECT_EQ(renderer::frame_trace_params(p, n).seed, 10u) << "without TAA nothing integrates new positions";
+    p.taa = true;
+    p.pattern = ray_pattern::reseed;
+    EXPECT_EQ(renderer::frame_trace_params(p, n).seed, 10 + n);
+    p.pattern = ray_pattern::mirror;
+    EXPECT_EQ(renderer::frame_trace_params(p, n).mirror_x, (n & 1) != 0);
+    EXPECT_EQ(renderer::frame_trace_params(p, n).mirror_y, (n & 2) != 0);
+    EXPECT_EQ(renderer::frame_trace_params(p, n).seed, 10u);
+    p.pattern = ray_pattern::fixed;
+    EXPECT_EQ(renderer::frame_trace_params(p, n).seed, 10u);
+    EXPECT_FALSE(renderer::frame_trace_params(p, n).mirror_x);
+    p.taa = false;
+  }
+  // A warm-up moves neither the pattern nor the history.
+  renderer r(scn, params);
+  r.use_pointset(set);
+  r.warm_up({32, 24}, params);
+  EXPECT_EQ(r.frames_traced(), 0u);
+}
+
+TEST_F(pipeline, TaaFramesMatchTheLibraryPairFrameByFrame) {
+  render_params p = params;
+  p.taa = true;
+  p.pattern = ray_pattern::reseed;
+  renderer r(scn, p);
+  r.use_pointset(set);
+  taa_state state;
+  const camera cam = setup_camera(*scn);
+  const gaze_point g{30, 20};
+  for (uint64_t n = 0; n < 3; ++n) {
+    frame_timing t;
+    const frame got = r.foveated(g, p, &t);
+    const points_trace traced = trace_points(*scn, cam, *set, g, renderer::frame_trace_params(p, n));
+    const frame expected = taa_resolve(state, reconstruct(*set, traced.samples, p.reconstruct), cam, set->model.display, g);
+    EXPECT_LT(max_difference(got, expected), 1e-6f) << "frame " << n;
+    EXPECT_GT(t.taa_ms, 0.0);
+  }
+}
+
+TEST_F(pipeline, TracingAheadGivesTheSameFrame) {
+  renderer in_turn(scn, params), ahead(scn, params);
+  in_turn.use_pointset(set);
+  ahead.use_pointset(set);
+  for (const gaze_point g : {gaze_point{32, 24}, gaze_point{10, 40}, gaze_point{60, 5}}) {
+    frame_timing t;
+    ahead.begin_trace(g, ahead.cam(), params);
+    const frame b = ahead.foveated(g, params, &t);
+    EXPECT_TRUE(t.traced_ahead);
+    const frame a = in_turn.foveated(g, params);
+    EXPECT_EQ(max_difference(a, b), 0.0f) << "gaze " << g.x << ", " << g.y;
+  }
+}
+
+TEST_F(pipeline, AStaleTraceIsDroppedNotShown) {
+  renderer in_turn(scn, params), ahead(scn, params);
+  in_turn.use_pointset(set);
+  ahead.use_pointset(set);
+  frame_timing t;
+  // Traced ahead for another gaze: the frame must be the one for the gaze asked for.
+  ahead.begin_trace({5, 5}, ahead.cam(), params);
+  frame b = ahead.foveated({50, 30}, params, &t);
+  EXPECT_FALSE(t.traced_ahead);
+  EXPECT_EQ(max_difference(in_turn.foveated({50, 30}, params), b), 0.0f);
+  // ... for another camera (the view moved after the trace began).
+  camera moved = ahead.cam();
+  moved.position += glm::vec3(0.5f, 0, 0);
+  ahead.begin_trace({50, 30}, ahead.cam(), params);
+  ahead.cam() = moved;
+  in_turn.cam() = moved;
+  b = ahead.foveated({50, 30}, params, &t);
+  EXPECT_FALSE(t.traced_ahead);
+  const frame a = in_turn.foveated({50, 30}, params);
+  EXPECT_EQ(max_difference(a, b), 0.0f);
+  // ... for other rays per point, and another k (another set of traced points).
+  render_params more = params;
+  more.spp = 3;
+  ahead.begin_trace({50, 30}, ahead.cam(), params);
+  b = ahead.foveated({50, 30}, more, &t);
+  EXPECT_FALSE(t.traced_ahead);
+  EXPECT_EQ(max_difference(in_turn.foveated({50, 30}, more), b), 0.0f);
+  more = params;
+  more.reconstruct.k = 8;
+  ahead.begin_trace({50, 30}, ahead.cam(), params);
+  b = ahead.foveated({50, 30}, more, &t);
+  EXPECT_FALSE(t.traced_ahead);
+  EXPECT_EQ(max_difference(in_turn.foveated({50, 30}, more), b), 0.0f);
+  // The frames differ at all between these cases (else the checks above prove nothing).
+  const frame near_corner = in_turn.foveated({5, 5}, params);  // a copy: foveated() reuses its frame
+  EXPECT_GT(max_difference(near_corner, in_turn.foveated({50, 30}, params)), 0.01f);
+}
+
+TEST_F(pipeline, WithoutTaaTheRayPatternStaysFixed) {
+  renderer r(scn, params);
+  r.use_pointset(set);
+  const frame a = r.foveated({32, 24}, params);
+  const frame b = r.foveated({32, 24}, params);
+  EXPECT_EQ(max_difference(a, b), 0.0f);
+  EXPECT_GT(max_difference(a, r.foveated({40, 20}, params)), 0.01f);  // and the comparison can fail
+}
+
+TEST_F(pipeline, FlickerFallsWithTaaAndTheViewIsRestored) {
+  renderer r(scn, params);
+  r.use_pointset(set);
+  const camera before = r.cam();
+  flicker_params f;
+  f.frames = 6;
+  const flicker_report fl = measure_flicker(r, {32, 24}, params, f);
+  std::cout << "flicker raw " << fl.raw << ", TAA " << fl.taa << ", reference " << fl.reference << "\n";
+  EXPECT_GT(fl.raw, 0.0);
+  EXPECT_GT(fl.reference, 0.0);  // the camera turns: the reference itself changes
+  EXPECT_LT(fl.taa, fl.raw);
+  EXPECT_TRUE(same_view(r.cam(), before));
+  f.frames = 1;
+  EXPECT_THROW(measure_flicker(r, {32, 24}, params, f), std::invalid_argument);
+}
+
+// The device path (OpenCL kernels, TAA kernel) gives the C++ path's frames within float
+// rounding, for every method, with and without TAA; the timing says which path ran.
+TEST_F(pipeline, TheDevicePathGivesTheCppFrames) {
+  render_params on = params;
+  on.device = reconstruct_device::opencl;
+  renderer gpu(scn, on), cpu(scn, params);
+  gpu.use_pointset(set);
+  cpu.use_pointset(set);
+  if (!gpu.on_device()) {
+    if (opencl_required()) FAIL() << "no OpenCL device, and FOV_REQUIRE_OPENCL=1: " << gpu.device_problem();
+    GTEST_SKIP() << "no OpenCL device: " << gpu.device_problem();
+  }
+  EXPECT_EQ(gpu.device_problem(), "");
+  for (method m : {method::nn, method::shepard, method::rbf})
+    for (bool taa : {false, true}) {
+      on.reconstruct.how = m, on.taa = taa;
+      render_params off = params;
+      off.reconstruct.how = m, off.taa = taa;
+      for (int n = 0; n < 3; ++n) {
+        frame_timing tg, tc;
+        const frame a = gpu.foveated({30, 20}, on, &tg);
+        const frame b = cpu.foveated({30, 20}, off, &tc);
+        EXPECT_TRUE(tg.on_device);
+        EXPECT_FALSE(tc.on_device);
+        float worst = 0, brightest = 0;  // float kernels against double C++: relative to the value
+        for (size_t i = 0; i < a.rgb.size(); ++i)
+          for (int c = 0; c < 3; ++c) {
+            worst = std::max(worst, std::fabs(a.rgb[i][c] - b.rgb[i][c]) / std::max(1.0f, std::fabs(b.rgb[i][c])));
+            brightest = std::max(brightest, b.rgb[i][c]);
+          }
+        EXPECT_LT(worst, 1e-4f) << method_name(m) << " taa " << taa << " frame " << n << " (brightest " << brightest << ")";
+      }
+    }
+}
+
+// A camera sliding sideways over the built-in scene, 2 rays per pixel a frame. Against a
+// 16-ray rendering of the same camera, the TAA output must be no farther than the raw
+// frame is (no ghost trail), and reprojecting must beat reading the history in place.
+TEST(Taa, AMovingCameraLeavesNoGhostTrail) {
+  const auto s = load_scene("builtin");
+  trace_params fast, converged;
+  fast.spp = 2;
+  converged.spp = 16;
+  converged.seed = 99;
+  const display_geometry d{96, 108, 1.0};
+  const gaze_point gaze{48, 54};
+  taa_state with, without;
+  double raw = 0, ghost_with = 0, ghost_without = 0;
+  const int frames = 12;
+  for (int n = 0; n < frames; ++n) {
+    camera cam = s->default_camera();
+    cam.position.x += 0.08f * float(n);  // 8 cm a frame: about 1.5 px at 10 m
+    fast.seed = uint64_t(n + 1);          // new ray positions every frame, as TAA expects
+    const frame now = trace_reference(*s, cam, d.width, d.height, fast).image;
+    const frame truth = trace_reference(*s, cam, d.width, d.height, converged).image;
+    const frame a = taa_resolve(with, now, cam, d, gaze);
+    without.cam = cam;  // pretend nothing moved: the history is read in place
+    const frame b = taa_resolve(without, now, cam, d, gaze);
+    if (n < 4) continue;
+    raw += mean_abs(now, truth), ghost_with += mean_abs(a, truth), ghost_without += mean_abs(b, truth);
+  }
+  std::cout << "mean |x - 16 spp| over frames 4..11: raw frame " << raw / 8 << ", TAA reprojected "
+            << ghost_with / 8 << ", TAA not reprojected " << ghost_without / 8 << "\n";
+  EXPECT_LT(ghost_with, raw) << "TAA must not be farther from the converged image than the raw frame";
+  EXPECT_LT(ghost_with, 0.8 * ghost_without);
+}
+
+}  // namespace
+}  // namespace fov
