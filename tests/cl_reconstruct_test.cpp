@@ -152,7 +152,9 @@ TEST_F(device_fixture, TaaOnTheDeviceMatchesTheCppPath) {
       } else {
         const reconstruct_result ran = device.run_taa(samples, rp, on_device, cam, gaze, tp, got);
         ASSERT_TRUE(ran.on_device);
-        if (f == 3) EXPECT_GT(ran.taa_kernel_ms, 0.0);
+        if (f == 3) {
+          EXPECT_GT(ran.taa_kernel_ms, 0.0);
+        }
       }
       ASSERT_EQ(got.rgb.size(), expected.rgb.size());
       for (size_t i = 0; i < got.rgb.size(); ++i)

@@ -22,30 +22,30 @@ std::string write_temp(const std::string& name, const std::string& text) {
 
 TEST(GazeTrace, ReplaysByTimeInPixelsOrNormalised) {
   auto g = trace_gaze(write_temp("px.csv", "t_ms,x,y\n0,10,20\n100,30,40\n250,50,60\n"), 200, 100);
-  double x = 0, y = 0;
-  { const gaze_point p = g->poll(0); x = p.x, y = p.y; }
-  EXPECT_EQ(x, 10);
-  { const gaze_point p = g->poll(99.9); x = p.x, y = p.y; }
-  EXPECT_EQ(x, 10);  // the last sample at or before now: no interpolation
-  { const gaze_point p = g->poll(100); x = p.x, y = p.y; }
-  EXPECT_EQ(y, 40);
-  { const gaze_point p = g->poll(1000); x = p.x, y = p.y; }
-  EXPECT_EQ(x, 50);  // after the end the gaze stays
+  gaze_point p;
+  p = g->poll(0);
+  EXPECT_EQ(p.x, 10);
+  p = g->poll(99.9);
+  EXPECT_EQ(p.x, 10);  // the last sample at or before now: no interpolation
+  p = g->poll(100);
+  EXPECT_EQ(p.y, 40);
+  p = g->poll(1000);
+  EXPECT_EQ(p.x, 50);  // after the end the gaze stays
   auto n = trace_gaze(write_temp("norm.csv", "t_ms,x_norm,y_norm\n0,0.25,0.5\n"), 200, 100);
-  { const gaze_point p = n->poll(5); x = p.x, y = p.y; }
-  EXPECT_EQ(x, 50);
-  EXPECT_EQ(y, 50);
+  p = n->poll(5);
+  EXPECT_EQ(p.x, 50);
+  EXPECT_EQ(p.y, 50);
 }
 
 TEST(GazeTrace, ClampsAndCountsOffScreenSamplesOnce) {
   auto g = trace_gaze(write_temp("off.csv", "t_ms,x,y\n0,-5,20\n10,300,20\n20,5,5\n"), 200, 100);
-  double x = 0, y = 0;
-  { const gaze_point p = g->poll(0); x = p.x, y = p.y; }
-  EXPECT_EQ(x, 0);
-  { const gaze_point p = g->poll(1); x = p.x, y = p.y; }  // the same sample again: not counted twice
-  { const gaze_point p = g->poll(10); x = p.x, y = p.y; }
-  EXPECT_EQ(x, 200);
-  { const gaze_point p = g->poll(20); x = p.x, y = p.y; }
+  gaze_point p;
+  p = g->poll(0);
+  EXPECT_EQ(p.x, 0);
+  p = g->poll(1);  // the same sample again: not counted twice
+  p = g->poll(10);
+  EXPECT_EQ(p.x, 200);
+  p = g->poll(20);
   EXPECT_EQ(g->clamped, 2u);
 }
 
@@ -71,6 +71,7 @@ TEST(GazeUdp, ParsesDatagrams) {
   double x = 0, y = 0;
   EXPECT_TRUE(parse_gaze_datagram("0.25 0.75", x, y));
   EXPECT_EQ(x, 0.25);
+  EXPECT_EQ(y, 0.75);
   EXPECT_TRUE(parse_gaze_datagram("  0.5\t0.5\n", x, y));
   EXPECT_FALSE(parse_gaze_datagram("0.5", x, y));
   EXPECT_FALSE(parse_gaze_datagram("0.5 0.5 0.5", x, y));
@@ -97,23 +98,23 @@ TEST(GazeUdp, ReadsLoopbackDatagramsClampsAndWarnsWhenSilent) {
   auto send = [&](const std::string& text) {
     ::sendto(s, text.data(), text.size(), 0, reinterpret_cast<sockaddr*>(&to), sizeof(to));
   };
-  double x = 0, y = 0;
-  { const gaze_point p = g->poll(0); x = p.x, y = p.y; }
-  EXPECT_EQ(x, 200);  // nothing yet: the centre
+  gaze_point p;
+  p = g->poll(0);
+  EXPECT_EQ(p.x, 200);  // nothing yet: the centre
   EXPECT_TRUE(g->silent(0));
   send("0.25 0.5");
   send("garbage");
   send("0.5 1.5");  // off screen: clamped
   std::this_thread::sleep_for(std::chrono::milliseconds(50));
-  { const gaze_point p = g->poll(1000); x = p.x, y = p.y; }
-  EXPECT_EQ(x, 200);  // the newest datagram wins
-  EXPECT_EQ(y, 200);
+  p = g->poll(1000);
+  EXPECT_EQ(p.x, 200);  // the newest datagram wins
+  EXPECT_EQ(p.y, 200);
   EXPECT_EQ(g->malformed, 1u);
   EXPECT_EQ(g->clamped, 1u);
   EXPECT_FALSE(g->silent(1400));
   EXPECT_TRUE(g->silent(1600));  // 500 ms without a datagram
-  { const gaze_point p = g->poll(1600); x = p.x, y = p.y; }
-  EXPECT_EQ(y, 200);  // keeps the last gaze
+  p = g->poll(1600);
+  EXPECT_EQ(p.y, 200);  // keeps the last gaze
   ::close(s);
 }
 

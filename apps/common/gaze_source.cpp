@@ -35,11 +35,7 @@ namespace {
 class fixed_source : public gaze_source {
  public:
   fixed_source(int w, int h, double x, double y) : x_(x), y_(y) { width_ = w, height_ = h; }
-  gaze_point poll(double) override {
-    gaze_point g{x_, y_};
-    clamp_to_screen(g.x, g.y);
-    return g;
-  }
+  gaze_point poll(double) override { return clamped_gaze(x_, y_); }
   std::string name() const override { return "fixed"; }
 
  private:

@@ -24,6 +24,10 @@ class gaze_source {
 
  protected:
   void clamp_to_screen(double& x, double& y);
+  gaze_point clamped_gaze(double x, double y) {  // (x, y) clamped to the screen, counted
+    clamp_to_screen(x, y);
+    return {x, y};
+  }
   int width_ = 0, height_ = 0;
 };
 
@@ -46,11 +50,7 @@ class mouse_gaze : public gaze_source {
  public:
   mouse_gaze(int width, int height) { width_ = width, height_ = height, x_ = width / 2.0, y_ = height / 2.0; }
   void set(double x, double y) { x_ = x, y_ = y; }
-  gaze_point poll(double) override {
-    gaze_point g{x_, y_};
-    clamp_to_screen(g.x, g.y);
-    return g;
-  }
+  gaze_point poll(double) override { return clamped_gaze(x_, y_); }
   std::string name() const override { return "mouse"; }
 
  private:

@@ -359,8 +359,8 @@ int main(int argc, char** argv) {
           gen_seconds = made.stats.seconds + made.knn_seconds;
         }
         const fov::pointset set = fov::load_pointset(path);
-        const fov::traced_set centre = fov::count_traced_points(set, {0.5 * m.display.width, 0.5 * m.display.height}, set.table.k);
-        const fov::traced_set corner = fov::count_traced_points(set, {m.display.width, m.display.height}, set.table.k);
+        const fov::traced_set centre = fov::count_traced_points(set, fov::screen_centre(m.display), set.table.k);
+        const fov::traced_set corner = fov::count_traced_points(set, {double(m.display.width), double(m.display.height)}, set.table.k);
         counts.series[0].x.push_back(s), counts.series[0].y.push_back(double(set.points.size()));
         counts.series[1].x.push_back(s), counts.series[1].y.push_back(double(centre.total()));
         counts.series[2].x.push_back(s), counts.series[2].y.push_back(double(corner.total()));

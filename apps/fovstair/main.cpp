@@ -1,423 +1,55 @@
 // fovstair: runs the staircase experiment of thesis Sec. 6, simulates observers, analyses data.
-#include <unistd.h>
-
-#include <chrono>
-#include <cmath>
-#include <ctime>
-#include <filesystem>
-#include <fstream>
-#include <iostream>
-#include <map>
-#include <regex>
-#include <sstream>
-
 #include <CLI/CLI.hpp>
-#include <fmt/format.h>
-#include <nlohmann/json.hpp>
 
 #include "../common/cli.h"
-#include "../common/gaze_source.h"
-#include "fov/renderer.h"
-#include "../common/window.h"
-#include "analysis.h"
-#include "fov/pointset_io.h"
-#include "fov/random.h"
-#include "fov/scene.h"
-#include "live_trial.h"
-#include "observer.h"
-#include "protocol.h"
-#include "session.h"
-#include "simulation.h"
-#include "staircase_plot.h"
-
-namespace {
-
-using json = nlohmann::json;
-using fov::usage_error;
-namespace fs = std::filesystem;
-
-std::string now_iso() {
-  const std::time_t t = std::time(nullptr);
-  char buffer[32];
-  std::strftime(buffer, sizeof(buffer), "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&t));
-  return buffer;
-}
-
-std::string read_text(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw std::runtime_error(fmt::format("{}: cannot open", path));
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-// The trial record a session file holds (answer fields filled by the caller).
-json trial_record(const fov::stair_protocol& p, const fov::trial_plan& t, bool detected, const fov::staircase::step& step) {
-  json j = {{"type", "trial"},
-            {"index", t.index},
-            {"condition", p.conditions[t.condition].name},
-            {"series_trial", t.series_trial},
-            {"scale", t.scale},
-            {"catch", t.is_catch},
-            {"fixation", {t.fixation_x, t.fixation_y}},
-            {"detected", detected},
-            {"reversal", step.reversal},
-            {"recorded", step.recorded},
-            {"threshold", step.recorded ? json(step.threshold) : json(nullptr)}};
-  if (p.mode == fov::stair_mode::two_afc) j["foveated_interval"] = t.foveated_interval + 1;
-  return j;
-}
-
-int run_command(const std::string& protocol_path, const std::string& subject, std::string session, const std::string& out_dir,
-                bool resume, const std::string& observer_spec, uint64_t stop_after, const std::string& gaze_trace,
-                int gaze_udp, bool gaze_mouse, const std::string& script_keys) {
-  if (!std::regex_match(subject, std::regex("[A-Za-z0-9_]{1,32}")))
-    throw usage_error(fmt::format("--subject '{}': use 1-32 letters, digits or _", subject));
-  std::error_code ec;
-  fs::create_directories(out_dir, ec);
-  if (!fs::is_directory(out_dir)) throw std::runtime_error(fmt::format("--out {}: not a directory", out_dir));
-  // Session number: the next free one, or (--resume) the newest.
-  if (session.empty()) {
-    int newest = 0;
-    const std::regex name(subject + "-([0-9]+)\\.jsonl");
-    for (const auto& e : fs::directory_iterator(out_dir)) {
-      std::smatch m;
-      const std::string file = e.path().filename().string();
-      if (std::regex_match(file, m, name)) newest = std::max(newest, std::stoi(m[1]));
-    }
-    if (resume && newest == 0) throw std::runtime_error(fmt::format("--resume: no session of {} in {}", subject, out_dir));
-    session = std::to_string(resume ? newest : newest + 1);
-  }
-  if (!std::regex_match(session, std::regex("[0-9]{1,6}"))) throw usage_error(fmt::format("--session '{}': a number", session));
-  const std::string path = (fs::path(out_dir) / (subject + "-" + session + ".jsonl")).string();
-
-  if (!resume && fs::exists(path))
-    throw std::runtime_error(fmt::format("{}: the session exists; continue it with --resume or choose another --session", path));
-  std::optional<fov::observer_model> observer;
-  if (!observer_spec.empty()) {
-    try {
-      observer = fov::parse_observer(observer_spec);
-    } catch (const std::invalid_argument& e) {
-      throw usage_error(fmt::format("--observer {}", e.what()));
-    }
-  }
-  json header;
-  std::vector<json> done;
-  std::optional<fov::session_file> file;
-  std::string protocol_text;
-  if (resume) {
-    if (!protocol_path.empty()) std::cerr << "fovstair: note: --resume uses the protocol stored in the session, not --protocol\n";
-    file.emplace(fov::session_file::resume(path, header, done));
-    protocol_text = header.at("protocol_text").get<std::string>();
-    if (header.value("subject", "") != subject) throw std::runtime_error(fmt::format("{}: belongs to subject {}", path, header.value("subject", "?")));
-    if (header.contains("observer") && header["observer"].is_string() && !observer)
-      observer = fov::parse_observer(header["observer"].get<std::string>());
-  } else {
-    if (protocol_path.empty()) throw usage_error("run: --protocol is required");
-    protocol_text = read_text(protocol_path);
-  }
-  const fov::stair_protocol p = fov::parse_protocol(protocol_text, resume ? path + " (stored protocol)" : protocol_path);
-  fov::stair_session state(p, subject);
-  // Replay: the plan must come out as recorded, or the data and the protocol disagree.
-  for (const json& t : done) {
-    const fov::trial_plan plan = state.next();
-    if (t.value("index", uint64_t(-1)) != plan.index || t.value("condition", "") != p.conditions[plan.condition].name ||
-        std::fabs(t.value("scale", -1.0) - plan.scale) > 1e-9 || t.value("catch", false) != plan.is_catch)
-      throw std::runtime_error(fmt::format("{}: trial {} does not match the protocol's plan; not resuming", path, plan.index));
-    state.record(plan, t.value("detected", false));
-  }
-  // A person: the window, the scene and the point sets.
-  std::unique_ptr<fov::view_window> window;
-  std::unique_ptr<fov::renderer> renderer;
-  std::unique_ptr<fov::gaze_source> gaze;
-  std::map<double, std::shared_ptr<const fov::pointset>> sets;
-  if (!observer) {
-    for (double s : fov::reachable_scales(p))
-      if (!fs::exists(fov::pointset_path(p, s)))
-        throw std::runtime_error(fmt::format(
-            "{}: missing (the staircase can reach s = {:.2f}); make the family with: fovgen sweep --display {} --scales "
-            "{:.1f}:{:.1f}:{} -o {}",
-            fov::pointset_path(p, s), s, p.display, p.scale_min, p.scale_max, p.rule.step, p.points_dir));
-    auto first = std::make_shared<const fov::pointset>(fov::load_pointset(fov::pointset_path(p, state.next().scale)));
-    const fov::display_geometry& d = first->model.display;
-    std::shared_ptr<const fov::scene> scn = fov::load_scene(p.scene);
-    renderer = std::make_unique<fov::renderer>(scn, fov::stimulus_params(p, p.conditions.front()));
-    window = std::make_unique<fov::view_window>("fovstair " + p.name, d.width, d.height);
-    if (!gaze_trace.empty()) gaze = fov::trace_gaze(gaze_trace, d.width, d.height);
-    else if (gaze_udp > 0) gaze = fov::udp_gaze(uint16_t(gaze_udp), d.width, d.height);
-    else if (gaze_mouse) gaze = std::make_unique<fov::mouse_gaze>(d.width, d.height);
-    sets[state.next().scale] = first;
-  }
-
-  // The session file is created only once the window, scene and sets are ready, so a
-  // run that cannot start leaves nothing behind.
-  if (!resume) {
-    std::vector<std::string> order;
-    for (uint32_t c : state.order()) order.push_back(p.conditions[c].name);
-    header = {{"type", "session"},     {"fovstair", 1},          {"subject", subject},
-              {"session", session},    {"protocol_file", protocol_path}, {"protocol_text", protocol_text},
-              {"condition_order", order}, {"started", now_iso()},
-              {"observer", observer ? json(fov::observer_text(*observer)) : json(nullptr)}};
-    file.emplace(fov::session_file::create(path, header));
-  } else {
-    std::cerr << fmt::format("fovstair: resuming {} at trial {}\n", path, done.size());
-  }
-
-  uint64_t this_run = 0;
-  while (!state.finished()) {
-    const fov::trial_plan t = state.next();
-    bool detected = false;
-    json extra;
-    if (observer) {
-      detected = fov::observer_answer(*observer, fov::stream_seed(p.seed, fov::subject_number(subject)), t.index, t.scale,
-                                      t.is_catch, p.mode == fov::stair_mode::two_afc);
-      extra = {{"response", p.mode == fov::stair_mode::yes_no ? (detected ? "yes" : "no")
-                                                               : std::to_string(detected ? t.foveated_interval + 1 : 2 - t.foveated_interval)},
-               {"rt_ms", nullptr}};
-    } else {
-      auto& set = sets[t.scale];
-      if (!set) {
-        if (sets.size() > 3) sets.erase(sets.begin() == sets.find(t.scale) ? std::next(sets.begin()) : sets.begin());
-        set = std::make_shared<const fov::pointset>(fov::load_pointset(fov::pointset_path(p, t.scale)));
-      }
-      renderer->use_pointset(set);
-      fov::live_context ctx{p, *renderer, *window, gaze.get(), {}};
-      if (!script_keys.empty()) {  // testing: this trial's answer from the script
-        if (this_run >= script_keys.size()) throw std::runtime_error("--script-keys: ran out of answers");
-        ctx.scripted_keys = script_keys.substr(this_run, 1);
-      }
-      if (auto* m = dynamic_cast<fov::mouse_gaze*>(gaze.get())) {
-        double x, y;
-        if (window->mouse(x, y)) m->set(x, y);
-      }
-      const fov::trial_answer a = fov::run_live_trial(ctx, t, *set);
-      if (a.quit) {
-        std::cerr << fmt::format("fovstair: quit at trial {}; continue with: fovstair run --subject {} --session {} --out {} --resume\n",
-                                 t.index, subject, session, out_dir);
-        return 0;
-      }
-      detected = a.detected;
-      extra = {{"response", a.response},
-               {"rt_ms", a.rt_ms},
-               {"gaze", {{"source", gaze ? gaze->name() : "fixation"}, {"samples", a.gaze_samples}, {"clamped", a.gaze_clamped},
-                         {"mean", {a.gaze_mean[0], a.gaze_mean[1]}}, {"sd", {a.gaze_sd[0], a.gaze_sd[1]}}}},
-               {"mean_frame_ms", a.mean_frame_ms}};
-    }
-    const fov::staircase::step step = state.record(t, detected);
-    json record = trial_record(p, t, detected, step);
-    record.update(extra);
-    record["time"] = now_iso();
-    file->append(record);  // written and fsync'ed before the next trial
-    ++this_run;
-    if (stop_after > 0 && this_run >= stop_after) std::_Exit(3);  // as a crash would: no end record
-  }
-  file->append({{"type", "end"}, {"time", now_iso()}});
-  for (uint32_t c : state.order()) {
-    const fov::staircase& s = state.series(c);
-    double mean = 0;
-    for (double v : s.thresholds()) mean += v / double(s.thresholds().size());
-    fmt::print("{}: {} trials, thresholds [{}], mean {:.3f}{}\n", p.conditions[c].name, s.trials(),
-               fmt::join(s.thresholds(), ", "), mean, s.complete() ? "" : " (incomplete: max_trials reached)");
-  }
-  fmt::print("data: {}\n", path);
-  return 0;
-}
-
-// Rule settings simulate may vary without editing the protocol (negative: keep).
-struct rule_overrides {
-  double step = -1, initial_step = -1, start = -1;
-  int64_t thresholds = -1, discard = -1;
-};
-
-int simulate_command(const std::string& protocol_path, const std::string& observer_spec, uint32_t runs, bool as_json,
-                     const rule_overrides& o) {
-  if (protocol_path.empty()) throw usage_error("simulate: --protocol is required");
-  if (observer_spec.empty()) throw usage_error("simulate: --observer is required");
-  if (runs < 1) throw usage_error("--runs must be at least 1");
-  fov::stair_protocol base = fov::load_protocol(protocol_path);
-  if (o.step >= 0) base.rule.step = o.step;
-  if (o.initial_step >= 0) base.rule.initial_step = o.initial_step;
-  if (o.start >= 0) base.scale_start = o.start;
-  if (o.thresholds >= 0) base.rule.thresholds = uint32_t(o.thresholds);
-  if (o.discard >= 0) base.rule.discard_reversals = uint32_t(o.discard);
-  if (!(base.rule.step >= 0.01) || base.rule.initial_step < base.rule.step)
-    throw usage_error("--step must be at least 0.01 and --initial-step at least --step");
-  if (!(base.scale_start >= base.scale_min && base.scale_start <= base.scale_max))
-    throw usage_error(fmt::format("--start must lie in the protocol's scales {}..{}", base.scale_min, base.scale_max));
-  if (base.rule.thresholds < 1 || base.rule.thresholds > base.rule.max_trials) throw usage_error("--thresholds out of range");
-  fov::observer_model m;
-  try {
-    m = fov::parse_observer(observer_spec);
-  } catch (const std::invalid_argument& e) {
-    throw usage_error(fmt::format("--observer {}", e.what()));
-  }
-  const bool two_afc = base.mode == fov::stair_mode::two_afc;
-  const fov::simulation_result r = fov::simulate_rule(base, m, runs);
-  const bool none = r.estimates.empty();
-  json j = {{"true_threshold", m.threshold},
-            {"estimate_mean", none ? json(nullptr) : json(r.mean)},
-            {"estimate_sd", none ? json(nullptr) : json(r.sd)},
-            {"bias", none ? json(nullptr) : json(r.mean - m.threshold)},
-            {"runs", runs},
-            {"series", r.series},
-            {"incomplete_series", r.incomplete},
-            {"mean_trials_per_run", double(r.trials) / runs},
-            {"rule", {{"up", base.rule.up}, {"down", base.rule.down}, {"initial_step", base.rule.initial_step},
-                      {"step", base.rule.step}, {"thresholds", base.rule.thresholds},
-                      {"discard_reversals", base.rule.discard_reversals}, {"start", base.scale_start}}},
-            {"mode", two_afc ? "2afc" : "yes-no"},
-            {"target_probability", r.target_probability},
-            {"target_scale", r.target_scale},
-            {"observer", fov::observer_text(m)}};
-  if (as_json) {
-    std::cout << j.dump(2) << "\n";
-  } else {
-    fmt::print("true threshold {:.3f}: estimate {:.3f} +- {:.3f} (bias {:+.3f}) over {} series of {} runs; {} incomplete\n",
-               m.threshold, r.mean, r.sd, r.mean - m.threshold, r.estimates.size(), runs, r.incomplete);
-    fmt::print("the rule converges on P(detect) = {:.3f}, which this observer reaches at s = {:.3f}\n", r.target_probability,
-               r.target_scale);
-  }
-  return 0;
-}
-
-json p_json(double p) { return std::isfinite(p) ? json(p) : json(nullptr); }
-
-int analyze_command(const std::vector<std::string>& inputs, const std::string& thresholds_csv, bool as_json,
-                    const std::string& out_csv, std::string plots_dir) {
-  std::vector<fov::threshold_value> values;
-  std::vector<fov::session_data> sessions;
-  if (!thresholds_csv.empty()) {
-    if (!inputs.empty()) throw usage_error("analyze: give session files or --thresholds, not both");
-    values = fov::read_thresholds_csv(thresholds_csv);
-  } else {
-    if (inputs.empty()) throw usage_error("analyze: no session files (or --thresholds FILE)");
-    for (const std::string& f : inputs) sessions.push_back(fov::read_session(f));
-    values = fov::thresholds_from_sessions(sessions);
-    if (values.empty()) throw std::runtime_error("the sessions hold no recorded thresholds yet");
-  }
-  const fov::threshold_analysis a = fov::analyze_thresholds(values);
-  if (!out_csv.empty()) fov::write_thresholds_csv(values, out_csv);
-  // Staircase plots, one per series.
-  std::vector<std::string> plots;
-  if (!sessions.empty()) {
-    if (plots_dir.empty()) plots_dir = (fs::path(inputs.front()).parent_path() / "plots").string();
-    fs::create_directories(plots_dir);
-    for (const fov::session_data& s : sessions) {
-      const fov::stair_protocol p = fov::parse_protocol(s.header.at("protocol_text").get<std::string>(), "stored protocol");
-      for (const fov::stair_condition& c : p.conditions) {
-        std::vector<json> series;
-        for (const json& t : s.trials)
-          if (t.value("condition", "") == c.name) series.push_back(t);
-        if (series.empty()) continue;
-        const std::string name = fmt::format("{}-{}-{}.png", s.header.value("subject", "?"), s.header.value("session", "?"), c.name);
-        const std::string path = (fs::path(plots_dir) / name).string();
-        fov::write_staircase_plot(series, fmt::format("{} session {}: {}", s.header.value("subject", "?"),
-                                                      s.header.value("session", "?"), c.name),
-                                  p.scale_min, p.scale_max, path);
-        plots.push_back(path);
-      }
-    }
-  }
-  // Catch trials: how often "yes" when nothing was foveated.
-  uint64_t catches = 0, false_alarms = 0;
-  for (const fov::session_data& s : sessions)
-    for (const json& t : s.trials)
-      if (t.value("catch", false)) ++catches, false_alarms += t.value("detected", false);
-
-  json j;
-  for (const auto& c : a.conditions) j["conditions"][c.name] = {{"n", c.n}, {"mean", c.mean}, {"sd", p_json(c.sd)}, {"values", c.values}};
-  j["anova"] = {{"F", a.F}, {"df1", a.df1}, {"df2", a.df2}, {"p", a.p}, {"on", "log subject means"}};
-  for (const auto& pc : a.pairs)
-    j["pairwise"].push_back({{"a", pc.a}, {"b", pc.b}, {"t", pc.t}, {"df", pc.df}, {"p", pc.p}, {"p_bonferroni", pc.p_bonferroni},
-                             {"paired_n", pc.paired_n}, {"paired_t", pc.paired_t}, {"paired_p", p_json(pc.paired_p)}});
-  for (const auto& [subject, conditions] : a.values)
-    for (const auto& [condition, v] : conditions) {
-      double mean = 0;
-      for (double x : v) mean += x / double(v.size());
-      j["subjects"][subject][condition] = {{"thresholds", v}, {"mean", mean}};
-    }
-  if (!sessions.empty()) j["catch_trials"] = {{"n", catches}, {"false_alarms", false_alarms}};
-  if (!plots.empty()) j["plots"] = plots;
-  if (as_json) {
-    std::cout << j.dump(2) << "\n";
-    return 0;
-  }
-  fmt::print("{:<10} {:>4} {:>8} {:>8} {:>7}\n", "condition", "n", "mean", "sd", "values");
-  for (const auto& c : a.conditions) fmt::print("{:<10} {:>4} {:>8.3f} {:>8.3f} {:>7}\n", c.name, c.n, c.mean, c.sd, c.values);
-  fmt::print("one-way ANOVA on log subject means: F({:g}, {:g}) = {:.3f}, p = {:.3f}\n", a.df1, a.df2, a.F, a.p);
-  for (const auto& pc : a.pairs)
-    fmt::print("  {} vs {}: LSD t({:g}) = {:+.3f}, p = {:.3f} (Bonferroni {:.3f}); paired t({}) = {:+.3f}, p = {:.3f}\n", pc.a,
-               pc.b, pc.df, pc.t, pc.p, pc.p_bonferroni, pc.paired_n > 0 ? pc.paired_n - 1 : 0, pc.paired_t, pc.paired_p);
-  if (catches) fmt::print("catch trials: {} of {} answered yes\n", false_alarms, catches);
-  for (const std::string& p : plots) fmt::print("plot: {}\n", p);
-  return 0;
-}
-
-}  // namespace
+#include "commands.h"
 
 int main(int argc, char** argv) {
   CLI::App app{"fovstair: staircase experiments on foveation thresholds (thesis Sec. 6)"};
   app.require_subcommand(1);
-  std::string protocol, subject, session, out_dir = "data", observer, gaze_trace, thresholds, out_csv, plots, script_keys;
-  bool resume = false, as_json = false, gaze_mouse = false;
-  uint64_t stop_after = 0;
-  uint32_t runs = 1000;
-  int gaze_udp = 0;
-  std::vector<std::string> inputs;
+  fov::run_options r;
+  fov::simulate_options so;
+  fov::analyze_options ao;
+  std::string protocol;
 
   CLI::App* run = app.add_subcommand("run", "Run a session (a window, or --observer for a simulated person)");
-  run->add_option("--protocol", protocol, "Protocol JSON (docs/fovstair.md)");
-  run->add_option("--subject", subject, "Subject id, e.g. S07 (its number picks the Latin-square row)")->required();
-  run->add_option("--session", session, "Session number (default: the next free one; with --resume the newest)");
-  run->add_option("--out", out_dir, "Data directory (default data/)");
-  run->add_flag("--resume", resume, "Continue an interrupted session where it stopped");
-  run->add_option("--observer", observer, "Answer with a simulated observer: logistic:threshold=T,slope=S[,lapse=L]");
-  run->add_option("--stop-after", stop_after, "Testing: exit abruptly (no end record) after N trials, as a crash would");
-  run->add_option("--gaze-trace", gaze_trace, "Gaze from a recorded CSV (default: the fixation target)");
-  run->add_option("--gaze-udp", gaze_udp, "Gaze from UDP datagrams 'x y' (normalised) on 127.0.0.1:PORT");
-  run->add_flag("--gaze-mouse", gaze_mouse, "Gaze from the mouse pointer");
-  run->add_option("--script-keys", script_keys, "Testing: the window's answers, one key per trial (e.g. nnyn)");
+  run->add_option("--protocol", r.protocol, "Protocol JSON (docs/fovstair.md)");
+  run->add_option("--subject", r.subject, "Subject id, e.g. S07 (its number picks the Latin-square row)")->required();
+  run->add_option("--session", r.session, "Session number (default: the next free one; with --resume the newest)");
+  run->add_option("--out", r.out_dir, "Data directory (default data/)");
+  run->add_flag("--resume", r.resume, "Continue an interrupted session where it stopped");
+  run->add_option("--observer", r.observer, "Answer with a simulated observer: logistic:threshold=T,slope=S[,lapse=L]");
+  run->add_option("--stop-after", r.stop_after, "Testing: exit abruptly (no end record) after N trials, as a crash would");
+  run->add_option("--gaze-trace", r.gaze_trace, "Gaze from a recorded CSV (default: the fixation target)");
+  run->add_option("--gaze-udp", r.gaze_udp, "Gaze from UDP datagrams 'x y' (normalised) on 127.0.0.1:PORT");
+  run->add_flag("--gaze-mouse", r.gaze_mouse, "Gaze from the mouse pointer");
+  run->add_option("--script-keys", r.script_keys, "Testing: the window's answers, one key per trial (e.g. nnyn)");
 
   CLI::App* sim = app.add_subcommand("simulate", "Estimate a rule's bias and spread with a simulated observer");
-  sim->add_option("--protocol", protocol, "Protocol JSON")->required();
-  sim->add_option("--observer", observer, "logistic:threshold=T,slope=S[,lapse=L][,false_alarm=F]")->required();
-  sim->add_option("--runs", runs, "Simulated sessions (default 1000)");
-  sim->add_flag("--json", as_json, "Print JSON");
-  rule_overrides overrides;
-  sim->add_option("--step", overrides.step, "Override the rule's step");
-  sim->add_option("--initial-step", overrides.initial_step, "Override the rule's initial step");
-  sim->add_option("--start", overrides.start, "Override the starting scale (the top of the range descends)");
-  sim->add_option("--thresholds", overrides.thresholds, "Override thresholds per series");
-  sim->add_option("--discard", overrides.discard, "Override the reversals discarded");
+  sim->add_option("--protocol", so.protocol, "Protocol JSON")->required();
+  sim->add_option("--observer", so.observer, "logistic:threshold=T,slope=S[,lapse=L][,false_alarm=F]")->required();
+  sim->add_option("--runs", so.runs, "Simulated sessions (default 1000)");
+  sim->add_flag("--json", so.json, "Print JSON");
+  sim->add_option("--step", so.overrides.step, "Override the rule's step");
+  sim->add_option("--initial-step", so.overrides.initial_step, "Override the rule's initial step");
+  sim->add_option("--start", so.overrides.start, "Override the starting scale (the top of the range descends)");
+  sim->add_option("--thresholds", so.overrides.thresholds, "Override thresholds per series");
+  sim->add_option("--discard", so.overrides.discard, "Override the reversals discarded");
 
   CLI::App* an = app.add_subcommand("analyze", "Thresholds, means, ANOVA and staircase plots from sessions");
-  an->add_option("sessions", inputs, "Session files (.jsonl)");
-  an->add_option("--thresholds", thresholds, "Instead: a CSV subject,condition,threshold (e.g. published data)");
-  an->add_option("--out-csv", out_csv, "Write every threshold as subject,condition,threshold");
-  an->add_option("--plots", plots, "Directory for staircase plots (default: plots/ beside the first session)");
-  an->add_flag("--json", as_json, "Print JSON");
+  an->add_option("sessions", ao.inputs, "Session files (.jsonl)");
+  an->add_option("--thresholds", ao.thresholds, "Instead: a CSV subject,condition,threshold (e.g. published data)");
+  an->add_option("--out-csv", ao.out_csv, "Write every threshold as subject,condition,threshold");
+  an->add_option("--plots", ao.plots, "Directory for staircase plots (default: plots/ beside the first session)");
+  an->add_flag("--json", ao.json, "Print JSON");
 
   CLI::App* validate = app.add_subcommand("validate", "Check a protocol file and list the point sets it needs");
   validate->add_option("protocol", protocol, "Protocol JSON")->required();
 
   return fov::run_tool("fovstair", app, argc, argv, [&]() -> int {
-    if (*run) {
-      if (!gaze_trace.empty() + (gaze_udp > 0) + gaze_mouse > 1) throw usage_error("choose one gaze source");
-      if (gaze_udp < 0 || gaze_udp > 65535) throw usage_error(fmt::format("--gaze-udp {}: not a port", gaze_udp));
-      return run_command(protocol, subject, session, out_dir, resume, observer, stop_after, gaze_trace, gaze_udp, gaze_mouse,
-                         script_keys);
-    }
-    if (*sim) return simulate_command(protocol, observer, runs, as_json, overrides);
-    if (*an) return analyze_command(inputs, thresholds, as_json, out_csv, plots);
-    const fov::stair_protocol p = fov::load_protocol(protocol);
-    fmt::print("{}: {} conditions, scales {:.2f}..{:.2f}, rule {}-up/{}-down, {} thresholds per condition\n", protocol,
-               p.conditions.size(), p.scale_min, p.scale_max, p.rule.up, p.rule.down, p.rule.thresholds);
-    int missing = 0;
-    for (double s : fov::reachable_scales(p)) {
-      const std::string f = fov::pointset_path(p, s);
-      if (!fs::exists(f)) ++missing, fmt::print("  missing: {}\n", f);
-    }
-    fmt::print("{}\n", missing ? fmt::format("{} point sets missing", missing) : std::string("all point sets present"));
-    return 0;
+    if (*run) return fov::run_session(r);
+    if (*sim) return fov::simulate(so);
+    if (*an) return fov::analyze(ao);
+    return fov::validate_protocol(protocol);
   });
 }

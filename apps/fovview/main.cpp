@@ -2,395 +2,64 @@
 // methods and settings; an overlay shows what each costs.
 #include <malloc.h>
 
-#include <algorithm>
-#include <chrono>
-#include <cmath>
-#include <filesystem>
-#include <fstream>
-#include <iostream>
-#include <map>
-
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
-#include <nlohmann/json.hpp>
-#include <opencv2/imgcodecs.hpp>
-#include <opencv2/imgproc.hpp>
 
 #include "../common/cli.h"
-#include "../common/debug_views.h"
-#include "../common/gaze_source.h"
 #include "../common/image_io.h"
 #include "../common/render_flags.h"
-#include "../common/window.h"
-#include "camera_path.h"
-#include "fov/metrics.h"
 #include "fov/pointset_io.h"
-#include "fov/renderer.h"
-#include "fov/scene.h"
-
-namespace {
-
-using json = nlohmann::json;
-using fov::usage_error;
-namespace fs = std::filesystem;
-using clock_type = std::chrono::steady_clock;
-
-double ms_between(clock_type::time_point a, clock_type::time_point b) {
-  return std::chrono::duration<double, std::milli>(b - a).count();
-}
-
-// The point sets the viewer can switch between, by scale; loaded on first use.
-struct pointset_family {
-  std::vector<std::pair<double, std::string>> files;  // scale, path; ascending
-  std::map<std::string, std::shared_ptr<const fov::pointset>> loaded;
-  std::shared_ptr<const fov::pointset> get(size_t i) {
-    auto& slot = loaded[files[i].second];
-    if (!slot) {
-      if (loaded.size() > 3) {  // keep memory bounded: a FOVE table is 0.6 GB
-        for (auto it = loaded.begin(); it != loaded.end(); ++it)
-          if (it->first != files[i].second) { loaded.erase(it); break; }
-      }
-      auto& fresh = loaded[files[i].second];
-      fresh = std::make_shared<const fov::pointset>(fov::load_pointset(files[i].second));
-      return fresh;
-    }
-    return slot;
-  }
-};
-
-pointset_family find_family(const std::string& points, const std::string& dir) {
-  pointset_family f;
-  if (!points.empty()) {
-    const fov::pointset head = fov::load_pointset(points, {false});
-    f.files.emplace_back(head.model.scale, points);
-    return f;
-  }
-  if (!fs::is_directory(dir)) throw std::runtime_error(fmt::format("--points-dir {}: not a directory", dir));
-  int width = 0, height = 0;
-  for (const auto& e : fs::directory_iterator(dir)) {
-    if (e.path().extension() != ".fovset") continue;
-    const fov::pointset head = fov::load_pointset(e.path().string(), {false});
-    if (f.files.empty()) width = head.model.display.width, height = head.model.display.height;
-    if (head.model.display.width != width || head.model.display.height != height) continue;  // another display's family
-    f.files.emplace_back(head.model.scale, e.path().string());
-  }
-  if (f.files.empty()) throw std::runtime_error(fmt::format("--points-dir {}: no .fovset files", dir));
-  std::sort(f.files.begin(), f.files.end());
-  return f;
-}
-
-const char* help_lines[] = {
-    "1/2/3  nearest neighbour / Shepard / RBF", "+/-    k",  "[ ]    previous / next point-set scale",
-    "T      TAA on/off",  "R      full-resolution reference", "V      debug view: points, density, eccentricity, error",
-    "G      gaze cursor", "P      screenshot (PNG + JSON); also S while the mouse is the gaze",
-    "WASD   move, right-drag turns (when the mouse is not the gaze)",
-    "H      this help",   "Q/Esc  quit"};
-
-}  // namespace
+#include "viewer.h"
 
 int main(int argc, char** argv) {
   // Every frame allocates and frees buffers of tens of MB; by default glibc returns them to
-  // the kernel (munmap, trim) and the next frame page-faults them back in, zeroed: perf
-  // showed that at a third of the frame time. Keep them in the heap instead.
+  // the kernel (munmap, trim) and the next frame page-faults them back in, zeroed (its
+  // share of the frame time is in docs/fovview.md). Keep them in the heap instead.
   mallopt(M_MMAP_THRESHOLD, 1 << 30);
   mallopt(M_TRIM_THRESHOLD, 1 << 30);
   CLI::App app{"fovview: gaze-contingent foveated rendering in a window"};
-  std::string scene_spec = "builtin", points, points_dir, gaze_trace, camera_path_file, fixed_gaze;
-  std::vector<std::string> screenshot_at;
-  std::string screenshot_dir = ".", compare;
-  uint32_t frames = 0;
-  int gaze_udp = 0;
-  double scale = 0, target_fps = 0;
+  fov::viewer_options o;
   fov::render_params settings;
   settings.spp = 4;  // live: the most --target-fps may use
   settings.taa = true;
-  bool no_taa = false, exit_after = false, as_json = false, pipeline = false;
-  app.add_option("--scene", scene_spec, "builtin, a glTF/OBJ file, or env:IMAGE");
-  app.add_option("--points", points, "A point set (.fovset)");
-  app.add_option("--points-dir", points_dir, "A family of point sets to switch between with [ and ]");
-  app.add_option("--scale", scale, "With --points-dir: the scale to start at (default the smallest)");
+  std::vector<std::string> screenshot_at;
+  app.add_option("--scene", o.scene, "builtin, a glTF/OBJ file, or env:IMAGE");
+  app.add_option("--points", o.points, "A point set (.fovset)");
+  app.add_option("--points-dir", o.points_dir, "A family of point sets to switch between with [ and ]");
+  app.add_option("--scale", o.scale, "With --points-dir: the scale to start at (default the smallest)");
   fov::add_render_flags(app, settings);
-  app.add_option("--target-fps", target_fps, "Adapt rays per point to keep this frame rate");
-  app.add_flag("--no-taa", no_taa, "Start with TAA off");
-  app.add_flag("--pipeline", pipeline,
+  app.add_option("--target-fps", o.target_fps, "Adapt rays per point to keep this frame rate");
+  app.add_flag("--no-taa", o.no_taa, "Start with TAA off");
+  app.add_flag("--pipeline", o.pipeline,
                "Trace the next frame while showing this one (more latency; pays where tracing and reconstruction "
                "use different processors)");
-  app.add_option("--gaze-trace", gaze_trace, "Replay gaze from CSV (t_ms,x,y or t_ms,x_norm,y_norm)");
-  app.add_option("--gaze-udp", gaze_udp, "Gaze from UDP datagrams 'x y' (normalised) on 127.0.0.1:PORT");
-  app.add_option("--gaze", fixed_gaze, "A fixed gaze X,Y|centre|corner (default: the mouse)");
-  app.add_option("--camera-path", camera_path_file, "Replay a camera path (CSV t_ms,x,y,z,tx,ty,tz)");
-  app.add_option("--frames", frames, "Stop after N frames (0: run until Q)");
+  app.add_option("--gaze-trace", o.gaze_trace, "Replay gaze from CSV (t_ms,x,y or t_ms,x_norm,y_norm)");
+  app.add_option("--gaze-udp", o.gaze_udp, "Gaze from UDP datagrams 'x y' (normalised) on 127.0.0.1:PORT");
+  app.add_option("--gaze", o.fixed_gaze, "A fixed gaze X,Y|centre|corner (default: the mouse)");
+  app.add_option("--camera-path", o.camera_path, "Replay a camera path (CSV t_ms,x,y,z,tx,ty,tz)");
+  app.add_option("--frames", o.frames, "Stop after N frames (0: run until Q)");
   app.add_option("--screenshot-at", screenshot_at, "FRAME FILE: save frame FRAME (from 0) to FILE (.png) with FILE.json")->expected(2);
-  app.add_option("--screenshot-dir", screenshot_dir, "Where the S key saves screenshots (default .)");
-  app.add_option("--compare", compare, "A reference image: screenshots' JSON gets PSNR/SSIM by band against it");
-  app.add_flag("--exit", exit_after, "Exit after --frames without waiting (for scripts and tests)");
-  app.add_flag("--json", as_json, "At exit, print frame-time statistics as JSON (medians after 5 warm-up frames)");
+  app.add_option("--screenshot-dir", o.screenshot_dir, "Where the S key saves screenshots (default .)");
+  app.add_option("--compare", o.compare, "A reference image: screenshots' JSON gets PSNR/SSIM by band against it");
+  app.add_flag("--exit", o.exit_after, "Exit after --frames without waiting (for scripts and tests)");
+  app.add_flag("--json", o.json, "At exit, print frame-time statistics as JSON (medians after 5 warm-up frames)");
 
   return fov::run_tool("fovview", app, argc, argv, [&]() -> int {
+    using fov::usage_error;
     fov::require_valid(settings);
-    if (points.empty() == points_dir.empty()) throw usage_error("give --points SET or --points-dir DIR");
-    if ((!gaze_trace.empty()) + (gaze_udp != 0) + (!fixed_gaze.empty()) > 1) throw usage_error("choose one gaze source");
-    if (gaze_udp < 0 || gaze_udp > 65535) throw usage_error(fmt::format("--gaze-udp {}: not a port", gaze_udp));
-    if (!(target_fps >= 0 && target_fps <= 1000)) throw usage_error("--target-fps must lie in 0..1000");
-    if (exit_after && frames == 0) throw usage_error("--exit needs --frames N");
-    long shot_frame = -1;
-    std::string shot_file;
+    if (o.points.empty() == o.points_dir.empty()) throw usage_error("give --points SET or --points-dir DIR");
+    if ((!o.gaze_trace.empty()) + (o.gaze_udp != 0) + (!o.fixed_gaze.empty()) > 1) throw usage_error("choose one gaze source");
+    if (o.gaze_udp < 0 || o.gaze_udp > 65535) throw usage_error(fmt::format("--gaze-udp {}: not a port", o.gaze_udp));
+    if (!(o.target_fps >= 0 && o.target_fps <= 1000)) throw usage_error("--target-fps must lie in 0..1000");
+    if (o.exit_after && o.frames == 0) throw usage_error("--exit needs --frames N");
     if (!screenshot_at.empty()) {
       char* end = nullptr;
-      shot_frame = std::strtol(screenshot_at[0].c_str(), &end, 10);
-      if (*end || shot_frame < 0) throw usage_error(fmt::format("--screenshot-at: '{}' is not a frame number", screenshot_at[0]));
-      shot_file = screenshot_at[1];
-      fov::check_writable(shot_file);
+      o.screenshot_frame = std::strtol(screenshot_at[0].c_str(), &end, 10);
+      if (*end || o.screenshot_frame < 0)
+        throw usage_error(fmt::format("--screenshot-at: '{}' is not a frame number", screenshot_at[0]));
+      o.screenshot_file = screenshot_at[1];
+      fov::check_writable(o.screenshot_file);
     }
-
-    pointset_family family = find_family(points, points_dir);
-    size_t level = 0;
-    if (scale > 0) {
-      while (level + 1 < family.files.size() && family.files[level].first + 1e-6 < scale) ++level;
-      if (std::fabs(family.files[level].first - scale) > 1e-6)
-        throw usage_error(fmt::format("--scale {}: no such set in {}", scale, points_dir));
-    }
-    std::shared_ptr<const fov::pointset> set = family.get(level);
-    const fov::display_geometry display = set->model.display;
-    fov::require_valid(settings, set.get());
-    settings.taa = !no_taa;
-    const uint32_t spp = settings.spp;
-    const int w = display.width, h = display.height;
-
-    std::shared_ptr<const fov::scene> scn = fov::load_scene(scene_spec);
-    for (const std::string& warning : scn->warnings()) std::cerr << "fovview: warning: " << warning << "\n";
-    std::optional<fov::camera_path> path;
-    if (!camera_path_file.empty()) path = fov::load_camera_path(camera_path_file);
-    fov::frame reference_image;
-    if (!compare.empty()) {
-      reference_image = fov::read_frame(compare);
-      if (reference_image.width != w || reference_image.height != h)
-        throw usage_error(fmt::format("--compare {}: {}x{} is not the {}x{} screen", compare, reference_image.width,
-                                      reference_image.height, w, h));
-    }
-
-    std::unique_ptr<fov::gaze_source> gaze;
-    fov::mouse_gaze* mouse = nullptr;
-    if (!gaze_trace.empty()) gaze = fov::trace_gaze(gaze_trace, w, h);
-    else if (gaze_udp) gaze = fov::udp_gaze(uint16_t(gaze_udp), w, h);
-    else if (!fixed_gaze.empty()) {
-      const fov::gaze_point at = fov::require_gaze("--gaze", fixed_gaze, display);
-      gaze = fov::fixed_gaze(w, h, at.x, at.y);
-    } else {
-      auto m = std::make_unique<fov::mouse_gaze>(w, h);
-      mouse = m.get();
-      gaze = std::move(m);
-    }
-
-    fov::renderer renderer(scn, settings);
-    renderer.use_pointset(set);
-    if (const std::string warning = fov::device_warning(renderer); !warning.empty()) std::cerr << "fovview: " << warning << "\n";
-    fov::view_window window("fovview", w, h);
-    bool show_reference = false, show_cursor = true, show_help = false;
-    const std::vector<std::string> views = {"", "points", "density", "eccentricity", "error"};
-    size_t view = 0;
-    fov::frame error_reference;  // the full-resolution frame the error view compares with
-    fov::camera error_reference_cam;
-    const auto start = clock_type::now();
-    double fps = 0, display_ms = 0, latency_ms = 0;
-    uint64_t screenshots = 0;
-    std::string status;  // one-line messages (screenshot saved, silent tracker)
-    struct frame_stats { double frame, trace, reconstruct, taa, display, latency; uint32_t spp; };
-    std::vector<frame_stats> history;
-    // What a frame shows: the gaze and camera when they were read. With pipelining the next
-    // frame's are read (and its trace started) before this frame is shown.
-    struct frame_inputs {
-      fov::gaze_point gaze;
-      double poll_ms;
-      fov::camera cam;
-    };
-    auto read_inputs = [&](const fov::camera& current) {
-      const double now_ms = ms_between(start, clock_type::now());
-      if (mouse) {
-        double x, y;
-        if (window.mouse(x, y)) mouse->set(x, y);
-      }
-      frame_inputs in{gaze->poll(now_ms), now_ms, path ? path->at(now_ms, current.hfov_deg) : current};
-      return in;
-    };
-    std::optional<frame_inputs> next;  // read ahead, with its trace under way
-
-    for (uint64_t frame_index = 0; frames == 0 || frame_index < frames; ++frame_index) {
-      const auto frame_start = clock_type::now();
-      const double now_ms = ms_between(start, frame_start);
-      const frame_inputs in = next ? *next : read_inputs(renderer.cam());
-      next.reset();
-      const fov::gaze_point g = in.gaze;
-      if (path) renderer.cam() = in.cam;
-
-      fov::frame_timing timing;
-      fov::frame reference_frame;
-      const fov::frame& image = show_reference
-                                    ? (reference_frame = renderer.reference(w, h, settings, &timing).image)
-                                    : renderer.foveated(g, settings, &timing);
-      if (pipeline && !show_reference) {  // the next frame traces while this one is shown
-        next = read_inputs(renderer.cam());
-        renderer.begin_trace(next->gaze, next->cam, settings);
-      }
-      const std::string& v = views[view];
-      fov::frame overlay;  // only the debug views draw into a copy
-      const fov::frame* shown = &image;
-      if (v == "error") {
-        overlay = image;
-        shown = &overlay;
-        const fov::camera& c = renderer.cam();
-        if (error_reference.rgb.empty() || !fov::same_view(c, error_reference_cam)) {
-          fov::render_params at_least_4 = settings;
-          at_least_4.spp = std::max<uint32_t>(settings.spp, 4);
-          error_reference = renderer.reference(w, h, at_least_4).image;
-          error_reference_cam = c;
-        }
-        for (size_t i = 0; i < overlay.rgb.size(); ++i) {  // |error| x 4, grey scale
-          const glm::vec3 d = glm::abs(image.rgb[i] - error_reference.rgb[i]);
-          overlay.rgb[i] = glm::vec3(std::min(1.0f, 4.0f * (d.r + d.g + d.b) / 3.0f));
-        }
-      } else if (fov::debug_view dv; fov::parse_label(fov::debug_view_labels, v, dv)) {
-        overlay = fov::debug_overlay(dv, image, show_reference ? nullptr : renderer.current_set(), g);
-        shown = &overlay;
-      }
-      const auto display_start = clock_type::now();
-      cv::Mat bgr = fov::display_image(*shown);
-      if (show_cursor) fov::draw_gaze_cursor(bgr, g);
-      std::vector<std::string> lines = {
-          fmt::format("{:.1f} fps  trace {:.1f}{}  reconstruct {:.1f}  TAA {:.1f}  display {:.1f}  gaze-to-screen {:.1f} ms",
-                      fps, timing.trace_ms, timing.traced_ahead ? " (ahead)" : "", timing.reconstruct_ms, timing.taa_ms,
-                      display_ms, latency_ms),
-          show_reference ? fmt::format("REFERENCE {}x{}, {} rays/frame", w, h, timing.rays)
-                         : fmt::format("{} k={} s={:.2f} spp={} TAA {}  {} points, {} rays/frame",
-                                       fov::method_name(settings.reconstruct.how), settings.reconstruct.k,
-                                       renderer.current_set()->model.scale, settings.spp, settings.taa ? "on" : "off",
-                                       timing.points_traced, timing.rays),
-          fmt::format("gaze {} ({:.0f}, {:.0f}){}  view {}  device {}", gaze->name(), g.x, g.y,
-                      gaze->clamped ? fmt::format(" clamped {}", gaze->clamped) : "", v.empty() ? "frame" : v,
-                      timing.on_device ? "OpenCL" : "C++")};
-      if (gaze->silent(now_ms)) lines.push_back("WARNING: gaze source silent; keeping the last gaze");
-      if (!status.empty()) lines.push_back(status);
-      if (show_help) lines.insert(lines.end(), std::begin(help_lines), std::end(help_lines));
-      else lines.push_back("H: help");
-      fov::draw_overlay(bgr, lines, g);
-      window.show(bgr);
-      latency_ms = ms_between(start, clock_type::now()) - in.poll_ms;
-
-      auto save_screenshot = [&](const std::string& file) {
-        fov::write_frame(image, file);  // the clean frame: no overlay, no cursor
-        json j = {{"frame", frame_index},
-                  {"time_ms", now_ms},
-                  {"scene", scene_spec},
-                  {"pointset", family.files[level].second},
-                  {"scale", renderer.current_set()->model.scale},
-                  {"method", show_reference ? "reference" : fov::method_name(settings.reconstruct.how)},
-                  {"k", settings.reconstruct.k},
-                  {"spp", settings.spp},
-                  {"taa", settings.taa},
-                  {"gaze", {g.x, g.y}},
-                  {"gaze_source", gaze->name()},
-                  {"camera", {{"position", {renderer.cam().position.x, renderer.cam().position.y, renderer.cam().position.z}},
-                              {"forward", {renderer.cam().forward.x, renderer.cam().forward.y, renderer.cam().forward.z}},
-                              {"hfov_deg", renderer.cam().hfov_deg}}},
-                  {"view", v.empty() ? "frame" : v},
-                  {"trace_ms", timing.trace_ms},
-                  {"reconstruct_ms", timing.reconstruct_ms},
-                  {"taa_ms", timing.taa_ms},
-                  {"rays", timing.rays},
-                  {"points_traced", timing.points_traced}};
-        if (!reference_image.rgb.empty()) {
-          const fov::frame_comparison c = fov::compare_frames(image, reference_image, display, g);
-          auto band = [](const fov::band_metrics& m) { return json{{"psnr", m.psnr}, {"ssim", m.ssim}, {"pixels", m.pixels}}; };
-          j["metrics"] = {{"overall", band(c.overall)}, {"fovea", band(c.fovea)}, {"mid", band(c.mid)}, {"periphery", band(c.periphery)}};
-        }
-        const std::string text = j.dump(2) + "\n";
-        fov::write_file_atomic(file + ".json", text.data(), text.size());
-        status = "saved " + file;
-      };
-      if (long(frame_index) == shot_frame) save_screenshot(shot_file);
-
-      const int key = window.key(1);
-      display_ms = ms_between(display_start, clock_type::now());
-      if (window.closed()) break;
-      const int c = key >= 0 && key < 256 ? std::tolower(key) : -1;
-      if (c == 'q' || key == 27) break;
-      if (c == '1' || c == '2' || c == '3') {
-        settings.reconstruct.how = c == '1' ? fov::method::nn : c == '2' ? fov::method::shepard : fov::method::rbf;
-        if (settings.reconstruct.how == fov::method::rbf) status = "RBF: solving weights once for the screen (seconds)";
-      }
-      if (c == '+' || c == '=') settings.reconstruct.k = std::min(settings.reconstruct.k + 1, renderer.current_set()->table.k);
-      if (c == '-') settings.reconstruct.k = std::max(settings.reconstruct.k - 1, 1u);
-      if ((c == '[' && level > 0) || (c == ']' && level + 1 < family.files.size())) {
-        level += c == ']' ? 1 : -1;
-        renderer.use_pointset(family.get(level));
-        settings.reconstruct.k = std::min(settings.reconstruct.k, renderer.current_set()->table.k);
-      }
-      if (c == 't') settings.taa = !settings.taa;
-      if (c == 'r') show_reference = !show_reference;
-      if (c == 'v') view = (view + 1) % views.size();
-      if (c == 'g') show_cursor = !show_cursor;
-      if (c == 'h') show_help = !show_help;
-      if (c == 'p' || (c == 's' && mouse))
-        save_screenshot((fs::path(screenshot_dir) / fmt::format("fovview-{:04d}.png", screenshots++)).string());
-      // Camera: WASD moves, right-drag turns, while the mouse is not the gaze (and no path plays).
-      fov::camera& cc = renderer.cam();
-      const glm::vec3 right = glm::normalize(glm::cross(cc.forward, cc.up));
-      const float step = 0.1f;
-      const bool free_camera = !mouse && !path;
-      if (free_camera && c == 'w') cc.position += step * cc.forward;
-      if (free_camera && c == 's') cc.position -= step * cc.forward;
-      if (free_camera && c == 'a') cc.position -= step * right;
-      if (free_camera && c == 'd') cc.position += step * right;
-      double dx = 0, dy = 0;
-      const bool dragged = window.right_drag(dx, dy);  // drained every frame
-      if (free_camera && dragged) {
-        const float yaw = float(-dx) * 0.004f, pitch = float(-dy) * 0.004f;
-        glm::vec3 f = cc.forward * std::cos(yaw) + right * std::sin(yaw);
-        f = glm::normalize(f * std::cos(pitch) + cc.up * std::sin(pitch));
-        cc.forward = f;
-      }
-      // Rays per point follow --target-fps: halve when over budget, add one when well under.
-      const double frame_ms = ms_between(frame_start, clock_type::now());
-      history.push_back({frame_ms, timing.trace_ms, timing.reconstruct_ms, timing.taa_ms, display_ms, latency_ms, settings.spp});
-      fps = fps == 0 ? 1000 / frame_ms : 0.9 * fps + 0.1 * (1000 / frame_ms);
-      if (target_fps > 0 && !show_reference) {
-        const double budget = 1000 / target_fps;
-        if (frame_ms > 1.15 * budget && settings.spp > 1) settings.spp = std::max(1u, settings.spp / 2);
-        else if (frame_ms < 0.6 * budget && settings.spp < spp) ++settings.spp;
-      }
-    }
-    if (as_json) {
-      const size_t skip = std::min<size_t>(5, history.size() / 2);
-      auto median = [&](auto field) {
-        std::vector<double> v;
-        for (size_t i = skip; i < history.size(); ++i) v.push_back(field(history[i]));
-        if (v.empty()) return 0.0;
-        std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-        return v[v.size() / 2];
-      };
-      const double frame_ms = median([](const frame_stats& f) { return f.frame; });
-      json j = {{"frames", history.size()},
-                {"measured_frames", history.size() - skip},
-                {"width", w},
-                {"height", h},
-                {"scene", scene_spec},
-                {"method", fov::method_name(settings.reconstruct.how)},
-                {"k", settings.reconstruct.k},
-                {"taa", settings.taa},
-                {"spp_last", settings.spp},
-                {"device", renderer.device()},
-                {"frame_ms", frame_ms},
-                {"fps", frame_ms > 0 ? 1000 / frame_ms : 0},
-                {"trace_ms", median([](const frame_stats& f) { return f.trace; })},
-                {"reconstruct_ms", median([](const frame_stats& f) { return f.reconstruct; })},
-                {"taa_ms", median([](const frame_stats& f) { return f.taa; })},
-                {"display_ms", median([](const frame_stats& f) { return f.display; })},
-                {"latency_ms", median([](const frame_stats& f) { return f.latency; })},
-                {"pipelined", pipeline}};
-      std::cout << j.dump(2) << "\n";
-    }
-    if (gaze->clamped || gaze->malformed)
-      std::cerr << fmt::format("fovview: gaze: {} samples clamped to the screen, {} malformed\n", gaze->clamped, gaze->malformed);
-    return 0;
+    return fov::run_viewer(o, settings);
   });
 }

@@ -1,0 +1,381 @@
+#include "commands.h"
+
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <ctime>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <regex>
+#include <sstream>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "../common/cli.h"
+#include "../common/gaze_source.h"
+#include "fov/renderer.h"
+#include "../common/window.h"
+#include "analysis.h"
+#include "fov/pointset_io.h"
+#include "fov/random.h"
+#include "fov/scene.h"
+#include "live_trial.h"
+#include "observer.h"
+#include "protocol.h"
+#include "session.h"
+#include "simulation.h"
+#include "staircase_plot.h"
+
+namespace fov {
+
+namespace {
+
+
+using json = nlohmann::json;
+namespace fs = std::filesystem;
+
+std::string now_iso() {
+  const std::time_t t = std::time(nullptr);
+  char buffer[32];
+  std::strftime(buffer, sizeof(buffer), "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&t));
+  return buffer;
+}
+
+std::string read_text(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw std::runtime_error(fmt::format("{}: cannot open", path));
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// The trial record a session file holds (answer fields filled by the caller).
+json trial_record(const stair_protocol& p, const trial_plan& t, bool detected, const staircase::step& step) {
+  json j = {{"type", "trial"},
+            {"index", t.index},
+            {"condition", p.conditions[t.condition].name},
+            {"series_trial", t.series_trial},
+            {"scale", t.scale},
+            {"catch", t.is_catch},
+            {"fixation", {t.fixation_x, t.fixation_y}},
+            {"detected", detected},
+            {"reversal", step.reversal},
+            {"recorded", step.recorded},
+            {"threshold", step.recorded ? json(step.threshold) : json(nullptr)}};
+  if (p.mode == stair_mode::two_afc) j["foveated_interval"] = t.foveated_interval + 1;
+  return j;
+}
+
+}  // namespace
+
+int run_session(const run_options& o) {
+  const std::string &protocol_path = o.protocol, &subject = o.subject, &out_dir = o.out_dir, &observer_spec = o.observer;
+  const std::string &gaze_trace = o.gaze_trace, &script_keys = o.script_keys;
+  std::string session = o.session;
+  const bool resume = o.resume, gaze_mouse = o.gaze_mouse;
+  const uint64_t stop_after = o.stop_after;
+  const int gaze_udp = o.gaze_udp;
+  if (!gaze_trace.empty() + (gaze_udp > 0) + gaze_mouse > 1) throw usage_error("choose one gaze source");
+  if (gaze_udp < 0 || gaze_udp > 65535) throw usage_error(fmt::format("--gaze-udp {}: not a port", gaze_udp));
+  if (!std::regex_match(subject, std::regex("[A-Za-z0-9_]{1,32}")))
+    throw usage_error(fmt::format("--subject '{}': use 1-32 letters, digits or _", subject));
+  std::error_code ec;
+  fs::create_directories(out_dir, ec);
+  if (!fs::is_directory(out_dir)) throw std::runtime_error(fmt::format("--out {}: not a directory", out_dir));
+  // Session number: the next free one, or (--resume) the newest.
+  if (session.empty()) {
+    int newest = 0;
+    const std::regex name(subject + "-([0-9]+)\\.jsonl");
+    for (const auto& e : fs::directory_iterator(out_dir)) {
+      std::smatch m;
+      const std::string file = e.path().filename().string();
+      if (std::regex_match(file, m, name)) newest = std::max(newest, std::stoi(m[1]));
+    }
+    if (resume && newest == 0) throw std::runtime_error(fmt::format("--resume: no session of {} in {}", subject, out_dir));
+    session = std::to_string(resume ? newest : newest + 1);
+  }
+  if (!std::regex_match(session, std::regex("[0-9]{1,6}"))) throw usage_error(fmt::format("--session '{}': a number", session));
+  const std::string path = (fs::path(out_dir) / (subject + "-" + session + ".jsonl")).string();
+
+  if (!resume && fs::exists(path))
+    throw std::runtime_error(fmt::format("{}: the session exists; continue it with --resume or choose another --session", path));
+  std::optional<observer_model> observer;
+  if (!observer_spec.empty()) {
+    try {
+      observer = parse_observer(observer_spec);
+    } catch (const std::invalid_argument& e) {
+      throw usage_error(fmt::format("--observer {}", e.what()));
+    }
+  }
+  json header;
+  std::vector<json> done;
+  std::optional<session_file> file;
+  std::string protocol_text;
+  if (resume) {
+    if (!protocol_path.empty()) std::cerr << "fovstair: note: --resume uses the protocol stored in the session, not --protocol\n";
+    file.emplace(session_file::resume(path, header, done));
+    protocol_text = header.at("protocol_text").get<std::string>();
+    if (header.value("subject", "") != subject) throw std::runtime_error(fmt::format("{}: belongs to subject {}", path, header.value("subject", "?")));
+    if (header.contains("observer") && header["observer"].is_string() && !observer)
+      observer = parse_observer(header["observer"].get<std::string>());
+  } else {
+    if (protocol_path.empty()) throw usage_error("run: --protocol is required");
+    protocol_text = read_text(protocol_path);
+  }
+  const stair_protocol p = parse_protocol(protocol_text, resume ? path + " (stored protocol)" : protocol_path);
+  stair_session state(p, subject);
+  // Replay: the plan must come out as recorded, or the data and the protocol disagree.
+  for (const json& t : done) {
+    const trial_plan plan = state.next();
+    if (t.value("index", uint64_t(-1)) != plan.index || t.value("condition", "") != p.conditions[plan.condition].name ||
+        std::fabs(t.value("scale", -1.0) - plan.scale) > 1e-9 || t.value("catch", false) != plan.is_catch)
+      throw std::runtime_error(fmt::format("{}: trial {} does not match the protocol's plan; not resuming", path, plan.index));
+    state.record(plan, t.value("detected", false));
+  }
+  // A person: the window, the scene and the point sets.
+  std::unique_ptr<view_window> window;
+  std::unique_ptr<fov::renderer> stimulus;
+  std::unique_ptr<gaze_source> gaze;
+  std::map<double, std::shared_ptr<const pointset>> sets;
+  if (!observer) {
+    for (double s : reachable_scales(p))
+      if (!fs::exists(pointset_path(p, s)))
+        throw std::runtime_error(fmt::format(
+            "{}: missing (the staircase can reach s = {:.2f}); make the family with: fovgen sweep --display {} --scales "
+            "{:.1f}:{:.1f}:{} -o {}",
+            pointset_path(p, s), s, p.display, p.scale_min, p.scale_max, p.rule.step, p.points_dir));
+    auto first = std::make_shared<const pointset>(load_pointset(pointset_path(p, state.next().scale)));
+    const display_geometry& d = first->model.display;
+    std::shared_ptr<const scene> scn = load_scene(p.scene);
+    stimulus = std::make_unique<fov::renderer>(scn, stimulus_params(p, p.conditions.front()));
+    window = std::make_unique<view_window>("fovstair " + p.name, d.width, d.height);
+    if (!gaze_trace.empty()) gaze = trace_gaze(gaze_trace, d.width, d.height);
+    else if (gaze_udp > 0) gaze = udp_gaze(uint16_t(gaze_udp), d.width, d.height);
+    else if (gaze_mouse) gaze = std::make_unique<mouse_gaze>(d.width, d.height);
+    sets[state.next().scale] = first;
+  }
+
+  // The session file is created only once the window, scene and sets are ready, so a
+  // run that cannot start leaves nothing behind.
+  if (!resume) {
+    std::vector<std::string> order;
+    for (uint32_t c : state.order()) order.push_back(p.conditions[c].name);
+    header = {{"type", "session"},     {"fovstair", 1},          {"subject", subject},
+              {"session", session},    {"protocol_file", protocol_path}, {"protocol_text", protocol_text},
+              {"condition_order", order}, {"started", now_iso()},
+              {"observer", observer ? json(observer_text(*observer)) : json(nullptr)}};
+    file.emplace(session_file::create(path, header));
+  } else {
+    std::cerr << fmt::format("fovstair: resuming {} at trial {}\n", path, done.size());
+  }
+
+  uint64_t this_run = 0;
+  while (!state.finished()) {
+    const trial_plan t = state.next();
+    bool detected = false;
+    json extra;
+    if (observer) {
+      detected = observer_answer(*observer, stream_seed(p.seed, subject_number(subject)), t.index, t.scale,
+                                      t.is_catch, p.mode == stair_mode::two_afc);
+      extra = {{"response", p.mode == stair_mode::yes_no ? (detected ? "yes" : "no")
+                                                               : std::to_string(detected ? t.foveated_interval + 1 : 2 - t.foveated_interval)},
+               {"rt_ms", nullptr}};
+    } else {
+      auto& set = sets[t.scale];
+      if (!set) {
+        if (sets.size() > 3) sets.erase(sets.begin() == sets.find(t.scale) ? std::next(sets.begin()) : sets.begin());
+        set = std::make_shared<const pointset>(load_pointset(pointset_path(p, t.scale)));
+      }
+      stimulus->use_pointset(set);
+      live_context ctx{p, *stimulus, *window, gaze.get(), {}};
+      if (!script_keys.empty()) {  // testing: this trial's answer from the script
+        if (this_run >= script_keys.size()) throw std::runtime_error("--script-keys: ran out of answers");
+        ctx.scripted_keys = script_keys.substr(this_run, 1);
+      }
+      if (auto* m = dynamic_cast<mouse_gaze*>(gaze.get())) {
+        double x, y;
+        if (window->mouse(x, y)) m->set(x, y);
+      }
+      const trial_answer a = run_live_trial(ctx, t, *set);
+      if (a.quit) {
+        std::cerr << fmt::format("fovstair: quit at trial {}; continue with: fovstair run --subject {} --session {} --out {} --resume\n",
+                                 t.index, subject, session, out_dir);
+        return 0;
+      }
+      detected = a.detected;
+      extra = {{"response", a.response},
+               {"rt_ms", a.rt_ms},
+               {"gaze", {{"source", gaze ? gaze->name() : "fixation"}, {"samples", a.gaze_samples}, {"clamped", a.gaze_clamped},
+                         {"mean", {a.gaze_mean[0], a.gaze_mean[1]}}, {"sd", {a.gaze_sd[0], a.gaze_sd[1]}}}},
+               {"mean_frame_ms", a.mean_frame_ms}};
+    }
+    const staircase::step step = state.record(t, detected);
+    json record = trial_record(p, t, detected, step);
+    record.update(extra);
+    record["time"] = now_iso();
+    file->append(record);  // written and fsync'ed before the next trial
+    ++this_run;
+    if (stop_after > 0 && this_run >= stop_after) std::_Exit(3);  // as a crash would: no end record
+  }
+  file->append({{"type", "end"}, {"time", now_iso()}});
+  for (uint32_t c : state.order()) {
+    const staircase& s = state.series(c);
+    double mean = 0;
+    for (double v : s.thresholds()) mean += v / double(s.thresholds().size());
+    fmt::print("{}: {} trials, thresholds [{}], mean {:.3f}{}\n", p.conditions[c].name, s.trials(),
+               fmt::join(s.thresholds(), ", "), mean, s.complete() ? "" : " (incomplete: max_trials reached)");
+  }
+  fmt::print("data: {}\n", path);
+  return 0;
+}
+
+int simulate(const simulate_options& so) {
+  const std::string &protocol_path = so.protocol, &observer_spec = so.observer;
+  const uint32_t runs = so.runs;
+  const bool as_json = so.json;
+  const rule_overrides& o = so.overrides;
+  if (protocol_path.empty()) throw usage_error("simulate: --protocol is required");
+  if (observer_spec.empty()) throw usage_error("simulate: --observer is required");
+  if (runs < 1) throw usage_error("--runs must be at least 1");
+  stair_protocol base = load_protocol(protocol_path);
+  if (o.step >= 0) base.rule.step = o.step;
+  if (o.initial_step >= 0) base.rule.initial_step = o.initial_step;
+  if (o.start >= 0) base.scale_start = o.start;
+  if (o.thresholds >= 0) base.rule.thresholds = uint32_t(o.thresholds);
+  if (o.discard >= 0) base.rule.discard_reversals = uint32_t(o.discard);
+  if (!(base.rule.step >= 0.01) || base.rule.initial_step < base.rule.step)
+    throw usage_error("--step must be at least 0.01 and --initial-step at least --step");
+  if (!(base.scale_start >= base.scale_min && base.scale_start <= base.scale_max))
+    throw usage_error(fmt::format("--start must lie in the protocol's scales {}..{}", base.scale_min, base.scale_max));
+  if (base.rule.thresholds < 1 || base.rule.thresholds > base.rule.max_trials) throw usage_error("--thresholds out of range");
+  observer_model m;
+  try {
+    m = parse_observer(observer_spec);
+  } catch (const std::invalid_argument& e) {
+    throw usage_error(fmt::format("--observer {}", e.what()));
+  }
+  const bool two_afc = base.mode == stair_mode::two_afc;
+  const simulation_result r = simulate_rule(base, m, runs);
+  const bool none = r.estimates.empty();
+  json j = {{"true_threshold", m.threshold},
+            {"estimate_mean", none ? json(nullptr) : json(r.mean)},
+            {"estimate_sd", none ? json(nullptr) : json(r.sd)},
+            {"bias", none ? json(nullptr) : json(r.mean - m.threshold)},
+            {"runs", runs},
+            {"series", r.series},
+            {"incomplete_series", r.incomplete},
+            {"mean_trials_per_run", double(r.trials) / runs},
+            {"rule", {{"up", base.rule.up}, {"down", base.rule.down}, {"initial_step", base.rule.initial_step},
+                      {"step", base.rule.step}, {"thresholds", base.rule.thresholds},
+                      {"discard_reversals", base.rule.discard_reversals}, {"start", base.scale_start}}},
+            {"mode", two_afc ? "2afc" : "yes-no"},
+            {"target_probability", r.target_probability},
+            {"target_scale", r.target_scale},
+            {"observer", observer_text(m)}};
+  if (as_json) {
+    std::cout << j.dump(2) << "\n";
+  } else {
+    fmt::print("true threshold {:.3f}: estimate {:.3f} +- {:.3f} (bias {:+.3f}) over {} series of {} runs; {} incomplete\n",
+               m.threshold, r.mean, r.sd, r.mean - m.threshold, r.estimates.size(), runs, r.incomplete);
+    fmt::print("the rule converges on P(detect) = {:.3f}, which this observer reaches at s = {:.3f}\n", r.target_probability,
+               r.target_scale);
+  }
+  return 0;
+}
+
+namespace {
+json p_json(double p) { return std::isfinite(p) ? json(p) : json(nullptr); }
+}  // namespace
+
+int analyze(const analyze_options& o) {
+  const std::vector<std::string>& inputs = o.inputs;
+  const std::string &thresholds_csv = o.thresholds, &out_csv = o.out_csv;
+  std::string plots_dir = o.plots;
+  const bool as_json = o.json;
+  std::vector<threshold_value> values;
+  std::vector<session_data> sessions;
+  if (!thresholds_csv.empty()) {
+    if (!inputs.empty()) throw usage_error("analyze: give session files or --thresholds, not both");
+    values = read_thresholds_csv(thresholds_csv);
+  } else {
+    if (inputs.empty()) throw usage_error("analyze: no session files (or --thresholds FILE)");
+    for (const std::string& f : inputs) sessions.push_back(read_session(f));
+    values = thresholds_from_sessions(sessions);
+    if (values.empty()) throw std::runtime_error("the sessions hold no recorded thresholds yet");
+  }
+  const threshold_analysis a = analyze_thresholds(values);
+  if (!out_csv.empty()) write_thresholds_csv(values, out_csv);
+  // Staircase plots, one per series.
+  std::vector<std::string> plots;
+  if (!sessions.empty()) {
+    if (plots_dir.empty()) plots_dir = (fs::path(inputs.front()).parent_path() / "plots").string();
+    fs::create_directories(plots_dir);
+    for (const session_data& s : sessions) {
+      const stair_protocol p = parse_protocol(s.header.at("protocol_text").get<std::string>(), "stored protocol");
+      for (const stair_condition& c : p.conditions) {
+        std::vector<json> series;
+        for (const json& t : s.trials)
+          if (t.value("condition", "") == c.name) series.push_back(t);
+        if (series.empty()) continue;
+        const std::string name = fmt::format("{}-{}-{}.png", s.header.value("subject", "?"), s.header.value("session", "?"), c.name);
+        const std::string path = (fs::path(plots_dir) / name).string();
+        write_staircase_plot(series, fmt::format("{} session {}: {}", s.header.value("subject", "?"),
+                                                      s.header.value("session", "?"), c.name),
+                                  p.scale_min, p.scale_max, path);
+        plots.push_back(path);
+      }
+    }
+  }
+  // Catch trials: how often "yes" when nothing was foveated.
+  uint64_t catches = 0, false_alarms = 0;
+  for (const session_data& s : sessions)
+    for (const json& t : s.trials)
+      if (t.value("catch", false)) ++catches, false_alarms += t.value("detected", false);
+
+  json j;
+  for (const auto& c : a.conditions) j["conditions"][c.name] = {{"n", c.n}, {"mean", c.mean}, {"sd", p_json(c.sd)}, {"values", c.values}};
+  j["anova"] = {{"F", a.F}, {"df1", a.df1}, {"df2", a.df2}, {"p", a.p}, {"on", "log subject means"}};
+  for (const auto& pc : a.pairs)
+    j["pairwise"].push_back({{"a", pc.a}, {"b", pc.b}, {"t", pc.t}, {"df", pc.df}, {"p", pc.p}, {"p_bonferroni", pc.p_bonferroni},
+                             {"paired_n", pc.paired_n}, {"paired_t", pc.paired_t}, {"paired_p", p_json(pc.paired_p)}});
+  for (const auto& [subject, conditions] : a.values)
+    for (const auto& [condition, v] : conditions) {
+      double mean = 0;
+      for (double x : v) mean += x / double(v.size());
+      j["subjects"][subject][condition] = {{"thresholds", v}, {"mean", mean}};
+    }
+  if (!sessions.empty()) j["catch_trials"] = {{"n", catches}, {"false_alarms", false_alarms}};
+  if (!plots.empty()) j["plots"] = plots;
+  if (as_json) {
+    std::cout << j.dump(2) << "\n";
+    return 0;
+  }
+  fmt::print("{:<10} {:>4} {:>8} {:>8} {:>7}\n", "condition", "n", "mean", "sd", "values");
+  for (const auto& c : a.conditions) fmt::print("{:<10} {:>4} {:>8.3f} {:>8.3f} {:>7}\n", c.name, c.n, c.mean, c.sd, c.values);
+  fmt::print("one-way ANOVA on log subject means: F({:g}, {:g}) = {:.3f}, p = {:.3f}\n", a.df1, a.df2, a.F, a.p);
+  for (const auto& pc : a.pairs)
+    fmt::print("  {} vs {}: LSD t({:g}) = {:+.3f}, p = {:.3f} (Bonferroni {:.3f}); paired t({}) = {:+.3f}, p = {:.3f}\n", pc.a,
+               pc.b, pc.df, pc.t, pc.p, pc.p_bonferroni, pc.paired_n > 0 ? pc.paired_n - 1 : 0, pc.paired_t, pc.paired_p);
+  if (catches) fmt::print("catch trials: {} of {} answered yes\n", false_alarms, catches);
+  for (const std::string& p : plots) fmt::print("plot: {}\n", p);
+  return 0;
+}
+
+int validate_protocol(const std::string& protocol) {
+  const stair_protocol p = load_protocol(protocol);
+  fmt::print("{}: {} conditions, scales {:.2f}..{:.2f}, rule {}-up/{}-down, {} thresholds per condition\n", protocol,
+             p.conditions.size(), p.scale_min, p.scale_max, p.rule.up, p.rule.down, p.rule.thresholds);
+  int missing = 0;
+  for (double s : reachable_scales(p)) {
+    const std::string f = pointset_path(p, s);
+    if (!fs::exists(f)) ++missing, fmt::print("  missing: {}\n", f);
+  }
+  fmt::print("{}\n", missing ? fmt::format("{} point sets missing", missing) : std::string("all point sets present"));
+  return 0;
+}
+
+}  // namespace fov

@@ -1,0 +1,44 @@
+// fovstair's commands: run a session (a window or a simulated observer), simulate a
+// rule, analyse sessions, validate a protocol. Each takes its flags as a struct.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace fov {
+
+struct run_options {
+  std::string protocol, subject, session, out_dir = "data", observer;
+  bool resume = false;
+  uint64_t stop_after = 0;  // testing: exit abruptly after N trials, as a crash would
+  std::string gaze_trace;
+  int gaze_udp = 0;
+  bool gaze_mouse = false;
+  std::string script_keys;  // testing: the window's answers, one key per trial
+};
+int run_session(const run_options& o);
+
+// Rule settings simulate may vary without editing the protocol (negative: keep).
+struct rule_overrides {
+  double step = -1, initial_step = -1, start = -1;
+  int64_t thresholds = -1, discard = -1;
+};
+struct simulate_options {
+  std::string protocol, observer;
+  uint32_t runs = 1000;
+  bool json = false;
+  rule_overrides overrides;
+};
+int simulate(const simulate_options& o);
+
+struct analyze_options {
+  std::vector<std::string> inputs;  // session files
+  std::string thresholds, out_csv, plots;
+  bool json = false;
+};
+int analyze(const analyze_options& o);
+
+int validate_protocol(const std::string& protocol);
+
+}  // namespace fov
