@@ -1,4 +1,5 @@
-// fovbench's data handling: the Pareto front, results.csv round trips, torn lines.
+// fovbench's data handling: the Pareto front, results.csv round trips, torn lines, the
+// reference cache, and what its options accept.
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -6,6 +7,8 @@
 
 #include <gtest/gtest.h>
 
+#include "bench.h"
+#include "cli.h"
 #include "sweep.h"
 
 namespace fov {
@@ -79,6 +82,60 @@ TEST(ResultsCsv, AForeignFileIsRefusedWithItsLine) {
   } catch (const std::runtime_error& e) {
     EXPECT_EQ(std::string(e.what()), path + ":1: not a results.csv of this fovbench (columns differ); use another -o");
   }
+}
+
+// A reference is traced once per scene, size and spp, and read back from its files after
+// that: a new cache over the same folder returns the same image and timing, tracing nothing.
+TEST(ReferenceCache, TracesOnceAndReadsTheFilesAfter) {
+  namespace fs = std::filesystem;
+  const std::string dir = ::testing::TempDir() + "/fovbench-refs";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  std::shared_ptr<const scene> scn = load_scene("builtin");
+  render_params p;
+  p.device = reconstruct_device::cpp;
+  renderer r(scn, p);
+  const display_geometry d{40, 30, 1.0};
+  reference_cache first(dir, "builtin", d, 2);
+  const reference_frame& a = first.get(r, p, 2);
+  EXPECT_FALSE(a.from_disk);
+  EXPECT_EQ(a.rays, 40u * 30u * 2u);
+  EXPECT_GT(a.ms.median, 0.0);
+  EXPECT_LE(a.ms.min, a.ms.median);
+  EXPECT_GE(a.ms.max, a.ms.median);
+  EXPECT_TRUE(fs::exists(first.file_base(2) + ".exr"));
+  EXPECT_EQ(&first.get(r, p, 2), &a);  // kept in memory too
+  const auto written = fs::last_write_time(first.file_base(2) + ".exr");
+  reference_cache second(dir, "builtin", d, 2);
+  const reference_frame& b = second.get(r, p, 2);
+  EXPECT_TRUE(b.from_disk);
+  EXPECT_EQ(b.ms.median, a.ms.median);
+  EXPECT_EQ(b.rays, a.rays);
+  EXPECT_EQ(b.image.rgb, a.image.rgb);  // EXR keeps linear float RGB
+  EXPECT_EQ(fs::last_write_time(first.file_base(2) + ".exr"), written);
+  EXPECT_FALSE(second.get(r, p, 1).from_disk);  // another spp: traced
+}
+
+TEST(BenchOptions, AreCheckedBeforeAnythingRuns) {
+  bench_options o;
+  o.scenes = {"builtin"};
+  o.methods = {method::shepard};
+  EXPECT_NO_THROW(check_bench_options(o));
+  bench_options bad = o;
+  bad.render.reconstruct.shape = -1;
+  EXPECT_THROW(check_bench_options(bad), usage_error);
+  bad = o;
+  bad.render.view.hfov_deg = std::numeric_limits<float>::quiet_NaN();
+  EXPECT_THROW(check_bench_options(bad), usage_error);
+  bad = o;
+  bad.spps = {0};
+  EXPECT_THROW(check_bench_options(bad), usage_error);
+  bad = o;
+  bad.scenes = {"/nonexistent.gltf"};
+  EXPECT_THROW(check_bench_options(bad), std::runtime_error);
+  render_params renka = o.render;
+  renka.reconstruct.renka = true;
+  EXPECT_NE(render_settings_label(o.render), render_settings_label(renka));  // --resume tells them apart
 }
 
 }  // namespace

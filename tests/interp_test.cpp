@@ -18,13 +18,13 @@ struct fixture {
   pointset set;
   point_samples samples;
   template <class F>
-  fixture(int w, int h, double gx, double gy, F f) {
+  fixture(int w, int h, gaze_point gaze, F f) {
     set.model.display = {w, h, 1.0};
     set.points = throw_darts(set.model, {});
     knn_params kp;
     kp.k = 32;
     set.table = build_knn_table(set.points, 2 * w, 2 * h, kp);
-    samples.offset = offset_for_gaze(set.model.display, {gx, gy});
+    samples.offset = offset_for_gaze(set.model.display, gaze);
     samples.colour.resize(set.points.size());
     samples.depth.assign(set.points.size(), 2.0f);
     for (size_t i = 0; i < set.points.size(); ++i) samples.colour[i] = f(set.points[i].x, set.points[i].y);
@@ -59,7 +59,7 @@ TEST(Shepard, WeightsFollowEquationSix) {
 
 TEST(Reconstruct, EveryMethodReproducesAConstantFieldAtEveryK) {
   const glm::vec3 c(0.25f, 0.5f, 0.75f);
-  fixture fx(48, 40, 20, 25, [&](float, float) { return c; });
+  fixture fx(48, 40, {20, 25}, [&](float, float) { return c; });
   for (method m : {method::nn, method::shepard})
     for (uint32_t k : {1u, 2u, 5u, 10u, 20u, 32u})
       for (bool renka : {false, true}) {
@@ -77,7 +77,7 @@ TEST(Reconstruct, EveryMethodReproducesAConstantFieldAtEveryK) {
 }
 
 TEST(Reconstruct, NearestNeighbourMatchesBruteForce) {
-  fixture fx(40, 32, 10, 10, [](float x, float y) { return glm::vec3(x, y, x * y); });
+  fixture fx(40, 32, {10, 10}, [](float x, float y) { return glm::vec3(x, y, x * y); });
   reconstruct_params rp;
   rp.how = method::nn;
   rp.k = 1;
@@ -93,7 +93,7 @@ TEST(Reconstruct, NearestNeighbourMatchesBruteForce) {
 TEST(Reconstruct, ShepardMatchesADoublePrecisionReferenceOnRandomFields) {
   std::mt19937 random(3);
   std::uniform_real_distribution<float> u(0, 1);
-  fixture fx(40, 32, 30, 5, [&](float, float) { return glm::vec3(u(random), u(random), u(random)); });
+  fixture fx(40, 32, {30, 5}, [&](float, float) { return glm::vec3(u(random), u(random), u(random)); });
   for (uint32_t k : {1u, 5u, 10u, 20u, 32u}) {
     reconstruct_params rp;
     rp.k = k;
@@ -114,7 +114,7 @@ TEST(Reconstruct, ShepardMatchesADoublePrecisionReferenceOnRandomFields) {
 }
 
 TEST(Reconstruct, RejectsKBeyondTheTable) {
-  fixture fx(16, 16, 8, 8, [](float, float) { return glm::vec3(1); });
+  fixture fx(16, 16, {8, 8}, [](float, float) { return glm::vec3(1); });
   reconstruct_params rp;
   rp.k = 33;
   EXPECT_THROW(reconstruct(fx.set, fx.samples, rp), std::invalid_argument);
@@ -283,7 +283,7 @@ namespace {
 
 TEST(Rbf, ReproducesAConstantFieldAtEveryKWithBothKernels) {
   const glm::vec3 c(0.25f, 0.5f, 0.75f);
-  fixture fx(40, 36, 20, 18, [&](float, float) { return c; });
+  fixture fx(40, 36, {20, 18}, [&](float, float) { return c; });
   for (rbf_kernel kernel : {rbf_kernel::multiquadric, rbf_kernel::gaussian})
     for (uint32_t k : {1u, 2u, 5u, 10u, 20u, 32u}) {
       reconstruct_params rp;
@@ -325,7 +325,7 @@ TEST(Mirror, AMirroredPatternIsTheFlippedFrameOfTheSameSamples) {
   // method (the weights depend on distances only, which mirroring keeps).
   std::mt19937 random(11);
   std::uniform_real_distribution<float> u(0, 1);
-  fixture fx(40, 30, 13, 9, [&](float, float) { return glm::vec3(u(random), u(random), u(random)); });
+  fixture fx(40, 30, {13, 9}, [&](float, float) { return glm::vec3(u(random), u(random), u(random)); });
   for (method m : {method::nn, method::shepard, method::rbf}) {
     reconstruct_params rp;
     rp.how = m;
@@ -346,7 +346,7 @@ TEST(Mirror, AMirroredPatternIsTheFlippedFrameOfTheSameSamples) {
 TEST(RbfCache, CachedWeightsGiveTheDirectSolveAndComputeEachTileOnce) {
   std::mt19937 random(3);
   std::uniform_real_distribution<float> u(0, 1);
-  fixture fx(90, 70, 30, 50, [&](float, float) { return glm::vec3(u(random), u(random), u(random)); });
+  fixture fx(90, 70, {30, 50}, [&](float, float) { return glm::vec3(u(random), u(random), u(random)); });
   for (rbf_kernel kernel : {rbf_kernel::multiquadric, rbf_kernel::gaussian})
     for (uint32_t k : {1u, 5u, 20u, 32u}) {
       reconstruct_params rp;
@@ -436,7 +436,7 @@ TEST(Rbf, DuplicatePointsFallBackToShepard) {
 }
 
 TEST(Rbf, RejectsANonPositiveShape) {
-  fixture fx(16, 16, 8, 8, [](float, float) { return glm::vec3(1); });
+  fixture fx(16, 16, {8, 8}, [](float, float) { return glm::vec3(1); });
   reconstruct_params rp;
   rp.how = method::rbf;
   rp.shape = 0;

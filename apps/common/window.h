@@ -38,7 +38,7 @@ class view_window {
   static void on_mouse(int event, int x, int y, int flags, void* self);
 };
 
-// Text lines drawn in a box in the corner of the image farthest from (gx, gy), so the
+// Text lines drawn in a box in the corner of the image farthest from the gaze, so the
 // overlay never covers the fovea.
 void draw_overlay(cv::Mat& bgr, const std::vector<std::string>& lines, gaze_point gaze);
 void draw_gaze_cursor(cv::Mat& bgr, gaze_point gaze);

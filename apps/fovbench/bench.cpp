@@ -27,14 +27,6 @@ namespace {
 using json = nlohmann::json;
 namespace fs = std::filesystem;
 
-struct timing {  // median and spread of repeated measurements
-  double median = 0, min = 0, max = 0;
-};
-timing summarise(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return {v[v.size() / 2], v.front(), v.back()};
-}
-
 std::string number(double v) {
   if (std::isnan(v)) return "";
   if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
@@ -47,60 +39,6 @@ std::string slug(const std::string& scene) {
     if (!std::isalnum(static_cast<unsigned char>(c))) c = '-';
   return (scene.rfind("env:", 0) == 0 ? "env-" : "") + s;
 }
-
-// A full-resolution reference of one scene at one spp: the frame and its timing.
-struct reference_frame {
-  frame image;
-  timing ms;
-  uint64_t rays = 0;
-};
-
-// References per spp for one scene, cached on disk (EXR + JSON with the timing) so a
-// resumed or repeated sweep reuses them.
-class reference_cache {
- public:
-  reference_cache(std::string dir, std::string scene, const display_geometry& d, uint32_t frames)
-      : dir_(std::move(dir)), scene_(std::move(scene)), display_(d), frames_(frames) {}
-
-  const reference_frame& get(renderer& r, const render_params& base, uint32_t spp,
-                             const std::function<void(const std::string&)>& say) {
-    auto it = refs_.find(spp);
-    if (it != refs_.end()) return it->second;
-    const std::string file =
-        (fs::path(dir_) / fmt::format("{}-{}x{}-spp{}", slug(scene_), display_.width, display_.height, spp)).string();
-    reference_frame ref;
-    if (fs::exists(file + ".exr") && fs::exists(file + ".json")) {
-      ref.image = read_frame(file + ".exr");
-      std::ifstream in(file + ".json");
-      const json j = json::parse(in);
-      ref.ms = {j.at("ms").get<double>(), j.at("ms_min").get<double>(), j.at("ms_max").get<double>()};
-      ref.rays = j.at("rays").get<uint64_t>();
-    } else {
-      say(fmt::format("reference {} spp", spp));
-      render_params p = base;
-      p.spp = spp;
-      std::vector<double> ms;
-      for (uint32_t f = 0; f < frames_; ++f) {
-        frame_timing t;
-        ref.image = r.reference(display_.width, display_.height, p, &t).image;
-        ms.push_back(t.trace_ms);
-      }
-      ref.ms = summarise(ms);
-      ref.rays = ref.image.rays;
-      write_frame(ref.image, file + ".exr");
-      const std::string text = json{{"scene", scene_}, {"spp", spp}, {"ms", ref.ms.median}, {"ms_min", ref.ms.min},
-                                    {"ms_max", ref.ms.max}, {"rays", ref.rays}, {"frames", frames_}}.dump(2) + "\n";
-      write_file_atomic(file + ".json", text.data(), text.size());
-    }
-    return refs_.emplace(spp, std::move(ref)).first->second;
-  }
-
- private:
-  std::string dir_, scene_;
-  display_geometry display_;
-  uint32_t frames_;
-  std::map<uint32_t, reference_frame> refs_;
-};
 
 // One configuration of the sweep.
 struct config {
@@ -152,6 +90,51 @@ std::shared_ptr<const pointset> bench_pointset(const bench_options& o, const dis
 }
 
 }  // namespace
+
+timing summarise(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return {v[v.size() / 2], v.front(), v.back()};
+}
+
+reference_cache::reference_cache(std::string dir, std::string scene, const display_geometry& d, uint32_t frames)
+    : dir_(std::move(dir)), scene_(std::move(scene)), display_(d), frames_(frames) {}
+
+std::string reference_cache::file_base(uint32_t spp) const {
+  return (fs::path(dir_) / fmt::format("{}-{}x{}-spp{}", slug(scene_), display_.width, display_.height, spp)).string();
+}
+
+const reference_frame& reference_cache::get(renderer& r, const render_params& base, uint32_t spp,
+                                            const std::function<void(const std::string&)>& say) {
+  auto it = refs_.find(spp);
+  if (it != refs_.end()) return it->second;
+  const std::string file = file_base(spp);
+  reference_frame ref;
+  if (fs::exists(file + ".exr") && fs::exists(file + ".json")) {
+    ref.image = read_frame(file + ".exr");
+    std::ifstream in(file + ".json");
+    const json j = json::parse(in);
+    ref.ms = {j.at("ms").get<double>(), j.at("ms_min").get<double>(), j.at("ms_max").get<double>()};
+    ref.rays = j.at("rays").get<uint64_t>();
+    ref.from_disk = true;
+  } else {
+    if (say) say(fmt::format("reference {} spp", spp));
+    render_params p = base;
+    p.spp = spp;
+    std::vector<double> ms;
+    for (uint32_t f = 0; f < frames_; ++f) {
+      frame_timing t;
+      ref.image = r.reference(display_.width, display_.height, p, &t).image;
+      ms.push_back(t.trace_ms);
+    }
+    ref.ms = summarise(ms);
+    ref.rays = ref.image.rays;
+    write_frame(ref.image, file + ".exr");
+    const std::string text = json{{"scene", scene_}, {"spp", spp}, {"ms", ref.ms.median}, {"ms_min", ref.ms.min},
+                                  {"ms_max", ref.ms.max}, {"rays", ref.rays}, {"frames", frames_}}.dump(2) + "\n";
+    write_file_atomic(file + ".json", text.data(), text.size());
+  }
+  return refs_.emplace(spp, std::move(ref)).first->second;
+}
 
 std::vector<named_gaze> parse_gazes(const std::vector<std::string>& items, const display_geometry& d, uint64_t seed) {
   std::vector<named_gaze> out;

@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -21,6 +22,37 @@ struct named_gaze {
 
 // "centre", "corner", "X,Y" or "N" (N gazes drawn with `seed`); throws usage_error naming --gazes.
 std::vector<named_gaze> parse_gazes(const std::vector<std::string>& items, const display_geometry& d, uint64_t seed);
+
+// Median and spread of repeated measurements.
+struct timing {
+  double median = 0, min = 0, max = 0;
+};
+timing summarise(std::vector<double> v);  // v not empty
+
+// A full-resolution reference of one scene at one spp: the frame and its timing.
+struct reference_frame {
+  frame image;
+  timing ms;
+  uint64_t rays = 0;
+  bool from_disk = false;  // read from the cache, not traced by this run
+};
+
+// References per spp for one scene, cached in `dir` (EXR + JSON with the timing) so a
+// resumed or repeated sweep reuses them: get() traces `frames` times at most once per
+// scene, size and spp, and reads the files after that.
+class reference_cache {
+ public:
+  reference_cache(std::string dir, std::string scene, const display_geometry& d, uint32_t frames);
+  const reference_frame& get(renderer& r, const render_params& base, uint32_t spp,
+                             const std::function<void(const std::string&)>& say = {});
+  std::string file_base(uint32_t spp) const;  // DIR/<scene slug>-<W>x<H>-spp<N>, without extension
+
+ private:
+  std::string dir_, scene_;
+  display_geometry display_;
+  uint32_t frames_;
+  std::map<uint32_t, reference_frame> refs_;
+};
 
 // A preset name (fove, vive, desktop1080) or "WxH" (8..8192, v = 1); throws usage_error naming --display.
 display_geometry parse_display(const std::string& text);
