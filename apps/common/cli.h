@@ -4,6 +4,7 @@
 #include <functional>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 
 #include <CLI/CLI.hpp>
 
@@ -28,11 +29,12 @@ bool parse_gaze(const std::string& text, const display_geometry& display, gaze_p
 gaze_point require_gaze(const std::string& flag, const std::string& text, const display_geometry& display);
 
 // An option whose values are an enum's labels (its label table): CLI11 maps the text to
-// the value and rejects any other with one line; the choices appear in --help.
+// the value and rejects any other with one line; the choices (and, unless show_default
+// is false, the default) appear in --help.
 // Works for a vector of the enum too (a list option).
 template <class T, class E, size_t N>
 CLI::Option* add_label_option(CLI::App& app, const std::string& name, T& value, const label_table<E, N>& table,
-                              const std::string& what) {
+                              const std::string& what, bool show_default = true) {
   CLI::Validator labels(
       [&table](std::string& text) -> std::string {
         E e{};
@@ -41,7 +43,10 @@ CLI::Option* add_label_option(CLI::App& app, const std::string& name, T& value, 
         return "";
       },
       "", "label");
-  return app.add_option(name, value, what + ": " + label_list(table))->transform(labels);
+  std::string help = what + ": " + label_list(table);
+  if constexpr (std::is_same_v<T, E>)
+    if (show_default) help += std::string(" (default ") + label_of(table, value) + ")";
+  return app.add_option(name, value, help)->transform(labels);
 }
 
 }  // namespace fov

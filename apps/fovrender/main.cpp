@@ -55,7 +55,8 @@ int main(int argc, char** argv) {
   app.add_flag("--no-warmup", o.no_warmup,
                "Time the very first frame: texture loading, kernel compilation and RBF weights included");
   app.add_option("-o,--output", o.outputs, "Output image (.exr linear, .png sRGB); may be repeated");
-  CLI::Option* debug = fov::add_label_option(app, "--debug-view", o.debug, fov::debug_view_labels, "Write that overlay too");
+  CLI::Option* debug = fov::add_label_option(app, "--debug-view", o.debug, fov::debug_view_labels,
+                                               "Write that overlay too (none unless given)", false);
   app.add_option("--debug-output", o.debug_output, "File for the overlay (default: the first -o with '-VIEW' before the extension)");
   app.add_option("--compare", o.compare, "Reference image: print PSNR/SSIM overall and by eccentricity band");
   app.add_flag("--json", o.json, "Print JSON");

@@ -23,6 +23,17 @@ bool same_trace(const render_params& a, const render_params& b) {
          a.reconstruct.k == b.reconstruct.k && a.taa == b.taa && a.pattern == b.pattern;
 }
 
+// The tracing half of the params, without a frame's pattern.
+trace_params base_trace(const render_params& p) {
+  trace_params tp;
+  tp.spp = p.spp;
+  tp.seed = p.seed;
+  tp.shadows = p.shadows;
+  tp.footprint = p.footprint;
+  tp.k = p.reconstruct.k;
+  return tp;
+}
+
 }  // namespace
 
 std::string validate(const render_params& p, const pointset* set) {
@@ -40,12 +51,7 @@ std::string validate(const render_params& p, const pointset* set) {
 }
 
 trace_params renderer::frame_trace_params(const render_params& p, uint64_t n) {
-  trace_params tp;
-  tp.spp = p.spp;
-  tp.seed = p.seed;
-  tp.shadows = p.shadows;
-  tp.footprint = p.footprint;
-  tp.k = p.reconstruct.k;
+  trace_params tp = base_trace(p);
   if (p.taa && p.pattern == ray_pattern::reseed) tp.seed = p.seed + n;
   if (p.taa && p.pattern == ray_pattern::mirror) tp.mirror_x = (n & 1) != 0, tp.mirror_y = (n & 2) != 0;
   return tp;
@@ -162,11 +168,8 @@ const frame& renderer::foveated(gaze_point gaze, const render_params& p, frame_t
 
 reference_trace renderer::reference(int width, int height, const render_params& p, frame_timing* t) {
   pending_.reset();
-  trace_params tp = frame_trace_params(p, 0);
-  tp.mirror_x = tp.mirror_y = false;
-  tp.seed = p.seed;
   const auto t0 = clock_type::now();
-  reference_trace out = trace_reference(*scene_, cam_, width, height, tp);
+  reference_trace out = trace_reference(*scene_, cam_, width, height, base_trace(p));
   if (t) {
     *t = frame_timing{};
     t->trace_ms = ms_since(t0);
