@@ -37,6 +37,18 @@ check "bad pattern"        2 -- "$fovrender" "${set[@]}" --spp 2 --taa-frames 4 
 "$fovrender" "${set[@]}" --spp 2 --taa-frames 3 -o "$dir/taa3.png" --json | grep -q '"taa_ms": [0-9]' \
   || { echo "FAIL --taa-frames did not report taa_ms"; failures=$((failures + 1)); }
 check "bad hfov"           2 -- "$fovrender" "${set[@]}" --hfov 200 -o "$dir/a.png"
+check "nan hfov"           2 -- "$fovrender" "${set[@]}" --hfov nan -o "$dir/a.png"
+check "bad eye"            2 -- "$fovrender" "${set[@]}" --eye 1,2 -o "$dir/a.png"
+check "target is the eye"  2 -- "$fovrender" "${set[@]}" --eye 0,1,4 --look-at 0,1,4 -o "$dir/a.png"
+check "up along the view"  2 -- "$fovrender" "${set[@]}" --look-at 0,100,4 -o "$dir/a.png"
+check "zero up"            2 -- "$fovrender" "${set[@]}" --up 0,0,0 -o "$dir/a.png"
+check "missing camera"     1 -- "$fovrender" "${set[@]}" --camera "$dir/none.csv" -o "$dir/a.png"
+printf 't_ms,x,y,z,tx,ty,tz\n0,3,2,5,0,0.5,-3\n1000,0,0,0,1,0,0\n' > "$dir/path.csv"
+check "camera file"        0 -- "$fovrender" "${set[@]}" --spp 1 --camera "$dir/path.csv" -o "$dir/cam-file.png"
+check "eye and target"     0 -- "$fovrender" "${set[@]}" --spp 1 --eye 3,2,5 --look-at 0,0.5,-3 -o "$dir/cam-flags.png"
+cmp -s "$dir/cam-file.png" "$dir/cam-flags.png" || fail "--camera FILE (first row) differs from the same --eye/--look-at"
+check "default camera"     0 -- "$fovrender" "${set[@]}" --spp 1 -o "$dir/cam-default.png"
+cmp -s "$dir/cam-file.png" "$dir/cam-default.png" && fail "--eye/--look-at changed nothing"
 check "bad size"           2 -- "$fovrender" --reference --width 0 -o "$dir/a.png"
 check "missing set"        1 -- "$fovrender" --points "$dir/none.fovset" -o "$dir/a.png"
 check "missing scene"      1 -- "$fovrender" "${set[@]}" --scene "$dir/none.gltf" -o "$dir/a.png"

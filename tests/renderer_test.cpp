@@ -15,6 +15,7 @@
 #include "fov/knn_table.h"
 #include "fov/metrics.h"
 #include "fov/renderer.h"
+#include "fov/usage_error.h"
 #include "opencl_required.h"
 
 namespace fov {
@@ -101,7 +102,7 @@ TEST_F(pipeline, AFrameIsTheTraceAndReconstructionItStandsFor) {
 
 TEST_F(pipeline, CameraOverridesApplyToEverySceneKind) {
   const std::string env = ramp_envmap();
-  for (const std::string spec : {std::string("builtin"), env}) {
+  for (const std::string& spec : {std::string("builtin"), env}) {
     std::shared_ptr<const scene> s = load_scene(spec);
     ASSERT_TRUE(s->description().scene_camera) << spec << ": the case where the override was lost";
     render_params narrow = params;
@@ -117,7 +118,7 @@ TEST_F(pipeline, CameraOverridesApplyToEverySceneKind) {
   render_params bad = params;
   bad.view.hfov_deg = 180;
   EXPECT_NE(validate(bad), "");
-  EXPECT_THROW(renderer(scn, bad), std::invalid_argument);
+  EXPECT_THROW(renderer(scn, bad), usage_error);
 }
 
 TEST_F(pipeline, RayPatternsFollowTheFrameNumberUnderTaaOnly) {

@@ -12,6 +12,7 @@
 #include "fov/dart_throwing.h"
 #include "fov/knn_table.h"
 #include "fov/trace.h"
+#include "fov/usage_error.h"
 
 namespace fov {
 namespace {
@@ -411,6 +412,120 @@ TEST(Tracer, OneByOneAndEightKScreensWork) {
   EXPECT_THROW(trace_reference(*s, s->default_camera(), 0, 10, tp).image, std::invalid_argument);
   tp.spp = 0;
   EXPECT_THROW(trace_reference(*s, s->default_camera(), 10, 10, tp).image, std::invalid_argument);
+}
+
+// A glTF file with one square of side 2 (four corners, counter-clockwise) and the given
+// nodes and camera (JSON), its buffer inline.
+std::string write_gltf(const std::string& name, const float corners[12], const std::string& nodes,
+                       const std::string& camera) {
+  std::string bytes(reinterpret_cast<const char*>(corners), 48);
+  const uint16_t index[8] = {0, 1, 2, 0, 2, 3, 0, 0};
+  bytes.append(reinterpret_cast<const char*>(index), 16);
+  static const char* digits = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  const size_t length = bytes.size(), padding = (3 - length % 3) % 3;
+  bytes.append(padding, '\0');
+  std::string b64;
+  for (size_t i = 0; i < bytes.size(); i += 3) {
+    const uint32_t v = uint32_t(uint8_t(bytes[i])) << 16 | uint32_t(uint8_t(bytes[i + 1])) << 8 | uint8_t(bytes[i + 2]);
+    for (int k = 3; k >= 0; --k) b64 += digits[(v >> (6 * k)) & 63];
+  }
+  b64.replace(b64.size() - padding, padding, padding, '=');
+  float lo[3] = {1e9f, 1e9f, 1e9f}, hi[3] = {-1e9f, -1e9f, -1e9f};
+  for (int c = 0; c < 12; ++c) lo[c % 3] = std::min(lo[c % 3], corners[c]), hi[c % 3] = std::max(hi[c % 3], corners[c]);
+  const fs::path file = fs::path(::testing::TempDir()) / name;
+  std::ofstream(file) << "{\"asset\":{\"version\":\"2.0\"},\"scene\":0,\"scenes\":[{\"nodes\":[0,1]}],\"nodes\":[{\"mesh\":0},"
+                      << nodes << "],\"cameras\":[" << camera
+                      << "],\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0},\"indices\":1}]}],"
+                         "\"buffers\":[{\"byteLength\":64,\"uri\":\"data:application/octet-stream;base64,"
+                      << b64
+                      << "\"}],\"bufferViews\":[{\"buffer\":0,\"byteOffset\":0,\"byteLength\":48},"
+                         "{\"buffer\":0,\"byteOffset\":48,\"byteLength\":12}],\"accessors\":[{\"bufferView\":0,"
+                         "\"componentType\":5126,\"count\":4,\"type\":\"VEC3\",\"min\":["
+                      << lo[0] << "," << lo[1] << "," << lo[2] << "],\"max\":[" << hi[0] << "," << hi[1] << "," << hi[2]
+                      << "]},{\"bufferView\":1,\"componentType\":5123,\"count\":6,\"type\":\"SCALAR\"}]}";
+  return file.string();
+}
+
+// The run of pixels along a row (or a column) that hit geometry.
+int hit_run(const frame& f, bool row) {
+  int n = 0;
+  for (int i = 0; i < (row ? f.width : f.height); ++i) {
+    const size_t at = row ? size_t(f.height / 2) * f.width + i : size_t(i) * f.width + f.width / 2;
+    n += std::isfinite(f.depth[at]);
+  }
+  return n;
+}
+
+// glTF cameras: placed by their node once (Assimp's glTF importer also copies the node's
+// translation into the camera), with the vertical field of view the file stores (Assimp
+// keeps yfov x aspect); checked against the pinhole projection of a known square.
+TEST(Tracer, GltfCamerasArePlacedOnceWithTheirStoredFieldOfView) {
+  const float facing_z[12] = {-1, -1, 0, 1, -1, 0, 1, 1, 0, -1, 1, 0};
+  const std::string ahead = write_gltf("camera-ahead.gltf", facing_z, "{\"camera\":0,\"translation\":[0,0,4]}",
+                                       "{\"type\":\"perspective\",\"perspective\":{\"yfov\":0.8,\"aspectRatio\":1.5,\"znear\":0.1}}");
+  const auto s = load_scene(ahead);
+  ASSERT_TRUE(s->description().scene_camera);
+  const camera cam = setup_camera(*s);
+  EXPECT_NEAR(glm::distance(cam.position, glm::vec3(0, 0, 4)), 0.0f, 1e-5f);
+  EXPECT_NEAR(glm::distance(cam.forward, glm::vec3(0, 0, -1)), 0.0f, 1e-5f);
+  EXPECT_NEAR(cam.vfov_deg, glm::degrees(0.8f), 1e-4f);
+  trace_params tp;
+  tp.spp = 1;
+  tp.shadows = false;
+  // At the file's aspect the square is 2 / (2 * 4 * tan(0.4)) of the height, in both directions.
+  const double expected = 200 * 2 / (8 * std::tan(0.4));
+  const frame wide = trace_reference(*s, cam, 300, 200, tp).image;
+  EXPECT_NEAR(hit_run(wide, true), expected, 0.02 * expected);
+  EXPECT_NEAR(hit_run(wide, false), expected, 0.02 * expected);
+  // Another aspect keeps the vertical field of view, as glTF says.
+  const frame square = trace_reference(*s, cam, 200, 200, tp).image;
+  EXPECT_NEAR(hit_run(square, false), expected, 0.02 * expected);
+  EXPECT_NEAR(hit_run(square, true), expected, 0.02 * expected);
+  // --hfov replaces the file's field of view.
+  camera_overrides o;
+  o.hfov_deg = 60;
+  const frame sixty = trace_reference(*s, setup_camera(*s, o), 300, 200, tp).image;
+  const double at_sixty = 300 * 2 / (8 * std::tan(glm::radians(30.0)));
+  EXPECT_NEAR(hit_run(sixty, true), at_sixty, 0.02 * at_sixty);
+
+  // A camera that looks sideways (+90 degrees about y: along -x), in a translated parent.
+  const float facing_x[12] = {0, -1, 1, 0, -1, -1, 0, 1, -1, 0, 1, 1};
+  const std::string side = write_gltf(
+      "camera-side.gltf", facing_x,
+      "{\"translation\":[2,0,0],\"children\":[2]},{\"camera\":0,\"translation\":[3,0,0],\"rotation\":[0,0.70710678,0,0.70710678]}",
+      "{\"type\":\"perspective\",\"perspective\":{\"yfov\":0.8,\"znear\":0.1}}");
+  const auto t = load_scene(side);
+  const camera sc = setup_camera(*t);
+  EXPECT_NEAR(glm::distance(sc.position, glm::vec3(5, 0, 0)), 0.0f, 1e-4f);
+  EXPECT_NEAR(glm::distance(sc.forward, glm::vec3(-1, 0, 0)), 0.0f, 1e-4f);
+  const frame f = trace_reference(*t, sc, 400, 400, tp).image;
+  const double at_five = 400 * 2 / (10 * std::tan(0.4));
+  EXPECT_NEAR(hit_run(f, true), at_five, 0.02 * at_five);
+  EXPECT_NEAR(hit_run(f, false), at_five, 0.02 * at_five);
+}
+
+// Eye, target and up overrides, for a scene with its own camera.
+TEST(Tracer, CameraOverridesPlaceAndAimTheCamera) {
+  const auto s = load_scene("builtin");
+  camera_overrides o;
+  o.eye = glm::vec3(1, 2, 3);
+  const camera moved = setup_camera(*s, o);
+  EXPECT_EQ(moved.position, glm::vec3(1, 2, 3));
+  EXPECT_EQ(moved.forward, setup_camera(*s).forward);  // an eye alone keeps the direction
+  o.target = glm::vec3(1, 2, -7);
+  const camera aimed = setup_camera(*s, o);
+  EXPECT_NEAR(glm::distance(aimed.forward, glm::vec3(0, 0, -1)), 0.0f, 1e-6f);
+  o.up = glm::vec3(0, 1, 0);
+  EXPECT_NO_THROW(setup_camera(*s, o));
+  o.up = glm::vec3(0, 0, 1);  // parallel to the view
+  EXPECT_THROW(setup_camera(*s, o), usage_error);
+  o.up.reset();
+  o.target = o.eye;
+  EXPECT_NE(validate(o), "");
+  EXPECT_THROW(setup_camera(*s, o), usage_error);
+  o.target.reset();
+  o.eye = glm::vec3(NAN, 0, 0);
+  EXPECT_NE(validate(o), "");
 }
 
 }  // namespace

@@ -10,13 +10,10 @@
 
 #include "fov/acuity.h"
 #include "fov/labels.h"
+#include "fov/usage_error.h"  // a usage problem: the tool prints one line and exits 2
 
 namespace fov {
 
-// A usage problem: the tool prints one line and exits 2.
-struct usage_error : std::runtime_error {
-  using std::runtime_error::runtime_error;
-};
 
 // Parses the command line and runs `body`, turning every failure into the tools' policy:
 // one line "TOOL: reason" on stderr; exit 2 for usage (bad flags), 1 for anything else.

@@ -1,5 +1,9 @@
 #include "render_flags.h"
 
+#include <sstream>
+
+#include "camera_path.h"
+
 namespace fov {
 
 void add_render_flags(CLI::App& app, render_params& p, unsigned groups) {
@@ -31,8 +35,37 @@ void add_render_flags(CLI::App& app, render_params& p, unsigned groups) {
   if (groups & flags_device)
     add_label_option(app, "--device", p.device, reconstruct_device_labels,
                      "Reconstruct with OpenCL (falls back to C++ with a warning) or C++");
-  if (groups & flags_view)
+  if (groups & flags_view) {
     app.add_option("--hfov", p.view.hfov_deg, "Horizontal field of view in degrees (default: the scene's camera, else 90)");
+    auto point = [](const std::string& flag, const std::string& text) {
+      glm::vec3 v;
+      char comma[2] = {0, 0}, extra = 0;
+      std::istringstream in(text);
+      if (!(in >> v.x >> comma[0] >> v.y >> comma[1] >> v.z) || comma[0] != ',' || comma[1] != ',' || (in >> extra))
+        throw CLI::ValidationError(flag, "expected X,Y,Z (got '" + text + "')");
+      return v;
+    };
+    CLI::Option* eye = app.add_option_function<std::string>(
+        "--eye", [&p, point](const std::string& t) { p.view.eye = point("--eye", t); },
+        "Camera position X,Y,Z in world units (default: the scene camera's)");
+    CLI::Option* target = app.add_option_function<std::string>(
+        "--look-at", [&p, point](const std::string& t) { p.view.target = point("--look-at", t); },
+        "Point X,Y,Z the camera looks at (default: along the scene camera's direction)");
+    app.add_option_function<std::string>(
+        "--up", [&p, point](const std::string& t) { p.view.up = point("--up", t); },
+        "Camera up direction X,Y,Z (default: the scene camera's)");
+    app.add_option_function<std::string>(
+           "--camera",
+           [&p](const std::string& file) {
+             const camera_path path = load_camera_path(file);  // first row: a still camera
+             p.view.eye = glm::vec3(float(path.keys[0].eye[0]), float(path.keys[0].eye[1]), float(path.keys[0].eye[2]));
+             p.view.target =
+                 glm::vec3(float(path.keys[0].target[0]), float(path.keys[0].target[1]), float(path.keys[0].target[2]));
+           },
+           "A camera path CSV t_ms,x,y,z,tx,ty,tz (docs/fovview.md): its first row's eye and target")
+        ->excludes(eye)
+        ->excludes(target);
+  }
 }
 
 void require_valid(const render_params& p, const pointset* set) {

@@ -19,7 +19,7 @@ enum render_flags : unsigned {
   flags_reconstruct = 8,   // --renka, --rbf-kernel, --rbf-shape
   flags_pattern = 16,      // --pattern
   flags_device = 32,       // --device
-  flags_view = 64,         // --hfov
+  flags_view = 64,         // --hfov, --eye, --look-at, --up, --camera
   flags_all = 127,
 };
 void add_render_flags(CLI::App& app, render_params& p, unsigned groups = flags_all);

@@ -168,9 +168,12 @@ display_geometry parse_display(const std::string& text) {
 }
 
 std::string render_settings_label(const render_params& p) {
-  return fmt::format("seed={} shadows={} renka={} rbf_kernel={} rbf_shape={:g} hfov={:g}", p.seed, p.shadows ? 1 : 0,
-                     p.reconstruct.renka ? 1 : 0, label_of(rbf_kernel_labels, p.reconstruct.kernel), p.reconstruct.shape,
-                     p.view.hfov_deg);
+  auto point = [](const std::optional<glm::vec3>& v) {
+    return v ? fmt::format("{:g},{:g},{:g}", v->x, v->y, v->z) : std::string("-");  // -: the scene camera's
+  };
+  return fmt::format("seed={} shadows={} renka={} rbf_kernel={} rbf_shape={:g} hfov={:g} eye={} look_at={} up={}", p.seed,
+                     p.shadows ? 1 : 0, p.reconstruct.renka ? 1 : 0, label_of(rbf_kernel_labels, p.reconstruct.kernel),
+                     p.reconstruct.shape, p.view.hfov_deg, point(p.view.eye), point(p.view.target), point(p.view.up));
 }
 
 display_geometry check_bench_options(const bench_options& o) {

@@ -165,7 +165,7 @@ int run_viewer(const viewer_options& o, render_params settings) {
       double x, y;
       if (window.mouse(x, y)) mouse->set(x, y);
     }
-    frame_inputs in{gaze->poll(now_ms), now_ms, path ? path->at(now_ms, current.hfov_deg) : current};
+    frame_inputs in{gaze->poll(now_ms), now_ms, path ? path->at(now_ms, current) : current};
     return in;
   };
   std::optional<frame_inputs> next;  // read ahead, with its trace under way
@@ -246,7 +246,9 @@ int run_viewer(const viewer_options& o, render_params settings) {
                 {"gaze_source", gaze->name()},
                 {"camera", {{"position", {renderer.cam().position.x, renderer.cam().position.y, renderer.cam().position.z}},
                             {"forward", {renderer.cam().forward.x, renderer.cam().forward.y, renderer.cam().forward.z}},
-                            {"hfov_deg", renderer.cam().hfov_deg}}},
+                            {"up", {renderer.cam().up.x, renderer.cam().up.y, renderer.cam().up.z}},
+                            {"hfov_deg", renderer.cam().hfov_deg},
+                            {"vfov_deg", renderer.cam().vfov_deg}}},
                 {"view", v.empty() ? "frame" : v},
                 {"trace_ms", timing.trace_ms},
                 {"reconstruct_ms", timing.reconstruct_ms},

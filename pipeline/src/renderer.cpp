@@ -46,7 +46,7 @@ std::string validate(const render_params& p, const pointset* set) {
   if (!(p.temporal.alpha > 0 && p.temporal.alpha <= 1))
     return fmt::format("TAA alpha must lie in (0, 1] (got {})", p.temporal.alpha);
   const std::string view = validate(p.view);
-  if (!view.empty()) return "--hfov: " + view;  // the tools bind view.hfov_deg to --hfov
+  if (!view.empty()) return view;
   return "";
 }
 

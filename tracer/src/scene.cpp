@@ -8,6 +8,7 @@
 #include <OpenImageIO/imagebufalgo.h>
 
 #include "fov/scene.h"
+#include "fov/usage_error.h"
 #include "scene_impl.h"
 
 namespace fov {
@@ -370,17 +371,36 @@ camera scene::default_camera(float hfov_deg) const {
   return look_at(centre + glm::vec3(0, 0, distance), centre, hfov_deg);
 }
 
+namespace {
+bool finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+}  // namespace
+
 std::string validate(const camera_overrides& o) {
   if (o.hfov_deg != 0 && !(o.hfov_deg > 0 && o.hfov_deg < 180))
-    return fmt::format("the field of view must lie in (0, 180) degrees (got {})", o.hfov_deg);
+    return fmt::format("--hfov: the field of view must lie in (0, 180) degrees (got {})", o.hfov_deg);
+  if (o.eye && !finite(*o.eye)) return "--eye: not a finite point";
+  if (o.target && !finite(*o.target)) return "--look-at: not a finite point";
+  if (o.up && !(finite(*o.up) && glm::length(*o.up) > 0)) return "--up: not a finite, non-zero direction";
+  if (o.eye && o.target && glm::length(*o.target - *o.eye) <= 1e-6f * std::max(1.0f, glm::length(*o.eye)))
+    return "--look-at: the target is the eye";
   return "";
 }
 
 camera setup_camera(const scene& s, const camera_overrides& o) {
   const std::string problem = validate(o);
-  if (!problem.empty()) throw std::invalid_argument(problem);
+  if (!problem.empty()) throw usage_error(problem);
   camera cam = s.default_camera(o.hfov_deg > 0 ? o.hfov_deg : 90.0f);
-  if (o.hfov_deg > 0) cam.hfov_deg = o.hfov_deg;
+  if (o.hfov_deg > 0) cam.hfov_deg = o.hfov_deg, cam.vfov_deg = 0;
+  if (o.eye) cam.position = *o.eye;
+  if (o.target) {
+    const glm::vec3 d = *o.target - cam.position;
+    if (!(glm::length(d) > 1e-6f * std::max(1.0f, glm::length(cam.position))))
+      throw usage_error("--look-at: the target is the camera's position");
+    cam.forward = glm::normalize(d);
+  }
+  if (o.up) cam.up = glm::normalize(*o.up);
+  if ((o.target || o.up) && glm::length(glm::cross(cam.forward, cam.up)) < 1e-4f)
+    throw usage_error("--up: parallel to the view direction (give another --up)");
   return cam;
 }
 

@@ -1,4 +1,5 @@
 // Scene files: glTF 2.0 and OBJ through Assimp; env:FILE image scenes; the built-in scene.
+#include <cmath>
 #include <filesystem>
 #include <set>
 #include <stdexcept>
@@ -17,6 +18,11 @@ namespace fov {
 namespace fs = std::filesystem;
 
 namespace {
+
+std::string lowercase(std::string s) {
+  for (char& c : s) c = char(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
 
 glm::mat4 to_glm(const aiMatrix4x4& m) {
   // Assimp is row-major with translation in the last column; glm is column-major.
@@ -164,11 +170,34 @@ scene_description load_file(const std::string& path) {
   if (ai->mNumCameras > 0) {
     const aiCamera* c = ai->mCameras[0];
     const glm::mat4 t = world_transform(find_node(ai->mRootNode, c->mName));
-    const glm::vec3 eye = glm::vec3(t * glm::vec4(c->mPosition.x, c->mPosition.y, c->mPosition.z, 1));
+    // Assimp's camera is relative to its node, with half the horizontal field of view,
+    // except from its glTF 2.0 importer (5.2), which copies the node's own translation into
+    // mPosition (so the node's transform applied it twice) and stores yfov x aspect in
+    // mHorizontalFOV (the full angle's linear approximation, not half an angle). For glTF
+    // the node alone places the camera, and the vertical field of view is kept as the
+    // file states it: yfov = mHorizontalFOV / mAspect (mAspect 0 when the file gives none).
+    const std::string ext = lowercase(std::filesystem::path(path).extension().string());
+    const bool gltf = ext == ".gltf" || ext == ".glb";
+    const glm::vec3 local = gltf ? glm::vec3(0) : glm::vec3(c->mPosition.x, c->mPosition.y, c->mPosition.z);
+    const glm::vec3 eye = glm::vec3(t * glm::vec4(local, 1));
     const glm::vec3 look = glm::mat3(t) * glm::vec3(c->mLookAt.x, c->mLookAt.y, c->mLookAt.z);
     const glm::vec3 up = glm::mat3(t) * glm::vec3(c->mUp.x, c->mUp.y, c->mUp.z);
-    // Assimp stores half the horizontal field of view.
-    d.scene_camera = look_at(eye, eye + look, 2 * glm::degrees(c->mHorizontalFOV), up);
+    if (gltf) {
+      const float yfov = c->mAspect > 0 ? c->mHorizontalFOV / c->mAspect : c->mHorizontalFOV;
+      const float aspect = c->mAspect > 0 ? c->mAspect : 1.0f;
+      camera cam = look_at(eye, eye + look, glm::degrees(2 * std::atan(aspect * std::tan(0.5f * yfov))), up);
+      cam.vfov_deg = glm::degrees(yfov);
+      d.scene_camera = cam;
+    } else {
+      d.scene_camera = look_at(eye, eye + look, 2 * glm::degrees(c->mHorizontalFOV), up);
+    }
+    const camera& cam = *d.scene_camera;
+    const bool in_range = cam.hfov_deg > 0 && cam.hfov_deg < 180 && (gltf ? cam.vfov_deg > 0 && cam.vfov_deg < 180 : true);
+    if (!in_range || !std::isfinite(glm::dot(cam.position, cam.forward))) {
+      d.warnings.push_back(fmt::format("camera '{}': field of view or placement out of range; framing the scene instead",
+                                       c->mName.C_Str()));
+      d.scene_camera.reset();
+    }
   }
   for (unsigned i = 0; i < ai->mNumLights; ++i) {
     const aiLight* l = ai->mLights[i];

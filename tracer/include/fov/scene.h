@@ -101,12 +101,16 @@ class scene {
 // What a user may change about a scene's camera; every tool applies it with setup_camera.
 struct camera_overrides {
   float hfov_deg = 0;  // horizontal field of view in degrees, (0, 180); 0: the scene's own
+  // Where the camera is and what it looks at (world units); each left unset keeps the
+  // scene camera's: an eye alone keeps its direction, a target alone its position.
+  std::optional<glm::vec3> eye, target, up;
 };
 // Returns the empty string when the overrides are valid, else the reason.
 std::string validate(const camera_overrides& o);
 
 // The camera a tool renders `s` with: the scene's default camera (the file's, else one
-// framing its bounds) with the overrides applied, for every scene kind.
+// framing its bounds) with the overrides applied, for every scene kind. Throws
+// usage_error (fov/usage_error.h) naming the flag when the overrides cannot be used.
 camera setup_camera(const scene& s, const camera_overrides& o = {});
 
 // "builtin", "env:FILE" (an environment image and no geometry) or a glTF 2.0 / OBJ

@@ -14,8 +14,13 @@ camera_frame make_frame(const camera& cam, int width, int height) {
   f.up = glm::cross(f.right, f.forward);
   f.width = width;
   f.height = height;
-  f.half_width = std::tan(0.5f * glm::radians(cam.hfov_deg));
-  f.half_height = f.half_width * float(height) / float(width);
+  if (cam.vfov_deg > 0) {
+    f.half_height = std::tan(0.5f * glm::radians(cam.vfov_deg));
+    f.half_width = f.half_height * float(width) / float(height);
+  } else {
+    f.half_width = std::tan(0.5f * glm::radians(cam.hfov_deg));
+    f.half_height = f.half_width * float(height) / float(width);
+  }
   f.pixel_angle = 2 * f.half_width / float(width);
   return f;
 }

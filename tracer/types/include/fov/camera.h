@@ -10,6 +10,9 @@ struct camera {
   glm::vec3 forward{0, 0, -1};  // unit view direction
   glm::vec3 up{0, 1, 0};        // roughly up; re-orthogonalised against forward
   float hfov_deg = 90;          // horizontal field of view
+  // > 0: the vertical field of view governs instead and the horizontal one follows the
+  // screen's aspect (a glTF camera stores its yfov; rendering at another aspect keeps it).
+  float vfov_deg = 0;
 };
 
 // Where a screen maps into the world: the camera's orthonormal frame and the
@@ -25,7 +28,8 @@ camera_frame make_frame(const camera& cam, int width, int height);
 
 // The same view: every field equal (a still camera between two frames).
 inline bool same_view(const camera& a, const camera& b) {
-  return a.position == b.position && a.forward == b.forward && a.up == b.up && a.hfov_deg == b.hfov_deg;
+  return a.position == b.position && a.forward == b.forward && a.up == b.up && a.hfov_deg == b.hfov_deg &&
+         a.vfov_deg == b.vfov_deg;
 }
 
 // Direction (unit) through screen position (sx, sy) in pixels; (0, 0) is the

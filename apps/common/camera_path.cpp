@@ -1,6 +1,6 @@
 #include "camera_path.h"
 
-#include "../common/numeric_csv.h"
+#include "numeric_csv.h"
 
 #include <algorithm>
 #include <cmath>
@@ -28,7 +28,7 @@ camera_path load_camera_path(const std::string& path) {
   return out;
 }
 
-camera camera_path::at(double t, float hfov) const {
+camera camera_path::at(double t, const camera& base) const {
   size_t i = 0;
   while (i + 1 < keys.size() && keys[i + 1].t <= t) ++i;
   const key& a = keys[i];
@@ -39,7 +39,10 @@ camera camera_path::at(double t, float hfov) const {
     eye[c] = float(a.eye[c] + f * (b.eye[c] - a.eye[c]));
     target[c] = float(a.target[c] + f * (b.target[c] - a.target[c]));
   }
-  return look_at(eye, target, hfov);
+  camera c = base;  // its field of view and up
+  c.position = eye;
+  c.forward = glm::normalize(target - eye);
+  return c;
 }
 
 }  // namespace fov

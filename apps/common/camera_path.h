@@ -12,8 +12,9 @@ namespace fov {
 struct camera_path {
   struct key { double t, eye[3], target[3]; };
   std::vector<key> keys;
-  // The camera at t_ms (clamped to the path's ends).
-  camera at(double t_ms, float hfov_deg) const;
+  // The camera at t_ms (clamped to the path's ends): `base` moved to the eye and turned to
+  // the target, its field of view and up kept.
+  camera at(double t_ms, const camera& base) const;
 };
 
 // Throws std::runtime_error "FILE:LINE: reason" for a bad header, bad numbers, time going
