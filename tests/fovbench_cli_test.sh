@@ -16,6 +16,10 @@ check "bad gaze"        2 -- "$fovbench" "${common[@]}" --gazes 500,10 -o "$dir/
 check "two budgets"     2 -- "$fovbench" "${common[@]}" --budget-psnr 20 --budget-foveated 0.1 -o "$dir/x"
 check "missing scene"   1 -- "$fovbench" "${common[@]}" --scene "$dir/none.gltf" -o "$dir/x"
 check "bad footprint"   2 -- "$fovbench" "${common[@]}" --texture-footprint wide -o "$dir/x"
+check "bad eye"         2 -- "$fovbench" "${common[@]}" --eye 1,2 -o "$dir/x"
+echo "not a glTF file" > "$dir/broken.gltf"
+check "broken 2nd scene" 1 -- "$fovbench" "${common[@]}" --scene builtin --scene "$dir/broken.gltf" --spp 1 -o "$dir/broken"
+[[ -e "$dir/broken" ]] && fail "a sweep with a broken scene wrote $(ls -R "$dir/broken" | tr '\n' ' ')"
 
 sweep=("$fovbench" "${common[@]}" --scene builtin --scales 1.0,2.0 --methods nn,shepard --k 4 --spp 1,2
        --gazes "centre;20,30" --temporal-frames 2 --budget-psnr 10 -o "$dir/out")

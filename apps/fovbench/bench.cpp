@@ -205,7 +205,6 @@ size_t run_bench(const bench_options& o, const bench_reporter& report) {
   const std::vector<named_gaze> gazes = parse_gazes(o.gazes, display, o.render.seed);
   const std::string footprint = texture_footprint_name(o.render.footprint);
   const std::string settings = render_settings_label(o.render);
-  fs::create_directories(fs::path(o.out) / "references");
   const std::string results_path = (fs::path(o.out) / "results.csv").string();
   std::set<std::string> done;
   if (fs::exists(results_path)) {
@@ -222,11 +221,9 @@ size_t run_bench(const bench_options& o, const bench_reporter& report) {
       done.insert(r.key());
     }
   }
-  results_writer writer(results_path);
   const std::vector<config> all = all_configs(o, gazes);
   size_t todo = 0;
   for (const config& c : all) todo += !done.count(c.key);
-  report.line(fmt::format("{} configurations, {} already in {}, {} to measure", all.size(), all.size() - todo, results_path, todo));
   const uint32_t best_spp = *std::max_element(o.spps.begin(), o.spps.end());
   size_t measured = 0;
   const std::function<void(const std::string&)> say = [&](const std::string& what) { report.progress(measured, todo, what); };
@@ -234,11 +231,23 @@ size_t run_bench(const bench_options& o, const bench_reporter& report) {
     return std::any_of(all.begin(), all.end(), [&](const config& c) { return match(c) && !done.count(c.key); });
   };
 
-  for (size_t sc = 0; sc < o.scenes.size() && measured < todo; ++sc) {
+  // Every scene the sweep needs is loaded, and its camera set up, before anything is
+  // measured: a broken scene listed last fails now, not after an hour of the others.
+  std::vector<std::shared_ptr<const scene>> scenes(o.scenes.size());
+  for (size_t sc = 0; sc < o.scenes.size(); ++sc) {
     if (!needed([&](const config& c) { return c.scene == sc; })) continue;
     say("loading " + o.scenes[sc]);
-    std::shared_ptr<const scene> scn = load_scene(o.scenes[sc]);
-    for (const std::string& w : scn->warnings()) report.line("warning: " + w);
+    scenes[sc] = load_scene(o.scenes[sc]);
+    for (const std::string& w : scenes[sc]->warnings()) report.line("warning: " + w);
+    setup_camera(*scenes[sc], o.render.view);
+  }
+  // Only now is anything written.
+  report.line(fmt::format("{} configurations, {} already in {}, {} to measure", all.size(), all.size() - todo, results_path, todo));
+  fs::create_directories(fs::path(o.out) / "references");
+  results_writer writer(results_path);
+  for (size_t sc = 0; sc < o.scenes.size() && measured < todo; ++sc) {
+    if (!scenes[sc]) continue;
+    std::shared_ptr<const scene> scn = std::move(scenes[sc]);
     renderer r(scn, o.render);
     r.warm_up_reference(display.width, display.height, o.render);  // textures read and MIP-mapped on first use
     reference_cache references((fs::path(o.out) / "references").string(), o.scenes[sc], display, o.frames);

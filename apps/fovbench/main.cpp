@@ -1,6 +1,7 @@
 // fovbench: sweeps point-set scale, method, k, rays per sample and gaze over scenes, and
 // measures the speed/accuracy trade against full-resolution references, side by side.
 #include <malloc.h>
+#include <unistd.h>
 
 #include <chrono>
 #include <filesystem>
@@ -63,10 +64,22 @@ int main(int argc, char** argv) {
     o.gazes = split_gazes(o.gazes);
     if (o.scenes.empty()) o.scenes = {"builtin"};
     fov::check_bench_options(o);
+    // The progress bar is drawn only on a terminal; every other message, and an error,
+    // gets a line of its own.
     const auto start = std::chrono::steady_clock::now();
+    const bool terminal = isatty(STDERR_FILENO);
+    bool on_bar = false;
+    auto end_bar = [&] {
+      if (on_bar) std::cerr << "\n";
+      on_bar = false;
+    };
     fov::bench_reporter report;
-    report.line = [](const std::string& text) { std::cerr << "\nfovbench: " << text << "\n"; };
+    report.line = [&](const std::string& text) {
+      end_bar();
+      std::cerr << "fovbench: " << text << "\n";
+    };
     report.progress = [&](size_t done, size_t todo, const std::string& what) {
+      if (!terminal) return;
       const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       const double eta = done ? elapsed / double(done) * double(todo - done) : 0;
       const int bar = todo ? int(30 * done / todo) : 30;
@@ -74,9 +87,15 @@ int main(int argc, char** argv) {
                                std::string(size_t(30 - bar), '.'), done, todo, what, elapsed,
                                done ? fmt::format("{:.0f}s", eta) : std::string("?"))
                 << std::flush;
+      on_bar = true;
     };
-    fov::run_bench(o, report);
-    std::cerr << "\n";
+    try {
+      fov::run_bench(o, report);
+    } catch (...) {
+      end_bar();
+      throw;
+    }
+    end_bar();
 
     // Figures and the report from every row, this run's and earlier ones.
     const std::string results = (std::filesystem::path(o.out) / "results.csv").string();
