@@ -9,6 +9,7 @@
 
 #include "bench.h"
 #include "cli.h"
+#include "plot.h"
 #include "sweep.h"
 
 namespace fov {
@@ -136,6 +137,22 @@ TEST(BenchOptions, AreCheckedBeforeAnythingRuns) {
   render_params renka = o.render;
   renka.reconstruct.renka = true;
   EXPECT_NE(render_settings_label(o.render), render_settings_label(renka));  // --resume tells them apart
+}
+
+// Panel titles fit their panel: shrunk first, then shortened in the middle.
+TEST(Plot, TitlesFitTheirPanel) {
+  const fitted_title short_one = fit_title("Speedup: builtin", 620);
+  EXPECT_EQ(short_one.text, "Speedup: builtin");
+  EXPECT_DOUBLE_EQ(short_one.scale, 0.6);
+  const std::string long_title = "Speedup over the reference: ../shared/scenes/flight-helmet/FlightHelmet.gltf (mean over gazes)";
+  const fitted_title fitted = fit_title(long_title, 620);
+  EXPECT_LE(fitted.width_px, 620);
+  EXPECT_LT(fitted.scale, 0.6);
+  const fitted_title cut = fit_title(long_title + long_title, 620);
+  EXPECT_LE(cut.width_px, 620);
+  EXPECT_NE(cut.text.find("..."), std::string::npos);
+  EXPECT_EQ(cut.text.substr(0, 10), long_title.substr(0, 10));       // both ends kept
+  EXPECT_EQ(cut.text.substr(cut.text.size() - 6), "gazes)");
 }
 
 }  // namespace

@@ -38,6 +38,23 @@ std::string tick_text(double v) {
   return fmt::format("{:g}", v);
 }
 
+}  // namespace
+
+fitted_title fit_title(const std::string& title, int width_px) {
+  auto width = [](const std::string& t, double scale) { return cv::getTextSize(t, font, scale, 1, nullptr).width; };
+  for (double scale = 0.6; scale > 0.39; scale -= 0.05)
+    if (width(title, scale) <= width_px) return {title, scale, width(title, scale)};
+  // Still too wide at 0.4: keep n characters, half from each end, around "...".
+  std::string t = "...";
+  for (size_t n = title.size(); n > 0; --n) {
+    t = title.substr(0, n / 2) + "..." + title.substr(title.size() - (n - n / 2));
+    if (width(t, 0.4) <= width_px) break;
+  }
+  return {t, 0.4, width(t, 0.4)};
+}
+
+namespace {
+
 void draw_panel(cv::Mat& img, const plot_panel& p, int ox) {
   const int W = 720, H = 480, left = 80, right = 20, top = 40, bottom = 60;
   double xlo = std::numeric_limits<double>::infinity(), xhi = -xlo, ylo = xlo, yhi = -xlo;
@@ -47,7 +64,8 @@ void draw_panel(cv::Mat& img, const plot_panel& p, int ox) {
       if ((p.log_x && s.x[i] <= 0) || (p.log_y && s.y[i] <= 0)) continue;
       xlo = std::min(xlo, s.x[i]), xhi = std::max(xhi, s.x[i]), ylo = std::min(ylo, s.y[i]), yhi = std::max(yhi, s.y[i]);
     }
-  cv::putText(img, p.title, {ox + left, 25}, font, 0.6, {0, 0, 0}, 1, cv::LINE_AA);
+  const fitted_title title = fit_title(p.title, W - left - right);
+  cv::putText(img, title.text, {ox + left, 25}, font, title.scale, {0, 0, 0}, 1, cv::LINE_AA);
   if (!std::isfinite(xlo)) {
     cv::putText(img, "no data", {ox + W / 2 - 40, H / 2}, font, 0.6, {0, 0, 0}, 1, cv::LINE_AA);
     return;

@@ -21,6 +21,15 @@ struct plot_panel {
   std::vector<plot_series> series;
 };
 
+// A panel title that fits `width_px`: the text at the largest font scale from 0.6 down to
+// 0.4 whose width fits, shortened in the middle with "..." when even 0.4 is too wide.
+struct fitted_title {
+  std::string text;
+  double scale = 0.6;
+  int width_px = 0;
+};
+fitted_title fit_title(const std::string& title, int width_px);
+
 // Panels side by side, each 720 x 480, legend inside each panel. Written to a temporary
 // file, then renamed; throws std::runtime_error naming the path.
 void write_plot(const std::vector<plot_panel>& panels, const std::string& path);
