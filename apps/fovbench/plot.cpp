@@ -122,6 +122,8 @@ void draw_panel(cv::Mat& img, const plot_panel& p, int ox) {
     for (size_t j = 0; j < pts.size(); ++j) {
       if (s.markers) cv::circle(img, pts[j], 4, c, cv::FILLED, cv::LINE_AA);
       if (index[j] < s.ringed.size() && s.ringed[index[j]]) cv::circle(img, pts[j], 8, black, 1, cv::LINE_AA);
+      if (index[j] < s.labels.size() && !s.labels[index[j]].empty())
+        cv::putText(img, s.labels[index[j]], pts[j] + cv::Point(9, -7), font, 0.36, c * 0.7, 1, cv::LINE_AA);
     }
     if (!s.name.empty()) {
       const int lx = ox + W - right - 250;

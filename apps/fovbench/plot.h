@@ -13,6 +13,7 @@ struct plot_series {
   std::vector<double> x, y;
   bool lines = true, markers = true;
   std::vector<bool> ringed;  // per point: draw a ring (e.g. on the Pareto front); may be empty
+  std::vector<std::string> labels;  // per point: a small text beside it ("" for none); may be empty
 };
 
 struct plot_panel {

@@ -80,7 +80,7 @@ void write_bench_figures(const std::vector<result_row>& rows, const bench_option
     const std::vector<knob_mean> means = knob_means(mine);
     const std::vector<size_t> front = front_of(means);
     // Pareto: foveated error against frame time (means over the gazes), one colour per
-    // method, the front ringed and joined.
+    // method, the front ringed, joined and labelled (scale, spp, k).
     plot_panel p;
     p.title = "Pareto front: " + short_scene(scene) + " (mean over gazes)";
     p.x_label = "frame time (ms, log scale)";
@@ -95,7 +95,12 @@ void write_bench_figures(const std::vector<result_row>& rows, const bench_option
         if (means[i].method == m) {
           s.x.push_back(means[i].frame_ms);
           s.y.push_back(means[i].foveated_error);
-          s.ringed.push_back(std::find(front.begin(), front.end(), i) != front.end());
+          const bool on_front = std::find(front.begin(), front.end(), i) != front.end();
+          s.ringed.push_back(on_front);
+          // The front's points say what they are: scale, rays per sample and k.
+          s.labels.push_back(on_front ? fmt::format("s{} {}spp{}", means[i].scale, means[i].spp,
+                                                    m == std::string("nn") ? "" : " k" + means[i].k)
+                                      : "");
         }
       if (!s.x.empty()) p.series.push_back(s);
     }
