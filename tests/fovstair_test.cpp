@@ -102,6 +102,8 @@ TEST(Protocol, ErrorsNameTheFileLineAndField) {
             "p.json:5: conditions[1].k: must lie in 1..32");
   EXPECT_EQ(error_of(protocol_with("    {\"name\": \"B\", \"method\": \"cubic\"}")),
             "p.json:5: conditions[1].method: must be nn, shepard or rbf");
+  EXPECT_EQ(error_of(protocol_with("    {\"name\": \"B\", \"rbf_kernel\": \"cubic\"}")),
+            "p.json:5: conditions[1].rbf_kernel: must be multiquadric or gaussian");
   EXPECT_EQ(error_of(protocol_with("    {\"name\": \"A\", \"method\": \"rbf\"}")),
             "p.json:5: conditions[1].name: repeats an earlier condition's name");
   EXPECT_EQ(error_of(protocol_with("    {\"name\": \"B\", \"kay\": 5}")), "p.json:5: conditions[1].kay: unknown key (see docs/fovstair.md)");

@@ -73,9 +73,4 @@ void require_valid(const render_params& p, const pointset* set) {
   if (!problem.empty()) throw usage_error(problem);
 }
 
-std::string device_warning(const renderer& r) {
-  const std::string problem = r.device_problem();
-  return problem.empty() ? "" : "warning: " + problem + "; using the C++ path";
-}
-
 }  // namespace fov

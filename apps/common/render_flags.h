@@ -27,8 +27,4 @@ void add_render_flags(CLI::App& app, render_params& p, unsigned groups = flags_a
 // One line naming the flag when `p` is not valid (for `set`'s k when given): a usage_error.
 void require_valid(const render_params& p, const pointset* set = nullptr);
 
-// The warning a tool prints when OpenCL was asked for and the C++ path runs instead
-// (empty when there is nothing to say).
-std::string device_warning(const renderer& r);
-
 }  // namespace fov

@@ -257,7 +257,7 @@ size_t run_bench(const bench_options& o, const bench_reporter& report) {
     for (size_t si = 0; si < o.scales.size(); ++si) {
       if (!needed([&](const config& c) { return c.scene == sc && c.scale == si; })) continue;
       r.use_pointset(bench_pointset(o, display, o.scales[si], say));
-      if (const std::string problem = r.device_problem(); !problem.empty()) report.line("warning: " + problem + "; using the C++ path");
+      if (const std::string warning = r.device_warning(); !warning.empty()) report.line(warning);
       const pointset& set = *r.current_set();
       for (size_t g = 0; g < gazes.size(); ++g)
         for (uint32_t spp : o.spps) {

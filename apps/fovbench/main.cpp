@@ -63,7 +63,6 @@ int main(int argc, char** argv) {
   return fov::run_tool("fovbench", app, argc, argv, [&]() -> int {
     o.gazes = split_gazes(o.gazes);
     if (o.scenes.empty()) o.scenes = {"builtin"};
-    fov::check_bench_options(o);
     // The progress bar is drawn only on a terminal; every other message, and an error,
     // gets a line of its own.
     const auto start = std::chrono::steady_clock::now();

@@ -93,7 +93,7 @@ int main(int argc, char** argv) {
     } else {
       r.use_pointset(set);
       if (p.device == fov::reconstruct_device::opencl) j["device_setup_ms"] = r.device_setup_ms();
-      if (const std::string w = fov::device_warning(r); !w.empty()) std::cerr << "fovrender: " << w << "\n";
+      if (const std::string w = r.device_warning(); !w.empty()) std::cerr << "fovrender: " << w << "\n";
       if (!o.no_warmup) {
         const fov::warm_up_report w = r.warm_up(gaze, p);
         j["warmup_ms"] = w.trace_ms;
@@ -101,7 +101,9 @@ int main(int argc, char** argv) {
         if (p.reconstruct.how == fov::method::rbf) j["rbf_weights_ms"] = w.rbf_weights_ms;
       }
       // With --taa-frames N: N frames of the same view blended by TAA; the JSON reports the last frame's costs.
-      for (uint32_t n = 0; n < std::max<uint32_t>(1, o.taa_frames); ++n) image = r.foveated(gaze, p, &t);
+      const fov::frame* last = nullptr;  // the renderer's frame, valid until its next call
+      for (uint32_t n = 0; n < std::max<uint32_t>(1, o.taa_frames); ++n) last = &r.foveated(gaze, p, &t);
+      image = *last;
       j["device"] = r.device();
       if (p.reconstruct.how == fov::method::rbf)
         j["rbf"] = {{"kernel", fov::label_of(fov::rbf_kernel_labels, p.reconstruct.kernel)}, {"shape", p.reconstruct.shape},

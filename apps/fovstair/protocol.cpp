@@ -11,6 +11,8 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "fov/knn_table.h"
+
 namespace fov {
 
 namespace {
@@ -202,16 +204,17 @@ stair_protocol parse_protocol(const std::string& text, const std::string& file) 
     r.get("name", c.name);
     if (c.name.empty()) r.fail(at, "needs a \"name\"");
     if (!names.insert(c.name).second) r.fail(at + "/name", "repeats an earlier condition's name");
-    std::string method_text = "shepard";
+    std::string method_text = method_name(c.reconstruct.how);
     r.get("method", method_text);
-    if (!parse_method(method_text, c.reconstruct.how)) r.fail(at + "/method", "must be nn, shepard or rbf");
+    if (!parse_label(method_labels, method_text, c.reconstruct.how))
+      r.fail(at + "/method", "must be " + label_alternatives(method_labels));
     r.get("k", c.reconstruct.k);
-    if (c.reconstruct.k < 1 || c.reconstruct.k > 32) r.fail(at + "/k", "must lie in 1..32");
+    if (c.reconstruct.k < 1 || c.reconstruct.k > max_knn) r.fail(at + "/k", fmt::format("must lie in 1..{}", max_knn));
     r.get("renka", c.reconstruct.renka);
-    std::string kernel = "multiquadric";
+    std::string kernel = label_of(rbf_kernel_labels, c.reconstruct.kernel);
     r.get("rbf_kernel", kernel);
-    if (kernel != "multiquadric" && kernel != "gaussian") r.fail(at + "/rbf_kernel", "must be multiquadric or gaussian");
-    c.reconstruct.kernel = kernel == "gaussian" ? rbf_kernel::gaussian : rbf_kernel::multiquadric;
+    if (!parse_label(rbf_kernel_labels, kernel, c.reconstruct.kernel))
+      r.fail(at + "/rbf_kernel", "must be " + label_alternatives(rbf_kernel_labels));
     r.get("rbf_shape", c.reconstruct.shape);
     if (!(c.reconstruct.shape > 0)) r.fail(at + "/rbf_shape", "must be positive");
     r.get("spp", c.spp);

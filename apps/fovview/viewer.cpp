@@ -139,7 +139,7 @@ int run_viewer(const viewer_options& o, render_params settings) {
 
   fov::renderer renderer(scn, settings);
   renderer.use_pointset(set);
-  if (const std::string warning = fov::device_warning(renderer); !warning.empty()) std::cerr << "fovview: " << warning << "\n";
+  if (const std::string warning = renderer.device_warning(); !warning.empty()) std::cerr << "fovview: " << warning << "\n";
   fov::view_window window("fovview", w, h);
   bool show_reference = false, show_cursor = true, show_help = false;
   const std::vector<std::string> views = {"", "points", "density", "eccentricity", "error"};

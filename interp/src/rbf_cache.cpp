@@ -15,8 +15,7 @@ rbf_weight_cache::rbf_weight_cache(const pointset& set, const reconstruct_params
     : set_(set), params_(params) {
   require_table(set);
   if (params.how != method::rbf) throw std::invalid_argument("an RBF weight cache needs method rbf");
-  if (params.k < 1 || params.k > set.table.k) throw std::invalid_argument("RBF weight cache: k outside 1..the set's k");
-  if (!(params.shape > 0)) throw std::invalid_argument("RBF shape must be positive");
+  check_reconstruct_params(params, set.table.k);
   k_ = params.k;
   tiles_x_ = (set.table.width + tile - 1) / tile;
   tiles_y_ = (set.table.height + tile - 1) / tile;

@@ -45,9 +45,7 @@ std::string validate(const render_params& p, const pointset* set) {
     return fmt::format("--rbf-shape must be positive (got {})", p.reconstruct.shape);
   if (!(p.temporal.alpha > 0 && p.temporal.alpha <= 1))
     return fmt::format("TAA alpha must lie in (0, 1] (got {})", p.temporal.alpha);
-  const std::string view = validate(p.view);
-  if (!view.empty()) return view;
-  return "";
+  return validate(p.view);
 }
 
 trace_params renderer::frame_trace_params(const render_params& p, uint64_t n) {
@@ -87,6 +85,11 @@ bool renderer::on_device() const { return device_ && device_->available(); }
 std::string renderer::device_problem() const {
   if (!device_ || device_kind_ == reconstruct_device::cpp || device_->available()) return "";
   return device_->reason();
+}
+
+std::string renderer::device_warning() const {
+  const std::string problem = device_problem();
+  return problem.empty() ? "" : "warning: " + problem + "; using the C++ path";
 }
 
 points_trace renderer::trace(gaze_point gaze, const render_params& p, frame_timing& t) {

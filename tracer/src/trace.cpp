@@ -261,10 +261,6 @@ void check(const trace_params& p, int width, int height) {
 
 const char* texture_footprint_name(texture_footprint f) { return label_of(texture_footprint_labels, f); }
 
-bool parse_texture_footprint(const std::string& name, texture_footprint& out) {
-  return parse_label(texture_footprint_labels, name, out);
-}
-
 points_trace trace_points(const scene& sc, const camera& cam, const pointset& set, gaze_point gaze,
                           const trace_params& params) {
   const display_geometry& disp = set.model.display;

@@ -38,4 +38,12 @@ std::string label_list(const label_table<E, N>& table) {
   return s;
 }
 
+// "a, b or c": the labels as alternatives, for messages that say what a value must be.
+template <class E, size_t N>
+std::string label_alternatives(const label_table<E, N>& table) {
+  std::string s;
+  for (size_t i = 0; i < N; ++i) s += (i == 0 ? "" : i + 1 == N ? " or " : ", ") + std::string(table[i].first);
+  return s;
+}
+
 }  // namespace fov

@@ -25,7 +25,6 @@ inline constexpr std::pair<const char*, method> method_labels[] = {
 inline constexpr std::pair<const char*, rbf_kernel> rbf_kernel_labels[] = {
     {"multiquadric", rbf_kernel::multiquadric}, {"gaussian", rbf_kernel::gaussian}};
 inline const char* method_name(method m) { return label_of(method_labels, m); }
-inline bool parse_method(const std::string& name, method& out) { return parse_label(method_labels, name, out); }
 
 struct reconstruct_params {
   method how = method::shepard;

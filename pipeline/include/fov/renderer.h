@@ -98,6 +98,9 @@ class renderer {
   // Why OpenCL is not in use although p.device asked for it (empty when it is, or when
   // cpp was asked for); the tools print it as a warning.
   std::string device_problem() const;
+  // The warning the tools print for it: "warning: REASON; using the C++ path" (empty
+  // when there is nothing to say).
+  std::string device_warning() const;
   double device_setup_ms() const { return device_setup_ms_; }
 
   // The stages, for tools that time or combine them themselves (fovbench):

@@ -36,7 +36,6 @@ enum class texture_footprint {
 inline constexpr std::pair<const char*, texture_footprint> texture_footprint_labels[] = {
     {"disc", texture_footprint::disc}, {"pixel", texture_footprint::pixel}};
 const char* texture_footprint_name(texture_footprint f);  // its label
-bool parse_texture_footprint(const std::string& name, texture_footprint& out);
 
 // The most rays a point or pixel may cast (hit counts are 16-bit).
 constexpr uint32_t max_spp = 65535;
