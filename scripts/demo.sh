@@ -32,6 +32,7 @@ done
 python3 - "$out" > "$out/summary.txt" <<'PY'
 import json, sys
 out = sys.argv[1]
+db = lambda v: "inf" if v is None else f"{v:.2f}"  # null: identical pixels
 c = json.load(open(f"{out}/set-centre.json")); k = json.load(open(f"{out}/set-corner.json"))
 ref = json.load(open(f"{out}/reference.json"))
 print(f"point set        {c['file']}")
@@ -41,13 +42,14 @@ print(f"traced, centred  {c['points_traced']} ({100*c['traced_fraction']:.2f} %)
 print(f"traced, corner   {k['points_traced']} ({100*k['traced_fraction']:.2f} %)   thesis Table 1: 153,857 (26.68 %)")
 print()
 print(f"built-in scene, centred gaze, 32 rays per sample; times from this run (one frame each)")
-print(f"{'':12} {'rays':>10} {'trace ms':>9} {'recon ms':>9} {'speedup':>8} {'PSNR dB':>8} {'SSIM':>6} {'PSNR <5deg':>10} {'5-30deg':>8} {'>30deg':>7}")
+print(f"{'':12} {'rays':>10} {'trace ms':>9} {'recon ms':>9} {'speedup':>8} {'PSNR dB':>8} {'SSIM':>6} {'PSNR <5deg':>10} {'5-30deg':>8} {'>30deg':>7} {'FLIP':>6} {'fov.FLIP':>8}")
 print(f"{'reference':12} {ref['rays']:>10} {ref['trace_ms']:>9.0f} {'':>9} {'1.00':>8}")
 for m in ("nn", "shepard"):
     f = json.load(open(f"{out}/foveated-{m}.json")); mt = f["metrics"]
     speed = ref["total_ms"] / f["total_ms"]
     print(f"{m + ' k=' + str(f['k']):12} {f['rays']:>10} {f['trace_ms']:>9.0f} {f['reconstruct_ms']:>9.0f} {speed:>8.2f} "
-          f"{mt['psnr']:>8.2f} {mt['ssim']:>6.3f} {mt['psnr_fovea']:>10.2f} {mt['psnr_mid']:>8.2f} {mt['psnr_periphery']:>7.2f}")
+          f"{db(mt['psnr']):>8} {mt['ssim']:>6.3f} {db(mt['psnr_fovea']):>10} {db(mt['psnr_mid']):>8} {db(mt['psnr_periphery']):>7} "
+          f"{mt['flip']:>6.3f} {mt['foveated_flip']:>8.3f}")
 print()
 print(f"images           {out}/reference.png, foveated-nn.png, foveated-shepard.png, points*.png")
 print("reconstruction ran on:", json.load(open(f"{out}/foveated-shepard.json"))["device"])

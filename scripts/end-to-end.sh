@@ -25,7 +25,7 @@ for scene in "${scenes[@]}"; do
     python3 - "$out/ref.json" "$out/fov.json" "$name" "$s" <<'PY'
 import json, sys
 r = json.load(open(sys.argv[1])); f = json.load(open(sys.argv[2])); m = f["metrics"]
-db = lambda v: v if isinstance(v, str) else f"{v:.2f}"  # "inf": identical pixels
+db = lambda v: "inf" if v is None else f"{v:.2f}"  # null: identical pixels
 print(f"| {sys.argv[3]} | s = {sys.argv[4]} | {f['rays']/1e6:.2f} M of {r['rays']/1e6:.2f} M | "
       f"{f['trace_ms']:.0f} + {f['reconstruct_ms']:.0f} ms of {r['total_ms']:.0f} ms | {r['total_ms']/f['total_ms']:.2f}x | "
       f"{db(m['psnr'])} | {m['ssim']:.3f} | {db(m['psnr_fovea'])} | {db(m['psnr_mid'])} | {db(m['psnr_periphery'])} | {m['ssim_fovea']:.3f} |")
@@ -38,7 +38,7 @@ PY
       python3 - "$out/fp.json" "$name" >> "$footprints" <<'PY'
 import json, sys
 f = json.load(open(sys.argv[1])); m = f["metrics"]
-db = lambda v: v if isinstance(v, str) else f"{v:.2f}"
+db = lambda v: "inf" if v is None else f"{v:.2f}"
 print(f"| {sys.argv[2]} | {f['spp']} | {f['texture_footprint']} | {f['trace_ms']:.0f} ms | {db(m['psnr'])} | {m['ssim']:.3f} "
       f"| {db(m['psnr_fovea'])} | {db(m['psnr_mid'])} | {db(m['psnr_periphery'])} |")
 PY

@@ -58,9 +58,25 @@ check "foveated"           0 -- "$fovrender" "${set[@]}" --spp 4 --k 5 -o "$dir/
 check "nn"                 0 -- "$fovrender" "${set[@]}" --spp 4 --method nn --k 1 -o "$dir/nn.exr"
 check "size mismatch"      2 -- "$fovrender" --reference --width 32 --height 32 --spp 1 --compare "$dir/ref.exr"
 check "compare not image"  1 -- "$fovrender" "${set[@]}" --spp 1 --compare "$dir/set.fovset"
+check "mismatch, -o"       2 -- "$fovrender" --reference --width 32 --height 32 --spp 1 --compare "$dir/ref.exr" -o "$dir/never.png"
+[[ -e "$dir/never.png" ]] && { echo "FAIL -o written although --compare failed"; failures=$((failures + 1)); }
+check "flip map alone"     2 -- "$fovrender" "${set[@]}" --spp 1 -o "$dir/a.png" --flip-map "$dir/f.png"
+check "no-flip and map"    2 -- "$fovrender" "${set[@]}" --spp 1 --compare "$dir/ref.exr" --no-flip --flip-map "$dir/f.png"
+check "flip maps"          0 -- "$fovrender" "${set[@]}" --spp 4 --compare "$dir/ref.exr" --flip-map "$dir/flip.png" \
+  --foveated-flip-map "$dir/fflip.png"
+[[ -s "$dir/flip.png" && -s "$dir/fflip.png" ]] || { echo "FAIL FLIP maps not written"; failures=$((failures + 1)); }
+# A perfect match has no PSNR: JSON writes null (never the string "inf"), and FLIP is 0.
+same=$("$fovrender" --reference "${set[@]}" --spp 4 --compare "$dir/ref.exr" --json)
+python3 - "$same" <<'PY' || { echo "FAIL identical frames: $same"; failures=$((failures + 1)); }
+import json, sys
+m = json.loads(sys.argv[1])["metrics"]
+assert m["psnr"] is None and m["psnr_fovea"] is None and m["flip"] == 0 and m["foveated_flip"] == 0, m
+assert all(b["psnr"] is None for b in m["bands"]), m["bands"]
+PY
 
 json=$("$fovrender" "${set[@]}" --spp 4 --compare "$dir/ref.exr" --json)
-for key in trace_ms reconstruct_ms taa_ms total_ms rays points_traced psnr ssim psnr_fovea ssim_fovea psnr_mid psnr_periphery; do
+for key in trace_ms reconstruct_ms taa_ms total_ms rays points_traced psnr ssim psnr_fovea ssim_fovea psnr_mid psnr_periphery \
+    foveated_psnr flip flip_fovea foveated_flip foveated_flip_p99 foveated_flip_worst_band ppd bands; do
   grep -q "\"$key\":" <<<"$json" || { echo "FAIL --json lacks $key"; failures=$((failures + 1)); }
 done
 ls "$dir" | grep -q 'tmp-' && { echo "FAIL temporary files left: $(ls "$dir")"; failures=$((failures + 1)); }

@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "../common/cli.h"
+#include "../common/comparison.h"
 #include "../common/debug_views.h"
 #include "../common/image_io.h"
 #include "../common/render_flags.h"
@@ -24,18 +25,14 @@ using fov::usage_error;
 
 // What fovrender does beyond the render parameters.
 struct render_options {
-  std::string scene = "builtin", points, gaze = "centre", compare, debug_output;
+  std::string scene = "builtin", points, gaze = "centre", compare, debug_output, flip_map, foveated_flip_map;
   std::vector<std::string> outputs;
   fov::debug_view debug = fov::debug_view::points;
   bool debug_asked = false;  // --debug-view given
-  bool reference = false, no_warmup = false, json = false;
+  bool reference = false, no_warmup = false, json = false, no_flip = false;
   int width = 1280, height = 1440;  // without --points
   uint32_t taa_frames = 0;
 };
-
-json band_json(const fov::band_metrics& m) {
-  return {{"psnr", std::isfinite(m.psnr) ? json(m.psnr) : json("inf")}, {"ssim", m.ssim}, {"pixels", m.pixels}};
-}
 
 }  // namespace
 
@@ -58,7 +55,10 @@ int main(int argc, char** argv) {
   CLI::Option* debug = fov::add_label_option(app, "--debug-view", o.debug, fov::debug_view_labels,
                                                "Write that overlay too (none unless given)", false);
   app.add_option("--debug-output", o.debug_output, "File for the overlay (default: the first -o with '-VIEW' before the extension)");
-  app.add_option("--compare", o.compare, "Reference image: print PSNR/SSIM overall and by eccentricity band");
+  app.add_option("--compare", o.compare, "Reference image: print PSNR/SSIM, FLIP and foveated FLIP by eccentricity band");
+  app.add_flag("--no-flip", o.no_flip, "With --compare: PSNR/SSIM only (FLIP takes seconds on a large frame)");
+  app.add_option("--flip-map", o.flip_map, "With --compare: write the FLIP map (grey = 255 x error)");
+  app.add_option("--foveated-flip-map", o.foveated_flip_map, "With --compare: write the foveated FLIP map");
   app.add_flag("--json", o.json, "Print JSON");
   return fov::run_tool("fovrender", app, argc, argv, [&] {
     o.debug_asked = debug->count() > 0;
@@ -66,6 +66,10 @@ int main(int argc, char** argv) {
     if (o.debug_asked && o.debug_output.empty() && o.outputs.empty()) throw usage_error("--debug-view needs -o or --debug-output");
     if (!o.reference && o.points.empty()) throw usage_error("--points is required unless --reference");
     if (o.reference && o.taa_frames > 0) throw usage_error("--taa-frames applies to foveated frames, not --reference");
+    if (o.compare.empty() && !(o.flip_map.empty() && o.foveated_flip_map.empty() && !o.no_flip))
+      throw usage_error("--no-flip, --flip-map and --foveated-flip-map need --compare");
+    if (o.no_flip && !(o.flip_map.empty() && o.foveated_flip_map.empty()))
+      throw usage_error("--no-flip leaves no FLIP map to write");
     p.taa = o.taa_frames > 0;
 
     fov::require_valid(p);  // what does not depend on the set, before loading it
@@ -78,6 +82,14 @@ int main(int argc, char** argv) {
     const std::string problem = fov::validate(p, set.get());
     if (!problem.empty()) throw usage_error(set ? fmt::format("{} for {}", problem, o.points) : problem);
     const fov::gaze_point gaze = fov::require_gaze("--gaze", o.gaze, display);
+    // The reference is read and checked before anything is rendered or written.
+    fov::frame compare_to;
+    if (!o.compare.empty()) {
+      compare_to = fov::read_frame(o.compare);
+      if (compare_to.width != display.width || compare_to.height != display.height)
+        throw usage_error(fmt::format("--compare {}: {}x{} does not match the {}x{} frame", o.compare, compare_to.width,
+                                      compare_to.height, display.width, display.height));
+    }
 
     json j;
     const auto loading = std::chrono::steady_clock::now();
@@ -134,17 +146,17 @@ int main(int argc, char** argv) {
       }
       fov::write_frame(fov::debug_overlay(o.debug, image, o.reference ? nullptr : set.get(), gaze), o.debug_output);
     }
+    std::string compared;
     if (!o.compare.empty()) {
-      const fov::frame ref = fov::read_frame(o.compare);
-      if (ref.width != image.width || ref.height != image.height)
-        throw usage_error(fmt::format("--compare {}: {}x{} does not match the {}x{} frame", o.compare, ref.width,
-                                      ref.height, image.width, image.height));
-      const fov::frame_comparison c = fov::compare_frames(image, ref, display, gaze);
-      j["metrics"] = {{"psnr", band_json(c.overall)["psnr"]}, {"ssim", c.overall.ssim},
-                      {"psnr_fovea", band_json(c.fovea)["psnr"]}, {"ssim_fovea", c.fovea.ssim},
-                      {"psnr_mid", band_json(c.mid)["psnr"]}, {"ssim_mid", c.mid.ssim},
-                      {"psnr_periphery", band_json(c.periphery)["psnr"]}, {"ssim_periphery", c.periphery.ssim},
-                      {"bands", {{"fovea", band_json(c.fovea)}, {"mid", band_json(c.mid)}, {"periphery", band_json(c.periphery)}}}};
+      fov::spacing_model eye;  // the viewer's eye: the set's acuity model at its true eccentricity
+      eye.display = display;
+      if (set) eye.acuity = set->model.acuity;
+      const bool maps = !o.flip_map.empty() || !o.foveated_flip_map.empty();
+      const fov::comparison c = fov::compare_images(image, compare_to, eye, gaze, !o.no_flip, maps);
+      j["metrics"] = fov::comparison_json(c);
+      compared = fov::comparison_text(c, o.compare);
+      if (!o.flip_map.empty()) fov::write_error_map(c.flip.flip_map, o.flip_map);
+      if (!o.foveated_flip_map.empty()) fov::write_error_map(c.flip.foveated_map, o.foveated_flip_map);
     }
     if (o.json) {
       std::cout << j.dump(2) << "\n";
@@ -152,13 +164,7 @@ int main(int argc, char** argv) {
     }
     fmt::print("{} {}x{}: {} rays, trace {:.1f} ms, reconstruct {:.1f} ms\n", j["method"].get<std::string>(), display.width,
                display.height, t.rays, t.trace_ms, t.reconstruct_ms);
-    if (j.contains("metrics")) {
-      const json& m = j["metrics"];
-      fmt::print("vs {}: PSNR {} dB, SSIM {:.4f} | fovea (<5 deg) {} dB {:.4f} | 5-30 deg {} dB {:.4f} | >30 deg {} dB {:.4f}\n",
-                 o.compare, m["psnr"].dump(), m["ssim"].get<double>(), m["psnr_fovea"].dump(), m["ssim_fovea"].get<double>(),
-                 m["psnr_mid"].dump(), m["ssim_mid"].get<double>(), m["psnr_periphery"].dump(),
-                 m["ssim_periphery"].get<double>());
-    }
+    if (!compared.empty()) fmt::print("{}\n", compared);
     return 0;
   });
 }

@@ -1,0 +1,115 @@
+#include "comparison.h"
+
+#include <fmt/format.h>
+
+#include "fov/colour.h"
+#include "image_io.h"
+
+namespace fov {
+
+using json = nlohmann::json;
+
+comparison compare_images(const frame& test, const frame& reference, const spacing_model& eye, gaze_point gaze,
+                          bool flip, bool keep_maps) {
+  comparison c;
+  c.error = measure_error(test, reference, eye, gaze);
+  if (flip) c.flip = measure_flip(test, reference, eye, gaze, c.error.edges_deg, keep_maps), c.has_flip = true;
+  return c;
+}
+
+namespace {
+
+std::string band_name(const std::vector<double>& edges, size_t b) {
+  if (b == 0) return fmt::format("<{:g}", edges[0]);
+  if (b == edges.size()) return fmt::format(">{:g}", edges.back());
+  return fmt::format("{:g}-{:g}", edges[b - 1], edges[b]);
+}
+
+json number_or_null(double v) { return std::isnan(v) ? json(nullptr) : json(v); }
+
+// Bands [from, to) of the report merged into one: pixel-weighted mean squared error and SSIM.
+band_metrics merge(const error_report& e, size_t from, size_t to) {
+  band_metrics m;
+  double squared = 0, ssim = 0;
+  for (size_t b = from; b < to; ++b) {
+    const band_metrics& x = e.bands[b];
+    if (!x.pixels) continue;
+    squared += double(x.pixels) * (std::isfinite(x.psnr) ? 255.0 * 255.0 / std::pow(10.0, x.psnr / 10) : 0.0);
+    ssim += double(x.pixels) * x.ssim;
+    m.pixels += x.pixels;
+  }
+  if (!m.pixels) return m;
+  m.psnr = squared > 0 ? 10 * std::log10(255.0 * 255.0 * double(m.pixels) / squared) : INFINITY;
+  m.ssim = ssim / double(m.pixels);
+  return m;
+}
+
+}  // namespace
+
+json comparison_json(const comparison& c) {
+  const error_report& e = c.error;
+  const band_metrics mid = merge(e, 1, e.bands.size() - 1), periphery = merge(e, e.bands.size() - 1, e.bands.size());
+  json bands = json::array();
+  for (size_t b = 0; b < e.bands.size(); ++b) {
+    json band{{"band", band_name(e.edges_deg, b)},
+              {"from_deg", b == 0 ? 0.0 : e.edges_deg[b - 1]},
+              {"to_deg", b == e.edges_deg.size() ? json(nullptr) : json(e.edges_deg[b])},
+              {"pixels", e.bands[b].pixels},
+              {"psnr", db_json(e.bands[b].psnr)},
+              {"ssim", e.bands[b].pixels ? json(e.bands[b].ssim) : json(nullptr)}};
+    if (c.has_flip) band["flip"] = number_or_null(c.flip.flip.bands[b]), band["foveated_flip"] = number_or_null(c.flip.foveated.bands[b]);
+    bands.push_back(band);
+  }
+  json j{{"psnr", db_json(e.overall.psnr)},
+         {"ssim", e.overall.ssim},
+         {"psnr_fovea", db_json(e.bands[0].psnr)},
+         {"ssim_fovea", e.bands[0].ssim},
+         // The thesis's three bands: < 5, 5-30, > 30 degrees.
+         {"psnr_mid", db_json(mid.psnr)},
+         {"ssim_mid", mid.pixels ? json(mid.ssim) : json(nullptr)},
+         {"psnr_periphery", db_json(periphery.psnr)},
+         {"ssim_periphery", periphery.pixels ? json(periphery.ssim) : json(nullptr)},
+         {"foveated_error", e.foveated_error},
+         {"foveated_psnr", db_json(e.foveated_psnr)},
+         {"bands", bands}};
+  if (c.has_flip) {
+    j["ppd"] = c.flip.ppd;
+    j["flip"] = c.flip.flip.mean;
+    j["flip_fovea"] = number_or_null(c.flip.flip.bands[0]);
+    j["flip_p99"] = c.flip.flip.p99;
+    j["foveated_flip"] = c.flip.foveated.mean;
+    j["foveated_flip_p99"] = c.flip.foveated.p99;
+    j["foveated_flip_worst_band"] = c.flip.foveated.worst_band;
+  }
+  return j;
+}
+
+std::string comparison_text(const comparison& c, const std::string& against) {
+  auto db = [](double v) { return std::isfinite(v) ? fmt::format("{:.2f}", v) : std::string("identical"); };
+  const error_report& e = c.error;
+  std::string s = fmt::format("vs {}: PSNR {} dB, SSIM {:.4f}, foveated PSNR {} dB |", against, db(e.overall.psnr),
+                              e.overall.ssim, db(e.foveated_psnr));
+  for (size_t b = 0; b < e.bands.size(); ++b)
+    if (e.bands[b].pixels)
+      s += fmt::format(" {} deg {} dB {:.4f}", band_name(e.edges_deg, b), db(e.bands[b].psnr), e.bands[b].ssim);
+  if (c.has_flip) {
+    s += fmt::format("\nFLIP at {:.1f} ppd: mean {:.4f}, p99 {:.4f} | foveated FLIP: mean {:.4f}, p99 {:.4f}, worst band {:.4f} |",
+                     c.flip.ppd, c.flip.flip.mean, c.flip.flip.p99, c.flip.foveated.mean, c.flip.foveated.p99,
+                     c.flip.foveated.worst_band);
+    for (size_t b = 0; b < e.bands.size(); ++b)
+      if (e.bands[b].pixels)
+        s += fmt::format(" {} deg {:.4f}/{:.4f}", band_name(e.edges_deg, b), c.flip.flip.bands[b], c.flip.foveated.bands[b]);
+  }
+  return s;
+}
+
+void write_error_map(const error_map& map, const std::string& path) {
+  frame f;
+  f.width = map.width, f.height = map.height;
+  f.rgb.reserve(map.value.size());
+  // write_frame sRGB-encodes: decoding first makes the stored byte the error itself.
+  for (float v : map.value) f.rgb.emplace_back(srgb_decode(std::clamp(v, 0.0f, 1.0f)));
+  write_frame(f, path);
+}
+
+}  // namespace fov

@@ -1,0 +1,38 @@
+// Every error measure of one frame against a reference, as the tools print and write it:
+// fovrender --compare, fovbench compare and (PSNR/SSIM only) fovview's screenshots.
+#pragma once
+
+#include <cmath>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "fov/flip.h"
+#include "fov/metrics.h"
+
+namespace fov {
+
+// The one spelling of "no error" in JSON: a PSNR of identical images is +inf, written
+// null (JSON has no infinity); CSV files write inf.
+inline nlohmann::json db_json(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
+
+struct comparison {
+  error_report error;  // PSNR/SSIM by band, foveated RMSE (metrics.h)
+  flip_report flip;    // FLIP and the foveated FLIP (flip.h), when asked
+  bool has_flip = false;
+};
+
+// Bands of the report: 5, 10, 20, 30 degrees.
+comparison compare_images(const frame& test, const frame& reference, const spacing_model& eye, gaze_point gaze,
+                          bool flip, bool keep_maps = false);
+
+// The JSON object of a comparison (docs/metrics.md lists the keys).
+nlohmann::json comparison_json(const comparison& c);
+
+// Two lines for people: PSNR/SSIM by band, then FLIP, for a reference called `against`.
+std::string comparison_text(const comparison& c, const std::string& against);
+
+// An error map as a grey image: byte = round(255 x error). Written as write_frame does.
+void write_error_map(const error_map& map, const std::string& path);
+
+}  // namespace fov
