@@ -222,3 +222,38 @@ TEST(TracedPoints, GazeShiftRoundsHalfUpAndClamps) {
 
 }  // namespace
 }  // namespace fov
+
+namespace fov {
+namespace {
+
+// The uniform baseline: the asked fraction of the pixels on every screen placement, at
+// the stated spacing, with a table like any set's.
+TEST(UniformSet, HoldsItsFractionAtItsSpacing) {
+  const display_geometry d{16, 12, 1.0};
+  knn_params kp;
+  kp.k = 4;
+  for (double fraction : {0.5, 0.25, 0.125}) {
+    const pointset set = uniform_pointset(d, fraction, kp);
+    EXPECT_EQ(set.points.size(), size_t(std::lround(4 * 16 * 12 * fraction))) << fraction;
+    for (const gaze_point g : {gaze_point{8, 6}, gaze_point{3, 9}, gaze_point{0, 0}}) {
+      const canvas_offset o = offset_for_gaze(d, g);
+      size_t on = 0;
+      for (const point& p : set.points) on += on_screen(p, d, o);
+      EXPECT_EQ(on, size_t(std::lround(16 * 12 * fraction))) << fraction;
+    }
+    const double pitch = fraction == 0.5 ? std::sqrt(2.0) : fraction == 0.25 ? 2.0 : 2 * std::sqrt(2.0);
+    for (size_t i = 0; i < set.points.size(); i += 7) {
+      const std::vector<uint32_t> nn = brute_force_knn(set.points, set.points[i].x, set.points[i].y, 2);
+      const point& q = set.points[nn[1]];
+      EXPECT_NEAR(std::hypot(q.x - set.points[i].x, q.y - set.points[i].y), pitch, 1e-5);
+      EXPECT_FLOAT_EQ(set.points[i].spacing, float(pitch));
+    }
+    EXPECT_EQ(set.table.width, 32u);
+    EXPECT_EQ(set.table.k, 4u);
+  }
+  EXPECT_THROW(uniform_pointset(d, 0.3, kp), std::invalid_argument);
+  EXPECT_THROW(uniform_pointset(d, 1.0, kp), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace fov

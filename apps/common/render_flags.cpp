@@ -17,6 +17,9 @@ void add_render_flags(CLI::App& app, render_params& p, unsigned groups) {
     add_label_option(app, "--texture-footprint", p.footprint, texture_footprint_labels,
                      "Foveated rays filter textures over their share of the point's disc (disc: the thesis's "
                      "prefilter) or of a pixel (pixel: sharper, cheaper, aliased periphery)");
+    add_label_option(app, "--reference-sampler", p.reference_sampler, pixel_sampler_labels,
+                     "Full-resolution rays inside each pixel: sobol (Owen-scrambled Sobol: stratified, converges) or "
+                     "random (independent uniform positions)");
   }
   if (groups & flags_method) {
     add_label_option(app, "--method", p.reconstruct.how, method_labels, "Reconstruction");

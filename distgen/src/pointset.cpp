@@ -195,4 +195,25 @@ pointset generate_pointset(const spacing_model& model, const dart_params& darts,
   return set;
 }
 
+pointset uniform_pointset(const display_geometry& display, double fraction, const knn_params& knn) {
+  int m = -1;
+  for (int i = 0; i <= 16; ++i)
+    if (fraction == std::ldexp(1.0, -i)) m = i;
+  if (m < 1) throw std::invalid_argument("a uniform set's fraction of the pixels must be 1/2, 1/4, 1/8, ... 1/65536");
+  const int block = 1 << (m / 2);  // 2^j for fraction 4^-j or 2 x 4^-j
+  const bool quincunx = m % 2 == 1;
+  pointset set;
+  set.model.display = display;
+  const float spacing = float(block) * (quincunx ? std::sqrt(2.0f) : 1.0f);
+  const int bx = int(set.canvas_width()) / block, by = int(set.canvas_height()) / block;
+  for (int j = 0; j < by; ++j)
+    for (int i = 0; i < bx; ++i)
+      if (!quincunx || (i + j) % 2 == 0)
+        set.points.push_back({float(i * block) + 0.5f * float(block), float(j * block) + 0.5f * float(block), spacing});
+  sort_morton(set.points);
+  set.stats.phase1_points = set.points.size();
+  set.table = build_knn_table(set.points, set.canvas_width(), set.canvas_height(), knn);
+  return set;
+}
+
 }  // namespace fov

@@ -30,6 +30,7 @@ trace_params base_trace(const render_params& p) {
   tp.seed = p.seed;
   tp.shadows = p.shadows;
   tp.footprint = p.footprint;
+  tp.sampler = p.reference_sampler;
   tp.k = p.reconstruct.k;
   return tp;
 }

@@ -252,6 +252,27 @@ void point_rays(const pointset& set, uint32_t i, canvas_offset offset, const tra
   }
 }
 
+uint32_t reverse_bits(uint32_t x) {
+  x = ((x >> 1) & 0x55555555u) | ((x & 0x55555555u) << 1);
+  x = ((x >> 2) & 0x33333333u) | ((x & 0x33333333u) << 2);
+  x = ((x >> 4) & 0x0F0F0F0Fu) | ((x & 0x0F0F0F0Fu) << 4);
+  x = ((x >> 8) & 0x00FF00FFu) | ((x & 0x00FF00FFu) << 8);
+  return (x >> 16) | (x << 16);
+}
+
+// Nested uniform (Owen) scrambling of a 32-bit fixed-point coordinate by a hash: each
+// bit is flipped by a function of the seed and the bits above it only (a hash that
+// carries only from low to high bits, applied to the bit-reversed value).
+uint32_t owen_scramble(uint32_t v, uint32_t seed) {
+  uint32_t x = reverse_bits(v);
+  x ^= x * 0x3d20adeau;
+  x += seed;
+  x *= (seed >> 16) | 1u;
+  x ^= x * 0x05526c56u;
+  x ^= x * 0x53a22864u;
+  return reverse_bits(x);
+}
+
 void check(const trace_params& p, int width, int height) {
   if (p.spp < 1 || p.spp > max_spp) throw std::invalid_argument(fmt::format("spp must lie in 1..{}", max_spp));
   if (width < 1 || height < 1) throw std::invalid_argument("screen size must be positive");
@@ -260,6 +281,16 @@ void check(const trace_params& p, int width, int height) {
 }  // namespace
 
 const char* texture_footprint_name(texture_footprint f) { return label_of(texture_footprint_labels, f); }
+
+glm::vec2 owen_sobol_2d(uint32_t s, uint32_t sx, uint32_t sy) {
+  // Dimension 0 is the van der Corput sequence (bit reversal); dimension 1 is Sobol's
+  // second, generator matrix the Pascal triangle mod 2: v_0 = 2^31, v_k = v_(k-1) ^ (v_(k-1) >> 1).
+  uint32_t x = reverse_bits(s), y = 0;
+  for (uint32_t v = 1u << 31, i = s; i; i >>= 1, v ^= v >> 1)
+    if (i & 1) y ^= v;
+  // 24 bits: exact in a float, and below 1.
+  return {float(owen_scramble(x, sx) >> 8) * 0x1.0p-24f, float(owen_scramble(y, sy) >> 8) * 0x1.0p-24f};
+}
 
 points_trace trace_points(const scene& sc, const camera& cam, const pointset& set, gaze_point gaze,
                           const trace_params& params) {
@@ -344,9 +375,18 @@ reference_trace trace_reference(const scene& sc, const camera& cam, int width, i
       for (int y = y0; y < std::min(height, y0 + t); ++y)
         for (int x = x0; x < std::min(width, x0 + t); ++x) {
           const uint32_t pixel = uint32_t(y) * uint32_t(width) + uint32_t(x);
-          rng random(stream_seed(params.seed, 0x706978656Cull, pixel));
-          for (uint32_t s = 0; s < spp; ++s)
-            rays.push_back({float(x) + float(random.uniform()), float(y) + float(random.uniform()), radius, pixel});
+          if (params.sampler == pixel_sampler::sobol) {
+            uint64_t h = stream_seed(params.seed, 0x736f626f6cull, pixel);
+            const uint64_t scrambles = splitmix64(h);
+            for (uint32_t s = 0; s < spp; ++s) {
+              const glm::vec2 u = owen_sobol_2d(s, uint32_t(scrambles), uint32_t(scrambles >> 32));
+              rays.push_back({float(x) + u.x, float(y) + u.y, radius, pixel});
+            }
+          } else {
+            rng random(stream_seed(params.seed, 0x706978656Cull, pixel));
+            for (uint32_t s = 0; s < spp; ++s)
+              rays.push_back({float(x) + float(random.uniform()), float(y) + float(random.uniform()), radius, pixel});
+          }
         }
       trace_rays(d, f, rays.data(), rays.size(), params.shadows, timing,
                  per_owner_mean(spp, [&](uint32_t pixel, glm::vec3 c, float depth, uint32_t) {

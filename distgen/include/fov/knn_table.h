@@ -48,4 +48,12 @@ knn_table regroup(const knn_table& table, uint32_t group);
 // Throws darts and builds the table in memory.
 pointset generate_pointset(const spacing_model& model, const dart_params& darts, const knn_params& knn);
 
+// The non-foveated baseline: a set of uniform density `fraction` of the display's pixels
+// (1/2, 1/4, 1/8, ...: 1 / 2^m), built and traced like a foveated one. For fraction 4^-j
+// the points are the centres of the 2^j x 2^j pixel blocks (a lower-resolution image's
+// pixels); for 2 x 4^-j, every other block centre in a checkerboard (a quincunx), spacing
+// sqrt(2) 2^j. Each point's spacing is its nearest neighbour's distance. Throws
+// std::invalid_argument for any other fraction.
+pointset uniform_pointset(const display_geometry& display, double fraction, const knn_params& knn);
+
 }  // namespace fov

@@ -40,6 +40,7 @@ struct render_params {
   uint64_t seed = 1;  // the ray positions
   bool shadows = true;
   texture_footprint footprint = texture_footprint::disc;
+  pixel_sampler reference_sampler = pixel_sampler::sobol;  // full-resolution frames' ray positions
   // Reconstruction (its k also decides which off-screen points are traced).
   reconstruct_params reconstruct;
   // Temporal anti-aliasing.

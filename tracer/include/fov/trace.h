@@ -37,6 +37,16 @@ inline constexpr std::pair<const char*, texture_footprint> texture_footprint_lab
     {"disc", texture_footprint::disc}, {"pixel", texture_footprint::pixel}};
 const char* texture_footprint_name(texture_footprint f);  // its label
 
+// Where a full-resolution pixel's rays go inside it.
+enum class pixel_sampler {
+  sobol,   // the first spp points of a 2D Sobol (0,2)-sequence, Owen-scrambled per pixel and
+           // seed: stratified at every power of two, so the mean converges far faster than
+           // with independent positions; two seeds give independent estimates (default)
+  random,  // independent uniform positions (what every reference used before)
+};
+inline constexpr std::pair<const char*, pixel_sampler> pixel_sampler_labels[] = {
+    {"sobol", pixel_sampler::sobol}, {"random", pixel_sampler::random}};
+
 // The most rays a point or pixel may cast (hit counts are 16-bit).
 constexpr uint32_t max_spp = 65535;
 
@@ -54,6 +64,8 @@ struct trace_params {
   bool time_stages = false;  // measure trace_stats::timing
   // Reference only: measure trace_stats::tile_seconds.
   bool tile_costs = false;
+  // Reference only: the positions of a pixel's rays.
+  pixel_sampler sampler = pixel_sampler::sobol;
 };
 
 // What a trace measured, when trace_params asked for it.
@@ -87,7 +99,12 @@ points_trace trace_points(const scene& s, const camera& cam, const pointset& set
 // The same rays without the tracer, for a bare intersection loop over them.
 std::vector<glm::vec2> point_ray_positions(const pointset& set, const point_samples& samples, const trace_params& params);
 
-// Full resolution: params.spp rays per pixel, jittered uniformly inside the pixel.
+// Sample s of the Owen-scrambled Sobol (0,2)-sequence with scrambles `sx`, `sy`: a point
+// of [0, 1)^2. The first 2^m samples put one sample in every elementary interval of
+// area 2^-m (e.g. one per cell of a 2^(m/2) grid for even m).
+glm::vec2 owen_sobol_2d(uint32_t s, uint32_t sx, uint32_t sy);
+
+// Full resolution: params.spp rays per pixel at params.sampler's positions inside it.
 reference_trace trace_reference(const scene& s, const camera& cam, int width, int height, const trace_params& params);
 
 }  // namespace fov
