@@ -17,47 +17,74 @@ check "two budgets"     2 -- "$fovbench" "${common[@]}" --budget-psnr 20 --budge
 check "missing scene"   1 -- "$fovbench" "${common[@]}" --scene "$dir/none.gltf" -o "$dir/x"
 check "bad footprint"   2 -- "$fovbench" "${common[@]}" --texture-footprint wide -o "$dir/x"
 check "bad eye"         2 -- "$fovbench" "${common[@]}" --eye 1,2 -o "$dir/x"
+check "bad baseline"    2 -- "$fovbench" "${common[@]}" --baselines lowres -o "$dir/x"
+check "bad fraction"    2 -- "$fovbench" "${common[@]}" --baselines uniform --uniform-fractions 0.3 -o "$dir/x"
+check "weak reference"  2 -- "$fovbench" "${common[@]}" --spp 4 --reference-spp 4 -o "$dir/x"
+check "bad spread"      2 -- "$fovbench" "${common[@]}" --spread-limit 0 -o "$dir/x"
+[[ -e "$dir/x" ]] && fail "a refused sweep wrote $dir/x"
 echo "not a glTF file" > "$dir/broken.gltf"
 check "broken 2nd scene" 1 -- "$fovbench" "${common[@]}" --scene builtin --scene "$dir/broken.gltf" --spp 1 -o "$dir/broken"
 [[ -e "$dir/broken" ]] && fail "a sweep with a broken scene wrote $(ls -R "$dir/broken" | tr '\n' ' ')"
 
-sweep=("$fovbench" "${common[@]}" --scene builtin --scales 1.0,2.0 --methods nn,shepard --k 4 --spp 1,2
-       --gazes "centre;20,30" --temporal-frames 2 --budget-psnr 10 -o "$dir/out")
+base=("$fovbench" "${common[@]}" --scene builtin --scales 1.0,2.0 --methods nn,shepard --k 4 --spp 1,2
+      --gazes "centre;20,30" --temporal-frames 2 --budget-psnr 10 --baselines full,uniform --uniform-fractions 0.25
+      -o "$dir/out")
+sweep=("${base[@]}" --reference-spp 16)
 check "smoke sweep"     0 -- "${sweep[@]}"
-for f in results.csv pareto.png error_by_eccentricity.png speedup_vs_scale.png report.md; do
+for f in results.csv pareto.png pareto_flip.png error_by_eccentricity.png speedup_vs_scale.png report.md; do
   [[ -s "$dir/out/$f" ]] || fail "no $f"
 done
 python3 - "$dir/out/results.csv" <<'PY' || fail "results.csv contents"
 import csv, math, sys
 rows = list(csv.DictReader(open(sys.argv[1])))
-assert len(rows) == 2 * 2 * 2 * 2, len(rows)  # scales x gazes x spp x (nn, shepard k=4)
-need = "scene gaze scale method k spp points_traced rays frame_ms reference_ms speedup psnr ssim psnr_fovea foveated_error".split()
+kinds = [r["kind"] for r in rows]
+# foveated: scales x gazes x spp x (nn, shepard k=4); uniform: 1 fraction x gazes x spp x 2; full: gazes x spp
+assert kinds.count("foveated") == 16 and kinds.count("uniform") == 8 and kinds.count("full") == 4, kinds
+need = ("scene gaze kind method spp rays frame_ms frame_ms_lo frame_ms_hi full_ms speedup speedup_lo speedup_hi psnr ssim "
+        "psnr_fovea foveated_error flip flip_fovea foveated_flip foveated_flip_p99 foveated_flip_worst_band reference_spp "
+        "noise_floor_psnr noise_floor_flip noise_floor_foveated_flip geometry_fovea").split()
 for r in rows:
     for c in need:
         assert r[c] != "", (c, r)
-    assert float(r["frame_ms"]) > 0 and float(r["speedup"]) > 0
-    assert abs(float(r["speedup"]) - float(r["reference_ms"]) / float(r["frame_ms"])) < 1e-3 * float(r["speedup"])
-    assert 0 <= float(r["foveated_error"]) < 1 and float(r["flicker"]) >= 0
+    lo, mid, hi = float(r["frame_ms_lo"]), float(r["frame_ms"]), float(r["frame_ms_hi"])
+    assert 0 < lo <= mid <= hi, r
+    assert float(r["speedup_lo"]) <= float(r["speedup"]) <= float(r["speedup_hi"]), r
+    assert 0 <= float(r["foveated_error"]) < 1 and 0 <= float(r["flip"]) <= 1 and 0 <= float(r["foveated_flip"]) <= 1
+    assert r["reference_spp"] == "16"
+    assert 0 < float(r["noise_floor_flip"]) < float(r["flip"]), "the reference must be better than what it measures"
+    if r["kind"] == "full":
+        assert r["method"] == "full" and float(r["speedup"]) == 1 and r["scale"] == "" and r["pixel_fraction"] == "1.0000", r
+    else:
+        assert float(r["flicker"]) >= 0
+    if r["kind"] == "uniform":
+        assert r["pixel_fraction"] == "0.2500" and r["scale"] == "", r
+# One full frame at 2 spp against the 16-spp reference errs less than at 1 spp.
+full = {(r["gaze"], r["spp"]): float(r["flip"]) for r in rows if r["kind"] == "full"}
+assert full[("centre", "2")] < full[("centre", "1")], full
 assert {r["gaze"] for r in rows} == {"centre", "20_30"}
 assert {r["texture_footprint"] for r in rows} == {"disc"}
 PY
+grep -q "Equal-error speedup over the best baseline" "$dir/out/report.md" || fail "report.md has no equal-error speedup"
+grep -q "noise floor" "$dir/out/report.md" || fail "report.md states no noise floor"
+grep -q "Timing noise" "$dir/out/report.md" || fail "report.md states no timing noise"
 grep -q "Fastest within the budget" "$dir/out/report.md" || fail "report.md names no fastest configuration"
 
 check "exists without --resume" 1 -- "${sweep[@]}"
 out=$("${sweep[@]}" --resume 2>&1)
-[[ "$out" == *"16 already in"*"0 to measure"* ]] || fail "resume did not skip all: $out"
+[[ "$out" == *"28 already in"*"0 to measure"* ]] || fail "resume did not skip all: $out"
 head -n -1 "$dir/out/results.csv" > "$dir/cut.csv" && mv "$dir/cut.csv" "$dir/out/results.csv"
 out=$("${sweep[@]}" --resume 2>&1)
-[[ "$out" == *"15 already in"*"1 to measure"* ]] || fail "resume did not redo the lost row: $out"
-[[ $(($(wc -l < "$dir/out/results.csv") - 1)) -eq 16 ]] || fail "resumed CSV should hold 16 rows"
+[[ "$out" == *"27 already in"*"1 to measure"* ]] || fail "resume did not redo the lost row: $out"
+[[ $(($(wc -l < "$dir/out/results.csv") - 1)) -eq 28 ]] || fail "resumed CSV should hold 28 rows"
+check "resume, other reference" 1 -- "${base[@]}" --reference-spp 32 --resume
 check "resume, other footprint" 1 -- "${sweep[@]}" --resume --texture-footprint pixel
 # The pixel footprint reads sharper textures: the same configurations, other colours.
 "$fovbench" "${common[@]}" --scene builtin --scales 2.0 --methods nn --spp 1 --texture-footprint pixel \
-  -o "$dir/pixel" >/dev/null 2>&1 || fail "pixel-footprint sweep"
+  --reference-spp 16 --baselines full,uniform --uniform-fractions 0.25 -o "$dir/pixel" >/dev/null 2>&1 || fail "pixel-footprint sweep"
 python3 - "$dir/out/results.csv" "$dir/pixel/results.csv" <<'PY' || fail "pixel footprint rows"
 import csv, sys
 disc = {(r["gaze"], r["scale"], r["method"], r["spp"]): r for r in csv.DictReader(open(sys.argv[1]))}
-pixel = list(csv.DictReader(open(sys.argv[2])))
+pixel = [r for r in csv.DictReader(open(sys.argv[2])) if r["kind"] == "foveated"]
 assert len(pixel) == 1 and pixel[0]["texture_footprint"] == "pixel", pixel
 d = disc[("centre", "2.00", "nn", "1")]
 assert d["points_traced"] == pixel[0]["points_traced"]

@@ -97,24 +97,78 @@ TEST(ReferenceCache, TracesOnceAndReadsTheFilesAfter) {
   p.device = reconstruct_device::cpp;
   renderer r(scn, p);
   const display_geometry d{40, 30, 1.0};
-  reference_cache first(dir, "builtin", d, 2);
-  const reference_frame& a = first.get(r, p, 2);
+  reference_cache first(dir, "builtin", d);
+  const reference_frame& a = first.get(r, p, 2, 7);
   EXPECT_FALSE(a.from_disk);
   EXPECT_EQ(a.rays, 40u * 30u * 2u);
-  EXPECT_GT(a.ms.median, 0.0);
-  EXPECT_LE(a.ms.min, a.ms.median);
-  EXPECT_GE(a.ms.max, a.ms.median);
-  EXPECT_TRUE(fs::exists(first.file_base(2) + ".exr"));
-  EXPECT_EQ(&first.get(r, p, 2), &a);  // kept in memory too
-  const auto written = fs::last_write_time(first.file_base(2) + ".exr");
-  reference_cache second(dir, "builtin", d, 2);
-  const reference_frame& b = second.get(r, p, 2);
+  EXPECT_GT(a.ms, 0.0);
+  EXPECT_TRUE(fs::exists(first.file_base(2, 7) + ".exr"));
+  EXPECT_EQ(&first.get(r, p, 2, 7), &a);  // kept in memory too
+  const auto written = fs::last_write_time(first.file_base(2, 7) + ".exr");
+  reference_cache second(dir, "builtin", d);
+  const reference_frame& b = second.get(r, p, 2, 7);
   EXPECT_TRUE(b.from_disk);
-  EXPECT_EQ(b.ms.median, a.ms.median);
+  EXPECT_EQ(b.ms, a.ms);
   EXPECT_EQ(b.rays, a.rays);
   EXPECT_EQ(b.image.rgb, a.image.rgb);  // EXR keeps linear float RGB
-  EXPECT_EQ(fs::last_write_time(first.file_base(2) + ".exr"), written);
-  EXPECT_FALSE(second.get(r, p, 1).from_disk);  // another spp: traced
+  EXPECT_EQ(b.image.depth, a.image.depth);  // and the depth (geometry coverage needs it)
+  EXPECT_EQ(fs::last_write_time(first.file_base(2, 7) + ".exr"), written);
+  const reference_frame& other_seed = second.get(r, p, 2, 8);  // another seed: traced, and different
+  EXPECT_FALSE(other_seed.from_disk);
+  EXPECT_NE(other_seed.image.rgb, a.image.rgb);
+  EXPECT_FALSE(second.get(r, p, 1, 7).from_disk);  // another spp: traced
+  // A cache made with other settings is refused, not silently reused.
+  render_params renka = p;
+  renka.reconstruct.renka = true;
+  reference_cache third(dir, "builtin", d);
+  EXPECT_THROW(third.get(r, renka, 2, 7), std::runtime_error);
+}
+
+TEST(Timing, MediansAndPairedSpeedups) {
+  EXPECT_EQ(summarise({3, 1, 2}).median, 2);
+  EXPECT_EQ(summarise({4, 1, 3, 2}).median, 2.5);  // even count: the middle two's mean
+  const paired_timing t = pair_timings({10, 20, 10}, {40, 40, 50});
+  EXPECT_EQ(t.frame_ms.median, 10);
+  EXPECT_EQ(t.full_ms.median, 40);
+  EXPECT_EQ(t.speedup.median, 4);  // per repetition: 4, 2, 5
+  EXPECT_EQ(t.speedup.min, 2);
+  EXPECT_EQ(t.speedup.max, 5);
+  EXPECT_THROW(pair_timings({1, 2}, {1}), std::invalid_argument);
+}
+
+// Two fronts with known times: the baseline reaches error 0.1 in 40 ms, foveation in 10.
+TEST(EqualError, SpeedupAlongBothFronts) {
+  const std::vector<std::pair<double, double>> fov = {{10, 0.1}, {20, 0.05}}, base = {{10, 0.4}, {40, 0.1}, {160, 0.025}};
+  EXPECT_DOUBLE_EQ(time_at_error(fov, 0.1), 10);
+  EXPECT_NEAR(time_at_error(fov, 0.075), std::sqrt(10.0 * 20.0), 1e-9);  // halfway: the geometric mean
+  EXPECT_NEAR(equal_error_speedup(fov, base, 0.1), 4.0, 1e-12);
+  EXPECT_TRUE(std::isnan(time_at_error(fov, 0.2)));   // worse than the front's worst: not on it
+  EXPECT_TRUE(std::isnan(time_at_error(fov, 0.01)));  // better than its best
+  // 0.05 lies two thirds of the way from 0.1 to 0.025: log time two thirds of the way from 40 to 160 ms.
+  EXPECT_NEAR(equal_error_speedup(fov, base, 0.05), std::pow(40.0, 1 / 3.0) * std::pow(160.0, 2 / 3.0) / 20, 1e-9);
+}
+
+TEST(Coverage, SharesOfGeometryPerBand) {
+  frame f;
+  f.width = 100, f.height = 1;
+  f.rgb.assign(100, glm::vec3(0));
+  for (int x = 0; x < 100; ++x) f.depth.push_back(x < 5 ? 1.0f : std::numeric_limits<float>::infinity());
+  // Seen from 2 widths with the gaze at x = 0: the first 17 pixels lie within 5 degrees.
+  const std::vector<double> c = geometry_coverage(f, {100, 1, 2.0}, {0, 0.5});
+  ASSERT_EQ(c.size(), 5u);
+  EXPECT_NEAR(c[0], 5.0 / 17.0, 1e-12);
+  EXPECT_EQ(c[1], 0.0);
+  EXPECT_TRUE(std::isnan(c[4]));  // no pixel beyond 30 degrees
+  f.depth.clear();
+  for (double v : geometry_coverage(f, {100, 1, 2.0}, {0, 0.5})) EXPECT_TRUE(std::isnan(v));
+}
+
+TEST(ConvergedSeeds, ShareNothingWithTheSweepsFrames) {
+  for (uint64_t seed : {1ull, 2ull, 1000ull}) {
+    const auto [a, b] = converged_seeds(seed);
+    EXPECT_NE(a, b);
+    for (uint64_t n = 0; n < 1000; ++n) EXPECT_TRUE(a != seed + n && b != seed + n);
+  }
 }
 
 TEST(BenchOptions, AreCheckedBeforeAnythingRuns) {
@@ -130,6 +184,15 @@ TEST(BenchOptions, AreCheckedBeforeAnythingRuns) {
   EXPECT_THROW(check_bench_options(bad), usage_error);
   bad = o;
   bad.spps = {0};
+  EXPECT_THROW(check_bench_options(bad), usage_error);
+  bad = o;
+  bad.reference_spp = 4;  // not better than the --spp 4 it would measure
+  EXPECT_THROW(check_bench_options(bad), usage_error);
+  bad = o;
+  bad.uniform_fractions = {0.3};
+  EXPECT_THROW(check_bench_options(bad), usage_error);
+  bad = o;
+  bad.spread_limit = 0;
   EXPECT_THROW(check_bench_options(bad), usage_error);
   bad = o;
   bad.scenes = {"/nonexistent.gltf"};

@@ -22,10 +22,16 @@ void write_frame(const frame& f, const std::string& path) {
   auto out = OIIO::ImageOutput::create(ext.substr(1));
   if (!out) throw file_error(fmt::format("{}: unsupported image format '{}'", path, ext));
   const std::string tmp = fmt::format("{}.tmp-{}{}", path, getpid(), ext);
-  OIIO::ImageSpec spec(f.width, f.height, 3, linear ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8);
-  std::vector<float> px(size_t(f.width) * f.height * 3);
-  for (size_t i = 0; i < f.rgb.size(); ++i)
-    for (int c = 0; c < 3; ++c) px[3 * i + c] = linear ? f.rgb[i][c] : srgb_encode(f.rgb[i][c]);
+  // An EXR keeps the depth too, as channel Z (+inf where no ray hit), when the frame has it.
+  const bool depth = (ext == ".exr" || ext == ".EXR") && f.depth.size() == f.rgb.size();
+  const int channels = depth ? 4 : 3;
+  OIIO::ImageSpec spec(f.width, f.height, channels, linear ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8);
+  if (depth) spec.channelnames = {"R", "G", "B", "Z"}, spec.z_channel = 3;
+  std::vector<float> px(size_t(f.width) * f.height * channels);
+  for (size_t i = 0; i < f.rgb.size(); ++i) {
+    for (int c = 0; c < 3; ++c) px[channels * i + c] = linear ? f.rgb[i][c] : srgb_encode(f.rgb[i][c]);
+    if (depth) px[channels * i + 3] = f.depth[i];
+  }
   if (!linear) spec.attribute("oiio:ColorSpace", "sRGB");
   const bool ok = out->open(tmp, spec) && out->write_image(OIIO::TypeDesc::FLOAT, px.data()) && out->close();
   if (!ok || std::rename(tmp.c_str(), path.c_str()) != 0) {
@@ -52,6 +58,12 @@ frame read_frame(const std::string& path) {
       const float v = px[i * spec.nchannels + c];
       f.rgb[i][c] = encoded ? srgb_decode(v) : v;
     }
+  const auto z = std::find(spec.channelnames.begin(), spec.channelnames.end(), "Z");
+  if (z != spec.channelnames.end() && z - spec.channelnames.begin() >= 3) {
+    const size_t zc = size_t(z - spec.channelnames.begin());
+    f.depth.resize(f.rgb.size());
+    for (size_t i = 0; i < f.depth.size(); ++i) f.depth[i] = px[i * spec.nchannels + zc];
+  }
   return f;
 }
 

@@ -16,6 +16,8 @@
 #include "../common/cli.h"
 #include "../common/image_io.h"
 #include "fov/flicker.h"
+#include "fov/flip.h"
+#include "fov/knn_table.h"
 #include "fov/metrics.h"
 #include "fov/pointset_io.h"
 #include "fov/random.h"
@@ -40,29 +42,49 @@ std::string slug(const std::string& scene) {
   return (scene.rfind("env:", 0) == 0 ? "env-" : "") + s;
 }
 
-// One configuration of the sweep.
+// One row of the sweep: a foveated or uniform configuration, or a full-resolution frame.
 struct config {
-  size_t scene, scale, gaze;
+  size_t scene;
+  std::string kind;  // foveated, uniform, full
+  size_t set;        // foveated: the scale's index; uniform: the fraction's; full: unused
+  size_t gaze;
   method how;
   uint32_t k, spp;
   std::string key;
 };
 
+std::string fraction_text(double f) { return fmt::format("{:.4f}", f); }
+
 std::vector<config> all_configs(const bench_options& o, const std::vector<named_gaze>& gazes) {
   std::vector<config> all;
-  for (size_t sc = 0; sc < o.scenes.size(); ++sc)
-    for (size_t si = 0; si < o.scales.size(); ++si)
+  auto add = [&](size_t sc, const std::string& kind, size_t set, size_t g, method how, uint32_t k, uint32_t spp) {
+    result_row r;
+    r.cells = {{"scene", o.scenes[sc]}, {"gaze", gazes[g].name}, {"kind", kind}, {"spp", std::to_string(spp)}};
+    if (kind == "full") {
+      r.cells["method"] = "full", r.cells["pixel_fraction"] = fraction_text(1);
+    } else {
+      r.cells["method"] = method_name(how), r.cells["k"] = std::to_string(k);
+      if (kind == "foveated") r.cells["scale"] = fmt::format("{:.2f}", o.scales[set]);
+      else r.cells["pixel_fraction"] = fraction_text(o.uniform_fractions[set]);
+    }
+    const std::string key = r.key();
+    if (std::none_of(all.begin(), all.end(), [&](const config& c) { return c.key == key; }))
+      all.push_back({sc, kind, set, g, how, k, spp, key});
+  };
+  const bool uniform = std::count(o.baselines.begin(), o.baselines.end(), baseline::uniform) > 0;
+  const bool full = std::count(o.baselines.begin(), o.baselines.end(), baseline::full) > 0;
+  for (size_t sc = 0; sc < o.scenes.size(); ++sc) {
+    for (const auto& [kind, sets] : {std::pair<std::string, size_t>{"foveated", o.scales.size()},
+                                     {"uniform", uniform ? o.uniform_fractions.size() : 0}})
+      for (size_t si = 0; si < sets; ++si)
+        for (size_t g = 0; g < gazes.size(); ++g)
+          for (uint32_t spp : o.spps)
+            for (method how : o.methods)
+              for (uint32_t k : how == method::nn ? std::vector<uint32_t>{1} : o.ks) add(sc, kind, si, g, how, k, spp);
+    if (full)
       for (size_t g = 0; g < gazes.size(); ++g)
-        for (uint32_t spp : o.spps)
-          for (method how : o.methods)
-            for (uint32_t k : how == method::nn ? std::vector<uint32_t>{1} : o.ks) {
-              result_row r;
-              r.cells = {{"scene", o.scenes[sc]}, {"gaze", gazes[g].name}, {"scale", fmt::format("{:.2f}", o.scales[si])},
-                         {"method", method_name(how)}, {"k", std::to_string(k)}, {"spp", std::to_string(spp)}};
-              const std::string key = r.key();
-              if (std::none_of(all.begin(), all.end(), [&](const config& c) { return c.key == key; }))
-                all.push_back({sc, si, g, how, k, spp, key});
-            }
+        for (uint32_t spp : o.spps) add(sc, "full", 0, g, method::nn, 0, spp);
+  }
   return all;
 }
 
@@ -93,47 +115,84 @@ std::shared_ptr<const pointset> bench_pointset(const bench_options& o, const dis
 
 timing summarise(std::vector<double> v) {
   std::sort(v.begin(), v.end());
-  return {v[v.size() / 2], v.front(), v.back()};
+  const size_t n = v.size();
+  return {n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]), v.front(), v.back()};
 }
 
-reference_cache::reference_cache(std::string dir, std::string scene, const display_geometry& d, uint32_t frames)
-    : dir_(std::move(dir)), scene_(std::move(scene)), display_(d), frames_(frames) {}
+reference_cache::reference_cache(std::string dir, std::string scene, const display_geometry& d)
+    : dir_(std::move(dir)), scene_(std::move(scene)), display_(d) {}
 
-std::string reference_cache::file_base(uint32_t spp) const {
-  return (fs::path(dir_) / fmt::format("{}-{}x{}-spp{}", slug(scene_), display_.width, display_.height, spp)).string();
+std::string reference_cache::file_base(uint32_t spp, uint64_t seed) const {
+  return (fs::path(dir_) / fmt::format("{}-{}x{}-spp{}-seed{}", slug(scene_), display_.width, display_.height, spp, seed)).string();
 }
 
-const reference_frame& reference_cache::get(renderer& r, const render_params& base, uint32_t spp,
+const reference_frame& reference_cache::get(renderer& r, const render_params& base, uint32_t spp, uint64_t seed,
                                             const std::function<void(const std::string&)>& say) {
-  auto it = refs_.find(spp);
+  const auto id = std::make_pair(spp, seed);
+  auto it = refs_.find(id);
   if (it != refs_.end()) return it->second;
-  const std::string file = file_base(spp);
+  const std::string file = file_base(spp, seed);
+  render_params p = base;
+  p.spp = spp;
+  p.seed = seed;
+  const std::string settings = render_settings_label(p);
   reference_frame ref;
   if (fs::exists(file + ".exr") && fs::exists(file + ".json")) {
-    ref.image = read_frame(file + ".exr");
     std::ifstream in(file + ".json");
-    const json j = json::parse(in);
-    ref.ms = {j.at("ms").get<double>(), j.at("ms_min").get<double>(), j.at("ms_max").get<double>()};
-    ref.rays = j.at("rays").get<uint64_t>();
+    const json j = json::parse(in, nullptr, false);
+    if (j.is_discarded() || !j.is_object() || !j.contains("ms") || !j["ms"].is_number() || !j.contains("rays") ||
+        !j["rays"].is_number_unsigned() || j.value("render_settings", "") != settings || j.value("sampler", "") !=
+        label_of(pixel_sampler_labels, p.reference_sampler))
+      throw std::runtime_error(fmt::format("{}.json: not a reference of these settings ({}); remove it or use another -o",
+                                           file, settings));
+    ref.image = read_frame(file + ".exr");
+    if (ref.image.width != display_.width || ref.image.height != display_.height)
+      throw std::runtime_error(fmt::format("{}.exr: {}x{}, not {}x{}", file, ref.image.width, ref.image.height,
+                                           display_.width, display_.height));
+    ref.ms = j["ms"].get<double>();
+    ref.rays = j["rays"].get<uint64_t>();
     ref.from_disk = true;
   } else {
-    if (say) say(fmt::format("reference {} spp", spp));
-    render_params p = base;
-    p.spp = spp;
-    std::vector<double> ms;
-    for (uint32_t f = 0; f < frames_; ++f) {
-      frame_timing t;
-      ref.image = r.reference(display_.width, display_.height, p, &t).image;
-      ms.push_back(t.trace_ms);
-    }
-    ref.ms = summarise(ms);
+    if (say) say(fmt::format("reference {} spp, seed {}", spp, seed));
+    frame_timing t;
+    ref.image = r.reference(display_.width, display_.height, p, &t).image;
+    ref.ms = t.trace_ms;
     ref.rays = ref.image.rays;
     write_frame(ref.image, file + ".exr");
-    const std::string text = json{{"scene", scene_}, {"spp", spp}, {"ms", ref.ms.median}, {"ms_min", ref.ms.min},
-                                  {"ms_max", ref.ms.max}, {"rays", ref.rays}, {"frames", frames_}}.dump(2) + "\n";
+    const std::string text = json{{"scene", scene_}, {"spp", spp}, {"seed", seed}, {"ms", ref.ms}, {"rays", ref.rays},
+                                  {"sampler", label_of(pixel_sampler_labels, p.reference_sampler)},
+                                  {"render_settings", settings}}.dump(2) + "\n";
     write_file_atomic(file + ".json", text.data(), text.size());
   }
-  return refs_.emplace(spp, std::move(ref)).first->second;
+  return refs_.emplace(id, std::move(ref)).first->second;
+}
+
+std::pair<uint64_t, uint64_t> converged_seeds(uint64_t seed) {
+  return {stream_seed(seed, 0x636f6e7665726765ull, 0), stream_seed(seed, 0x636f6e7665726765ull, 1)};
+}
+
+paired_timing pair_timings(const std::vector<double>& frame_ms, const std::vector<double>& full_ms) {
+  if (frame_ms.empty() || frame_ms.size() != full_ms.size()) throw std::invalid_argument("unpaired timings");
+  std::vector<double> ratio;
+  for (size_t i = 0; i < frame_ms.size(); ++i) ratio.push_back(full_ms[i] / frame_ms[i]);
+  return {summarise(frame_ms), summarise(full_ms), summarise(ratio)};
+}
+
+std::vector<double> geometry_coverage(const frame& f, const display_geometry& d, gaze_point gaze) {
+  const std::vector<double> edges{5, 10, 20, 30};
+  if (f.depth.size() != size_t(f.width) * size_t(f.height))
+    return std::vector<double>(edges.size() + 1, std::nan(""));  // a frame without depth says nothing
+  std::vector<double> hits(edges.size() + 1, 0), all(edges.size() + 1, 0);
+  for (int y = 0; y < f.height; ++y)
+    for (int x = 0; x < f.width; ++x) {
+      const double e = pixel_eccentricity_deg(d, gaze, x, y);
+      const size_t b = size_t(std::upper_bound(edges.begin(), edges.end(), e) - edges.begin());
+      ++all[b];
+      hits[b] += std::isfinite(f.depth[size_t(y) * f.width + x]) ? 1 : 0;
+    }
+  std::vector<double> out;
+  for (size_t b = 0; b < all.size(); ++b) out.push_back(all[b] > 0 ? hits[b] / all[b] : std::nan(""));
+  return out;
 }
 
 std::vector<named_gaze> parse_gazes(const std::vector<std::string>& items, const display_geometry& d, uint64_t seed) {
@@ -171,8 +230,8 @@ std::string render_settings_label(const render_params& p) {
   auto point = [](const std::optional<glm::vec3>& v) {
     return v ? fmt::format("{:g},{:g},{:g}", v->x, v->y, v->z) : std::string("-");  // -: the scene camera's
   };
-  return fmt::format("seed={} shadows={} renka={} rbf_kernel={} rbf_shape={:g} hfov={:g} eye={} look_at={} up={}", p.seed,
-                     p.shadows ? 1 : 0, p.reconstruct.renka ? 1 : 0, label_of(rbf_kernel_labels, p.reconstruct.kernel),
+  return fmt::format("seed={} sampler={} shadows={} renka={} rbf_kernel={} rbf_shape={:g} hfov={:g} eye={} look_at={} up={}",
+                     p.seed, label_of(pixel_sampler_labels, p.reference_sampler), p.shadows ? 1 : 0, p.reconstruct.renka ? 1 : 0, label_of(rbf_kernel_labels, p.reconstruct.kernel),
                      p.reconstruct.shape, p.view.hfov_deg, point(p.view.eye), point(p.view.target), point(p.view.up));
 }
 
@@ -186,6 +245,20 @@ display_geometry check_bench_options(const bench_options& o) {
   if (o.spps.empty() || o.ks.empty() || o.methods.empty() || o.scales.empty() || o.gazes.empty())
     throw usage_error("--scales, --methods, --k, --spp and --gazes each need at least one value");
   if (o.frames < 1 || o.frames > 100) throw usage_error("--frames must lie in 1..100");
+  if (o.reference_spp < 1 || o.reference_spp > max_spp)
+    throw usage_error(fmt::format("--reference-spp must lie in 1..{} (got {})", max_spp, o.reference_spp));
+  for (uint32_t s : o.spps)
+    if (s >= o.reference_spp)
+      throw usage_error(fmt::format("--reference-spp {} must exceed every --spp (got {}): a reference must be better than "
+                                    "what it measures", o.reference_spp, s));
+  for (double f : o.uniform_fractions) {
+    bool power = false;
+    for (int i = 1; i <= 16; ++i) power = power || f == std::ldexp(1.0, -i);
+    if (!power) throw usage_error(fmt::format("--uniform-fractions: {} is not 1/2, 1/4, 1/8, ... (0.5, 0.25, 0.125, ...)", f));
+  }
+  if (std::count(o.baselines.begin(), o.baselines.end(), baseline::uniform) && o.uniform_fractions.empty())
+    throw usage_error("--baselines uniform needs at least one --uniform-fractions value");
+  if (!(o.spread_limit > 0 && o.spread_limit <= 10)) throw usage_error("--spread-limit must lie in (0, 10]");
   if (o.temporal_frames == 1 || o.temporal_frames > 200) throw usage_error("--temporal-frames must be 0 or 2..200");
   if (!std::isnan(o.budget_psnr) && !std::isnan(o.budget_foveated)) throw usage_error("give one budget");
   const std::string problem = validate(o.render);
@@ -200,6 +273,70 @@ display_geometry check_bench_options(const bench_options& o) {
   return display;
 }
 
+namespace {
+
+// One frame's errors against the converged reference.
+struct measured {
+  error_report error;
+  flip_report flip;
+  bool has_flip = false;
+};
+
+measured measure(const frame& image, const frame& truth, const spacing_model& eye, gaze_point gaze, bool flip) {
+  measured m;
+  m.error = measure_error(image, truth, eye, gaze);
+  if (flip) m.flip = measure_flip(image, truth, eye, gaze, m.error.edges_deg), m.has_flip = true;
+  return m;
+}
+
+const char* band_suffix[5] = {"fovea", "5_10", "10_20", "20_30", "periphery"};
+
+void put_errors(result_row& row, const measured& m) {
+  const error_report& e = m.error;
+  row.cells["psnr"] = number(e.overall.psnr), row.cells["ssim"] = number(e.overall.ssim);
+  for (size_t b = 0; b < 5; ++b) {
+    row.cells[std::string("psnr_") + band_suffix[b]] = e.bands[b].pixels ? number(e.bands[b].psnr) : "";
+    row.cells[std::string("ssim_") + band_suffix[b]] = e.bands[b].pixels ? number(e.bands[b].ssim) : "";
+    if (m.has_flip) row.cells[std::string("flip_") + band_suffix[b]] = number(m.flip.flip.bands[b]);
+  }
+  row.cells["foveated_error"] = number(e.foveated_error), row.cells["foveated_psnr"] = number(e.foveated_psnr);
+  std::string profile;
+  for (double v : e.profile_rmse) profile += (profile.empty() ? "" : ";") + fmt::format("{:.5f}", v);
+  row.cells["error_profile"] = profile;
+  if (!m.has_flip) return;
+  row.cells["flip"] = number(m.flip.flip.mean), row.cells["flip_p99"] = number(m.flip.flip.p99);
+  row.cells["foveated_flip"] = number(m.flip.foveated.mean);
+  row.cells["foveated_flip_p99"] = number(m.flip.foveated.p99);
+  row.cells["foveated_flip_worst_band"] = number(m.flip.foveated.worst_band);
+}
+
+void put_floor(result_row& row, const measured& floor, const std::vector<double>& coverage, uint32_t reference_spp) {
+  row.cells["reference_spp"] = std::to_string(reference_spp);
+  row.cells["noise_floor_psnr"] = number(floor.error.overall.psnr);
+  row.cells["noise_floor_psnr_fovea"] = number(floor.error.bands[0].psnr);
+  row.cells["noise_floor_foveated_error"] = number(floor.error.foveated_error);
+  if (floor.has_flip) {
+    row.cells["noise_floor_flip"] = number(floor.flip.flip.mean);
+    row.cells["noise_floor_flip_fovea"] = number(floor.flip.flip.bands[0]);
+    row.cells["noise_floor_foveated_flip"] = number(floor.flip.foveated.mean);
+  }
+  for (size_t b = 0; b < 5; ++b) row.cells[std::string("geometry_") + band_suffix[b]] = number(coverage[b]);
+}
+
+void put_timing(result_row& row, const paired_timing& t, double spread_limit) {
+  row.cells["frame_ms"] = number(t.frame_ms.median), row.cells["frame_ms_lo"] = number(t.frame_ms.min);
+  row.cells["frame_ms_hi"] = number(t.frame_ms.max);
+  row.cells["full_ms"] = number(t.full_ms.median), row.cells["full_ms_lo"] = number(t.full_ms.min);
+  row.cells["full_ms_hi"] = number(t.full_ms.max);
+  row.cells["speedup"] = number(t.speedup.median), row.cells["speedup_lo"] = number(t.speedup.min);
+  row.cells["speedup_hi"] = number(t.speedup.max);
+  const bool noisy = (t.frame_ms.max - t.frame_ms.min) > spread_limit * t.frame_ms.median ||
+                     (t.full_ms.max - t.full_ms.min) > spread_limit * t.full_ms.median;
+  row.cells["timing_flag"] = noisy ? "noisy" : "";
+}
+
+}  // namespace
+
 size_t run_bench(const bench_options& o, const bench_reporter& report) {
   const display_geometry display = check_bench_options(o);
   const std::vector<named_gaze> gazes = parse_gazes(o.gazes, display, o.render.seed);
@@ -211,22 +348,26 @@ size_t run_bench(const bench_options& o, const bench_reporter& report) {
     if (!o.resume)
       throw std::runtime_error(fmt::format("{} exists: add --resume to continue that sweep, or choose another -o", results_path));
     for (const result_row& r : read_results(results_path)) {
-      // One footprint and one setting per results.csv: they are not in the key.
+      // One footprint, setting and reference per results.csv: they are not in the key.
       if (r.text("texture_footprint") != footprint)
         throw std::runtime_error(fmt::format("{}: its rows were traced with --texture-footprint {}, not {}; use another -o",
                                              results_path, r.text("texture_footprint"), footprint));
       if (r.text("render_settings") != settings)
         throw std::runtime_error(fmt::format("{}: its rows were measured with {}, not {}; use another -o", results_path,
                                              r.text("render_settings"), settings));
+      if (r.text("reference_spp") != std::to_string(o.reference_spp))
+        throw std::runtime_error(fmt::format("{}: its rows were measured against a {}-spp reference, not {}; use another -o",
+                                             results_path, r.text("reference_spp"), o.reference_spp));
       done.insert(r.key());
     }
   }
   const std::vector<config> all = all_configs(o, gazes);
   size_t todo = 0;
   for (const config& c : all) todo += !done.count(c.key);
-  const uint32_t best_spp = *std::max_element(o.spps.begin(), o.spps.end());
-  size_t measured = 0;
-  const std::function<void(const std::string&)> say = [&](const std::string& what) { report.progress(measured, todo, what); };
+  size_t measured_rows = 0;
+  const std::function<void(const std::string&)> say = [&](const std::string& what) {
+    report.progress(measured_rows, todo, what);
+  };
   auto needed = [&](auto&& match) {
     return std::any_of(all.begin(), all.end(), [&](const config& c) { return match(c) && !done.count(c.key); });
   };
@@ -245,111 +386,184 @@ size_t run_bench(const bench_options& o, const bench_reporter& report) {
   report.line(fmt::format("{} configurations, {} already in {}, {} to measure", all.size(), all.size() - todo, results_path, todo));
   fs::create_directories(fs::path(o.out) / "references");
   results_writer writer(results_path);
-  for (size_t sc = 0; sc < o.scenes.size() && measured < todo; ++sc) {
+  const auto [seed_a, seed_b] = converged_seeds(o.render.seed);
+  uint32_t widest_k = 1;
+  for (uint32_t k : o.ks) widest_k = std::max(widest_k, k);
+  for (size_t sc = 0; sc < o.scenes.size() && measured_rows < todo; ++sc) {
     if (!scenes[sc]) continue;
     std::shared_ptr<const scene> scn = std::move(scenes[sc]);
     renderer r(scn, o.render);
     r.warm_up_reference(display.width, display.height, o.render);  // textures read and MIP-mapped on first use
-    reference_cache references((fs::path(o.out) / "references").string(), o.scenes[sc], display, o.frames);
-    auto reference = [&](uint32_t spp) -> const reference_frame& {
-      return references.get(r, o.render, spp, say);
+    reference_cache references((fs::path(o.out) / "references").string(), o.scenes[sc], display);
+    const frame& truth = references.get(r, o.render, o.reference_spp, seed_a, say).image;
+    const frame& second = references.get(r, o.render, o.reference_spp, seed_b, say).image;
+    // The eye the errors are judged by: the thesis's acuity, at true eccentricity.
+    const spacing_model eye{display, 1.0, acuity_params{}};
+    std::map<size_t, measured> floors;
+    std::map<size_t, std::vector<double>> coverage;
+    auto floor_at = [&](size_t g) -> const measured& {
+      if (!floors.count(g)) {
+        say(fmt::format("noise floor at {}", gazes[g].name));
+        floors[g] = measure(second, truth, eye, gazes[g].at, o.flip);
+        coverage[g] = geometry_coverage(truth, display, gazes[g].at);
+      }
+      return floors[g];
     };
-    for (size_t si = 0; si < o.scales.size(); ++si) {
-      if (!needed([&](const config& c) { return c.scene == sc && c.scale == si; })) continue;
-      r.use_pointset(bench_pointset(o, display, o.scales[si], say));
-      if (const std::string warning = r.device_warning(); !warning.empty()) report.line(warning);
-      const pointset& set = *r.current_set();
-      for (size_t g = 0; g < gazes.size(); ++g)
-        for (uint32_t spp : o.spps) {
-          std::vector<const config*> here;
-          for (const config& c : all)
-            if (c.scene == sc && c.scale == si && c.gaze == g && c.spp == spp && !done.count(c.key)) here.push_back(&c);
-          if (here.empty()) continue;
-          const named_gaze& gp = gazes[g];
-          const reference_frame& ref = reference(spp);
-          const reference_frame& best = reference(best_spp);
-          render_params p = o.render;
-          p.spp = spp;
-          // Trace timing per k read (the traced points depend on it), and one trace at the
-          // largest k whose colours serve every method (a point's rays do not depend on k).
-          std::map<uint32_t, timing> trace_ms;
-          std::map<uint32_t, uint64_t> trace_rays, trace_points;
-          point_samples samples;
-          uint32_t widest = 0;
-          for (const config* c : here) widest = std::max(widest, c->k);
-          for (const config* c : here) {
-            if (trace_ms.count(c->k)) continue;
-            say(fmt::format("tracing {} s={:.2f} {} spp={} k={}", slug(o.scenes[sc]), o.scales[si], gp.name, spp, c->k));
-            p.reconstruct.k = c->k;
-            std::vector<double> ms;
-            for (uint32_t f = 0; f < o.frames; ++f) {
-              frame_timing t;
-              points_trace traced = r.trace(gp.at, p, t);
-              ms.push_back(t.trace_ms);
-              trace_rays[c->k] = t.rays, trace_points[c->k] = t.points_traced;
-              if (c->k == widest) samples = std::move(traced.samples);
-            }
-            trace_ms[c->k] = summarise(ms);
-          }
-          for (const config* c : here) {
-            say(fmt::format("{} s={:.2f} {} {} k={} spp={}", slug(o.scenes[sc]), o.scales[si], gp.name, method_name(c->how),
-                            c->k, spp));
-            p.reconstruct.how = c->how;
-            p.reconstruct.k = c->k;
-            r.prepare(samples, p);  // untimed: kernel compilation, RBF weights
-            std::vector<double> ms;
-            frame_timing t;
-            for (uint32_t f = 0; f < o.frames; ++f) {
-              r.reconstruct(samples, gp.at, p, t);
-              ms.push_back(t.reconstruct_ms);
-            }
-            const frame image = r.reconstruct(samples, gp.at, p, t);
-            const timing rec = summarise(ms), tr = trace_ms[c->k];
-            const timing frame_ms{tr.median + rec.median, tr.min + rec.min, tr.max + rec.max};
-            const spacing_model eye{display, 1.0, set.model.acuity};
-            const error_report e = measure_error(image, ref.image, eye, gp.at);
-            const error_report vs_best = measure_error(image, best.image, eye, gp.at);
-            std::string profile;
-            for (double v : e.profile_rmse) profile += (profile.empty() ? "" : ";") + fmt::format("{:.5f}", v);
-            result_row row;
-            row.cells = {{"scene", o.scenes[sc]}, {"gaze", gp.name}, {"gaze_x", number(gp.at.x)}, {"gaze_y", number(gp.at.y)},
-                         {"scale", fmt::format("{:.2f}", o.scales[si])}, {"method", method_name(c->how)},
-                         {"k", std::to_string(c->k)}, {"spp", std::to_string(spp)}, {"texture_footprint", footprint},
-                         {"points_traced", std::to_string(trace_points[c->k])}, {"rays", std::to_string(trace_rays[c->k])},
-                         {"reference_rays", std::to_string(ref.rays)}, {"trace_ms", number(tr.median)},
-                         {"reconstruct_ms", number(rec.median)}, {"frame_ms", number(frame_ms.median)},
-                         {"frame_ms_min", number(frame_ms.min)}, {"frame_ms_max", number(frame_ms.max)},
-                         {"reference_ms", number(ref.ms.median)}, {"reference_ms_min", number(ref.ms.min)},
-                         {"reference_ms_max", number(ref.ms.max)}, {"speedup", number(ref.ms.median / frame_ms.median)},
-                         {"psnr", number(e.overall.psnr)}, {"ssim", number(e.overall.ssim)},
-                         {"psnr_fovea", number(e.bands[0].psnr)}, {"ssim_fovea", number(e.bands[0].ssim)},
-                         {"psnr_5_10", number(e.bands[1].psnr)}, {"ssim_5_10", number(e.bands[1].ssim)},
-                         {"psnr_10_20", number(e.bands[2].psnr)}, {"ssim_10_20", number(e.bands[2].ssim)},
-                         {"psnr_20_30", number(e.bands[3].psnr)}, {"ssim_20_30", number(e.bands[3].ssim)},
-                         {"psnr_periphery", number(e.bands[4].psnr)}, {"ssim_periphery", number(e.bands[4].ssim)},
-                         {"foveated_error", number(e.foveated_error)}, {"foveated_psnr", number(e.foveated_psnr)},
-                         {"psnr_vs_best_reference", number(vs_best.overall.psnr)},
-                         {"foveated_error_vs_best", number(vs_best.foveated_error)},
-                         {"best_reference_spp", std::to_string(best_spp)}, {"error_profile", profile},
-                         {"device", r.device()}, {"frames", std::to_string(o.frames)}, {"render_settings", settings}};
-            if (o.temporal_frames >= 2) {
-              say(fmt::format("temporal {} {} k={} spp={}", slug(o.scenes[sc]), method_name(c->how), c->k, spp));
-              flicker_params fp;
-              fp.frames = o.temporal_frames;
-              const flicker_report fl = measure_flicker(r, gp.at, p, fp);
-              row.cells["flicker"] = number(fl.raw);
-              row.cells["flicker_taa"] = number(fl.taa);
-              row.cells["flicker_reference"] = number(fl.reference);
-            }
-            writer.append(row);
-            done.insert(c->key);
-            ++measured;
-          }
+    auto row_for = [&](const config& c) {
+      result_row row;
+      const named_gaze& gp = gazes[c.gaze];
+      row.cells = {{"scene", o.scenes[sc]}, {"gaze", gp.name}, {"gaze_x", number(gp.at.x)}, {"gaze_y", number(gp.at.y)},
+                   {"kind", c.kind}, {"spp", std::to_string(c.spp)}, {"texture_footprint", footprint},
+                   {"device", r.device()}, {"frames", std::to_string(o.frames)}, {"render_settings", settings},
+                   {"full_rays", std::to_string(uint64_t(display.width) * display.height * c.spp)}};
+      if (c.kind == "full") {
+        row.cells["method"] = "full", row.cells["pixel_fraction"] = fraction_text(1);
+      } else {
+        row.cells["method"] = method_name(c.how), row.cells["k"] = std::to_string(c.k);
+        if (c.kind == "foveated") row.cells["scale"] = fmt::format("{:.2f}", o.scales[c.set]);
+        else row.cells["pixel_fraction"] = fraction_text(o.uniform_fractions[c.set]);
+      }
+      const measured& floor = floor_at(c.gaze);
+      put_floor(row, floor, coverage[c.gaze], o.reference_spp);
+      return row;
+    };
+    auto finish = [&](const config& c, result_row& row) {
+      writer.append(row);
+      done.insert(c.key);
+      ++measured_rows;
+    };
+    // Full-resolution frames at each spp: the image (deterministic) and every timing of it.
+    struct full_frame {
+      frame image;
+      std::vector<double> ms;
+    };
+    std::map<uint32_t, full_frame> fulls;
+    auto time_full = [&](uint32_t spp) {
+      render_params p = o.render;
+      p.spp = spp;
+      frame_timing t;
+      reference_trace traced = r.reference(display.width, display.height, p, &t);
+      full_frame& f = fulls[spp];
+      if (f.image.rgb.empty()) f.image = std::move(traced.image);
+      f.ms.push_back(t.trace_ms);
+      return t.trace_ms;
+    };
+
+    // Foveated sets, then the uniform baseline's: traced and reconstructed the same way.
+    for (const std::string kind : {"foveated", "uniform"}) {
+      const size_t sets = kind == std::string("foveated") ? o.scales.size() : o.uniform_fractions.size();
+      for (size_t si = 0; si < sets; ++si) {
+        if (!needed([&](const config& c) { return c.scene == sc && c.kind == kind && c.set == si; })) continue;
+        if (kind == std::string("foveated")) {
+          r.use_pointset(bench_pointset(o, display, o.scales[si], say));
+        } else {
+          say(fmt::format("uniform set of {} of the pixels", fraction_text(o.uniform_fractions[si])));
+          knn_params kp;
+          kp.k = widest_k;
+          r.use_pointset(std::make_shared<const pointset>(uniform_pointset(display, o.uniform_fractions[si], kp)));
         }
+        if (const std::string warning = r.device_warning(); !warning.empty()) report.line(warning);
+        const std::string what = kind == std::string("foveated") ? fmt::format("s={:.2f}", o.scales[si])
+                                                                   : fmt::format("uniform {}", fraction_text(o.uniform_fractions[si]));
+        for (size_t g = 0; g < gazes.size(); ++g)
+          for (uint32_t spp : o.spps) {
+            std::vector<const config*> here;
+            for (const config& c : all)
+              if (c.scene == sc && c.kind == kind && c.set == si && c.gaze == g && c.spp == spp && !done.count(c.key))
+                here.push_back(&c);
+            if (here.empty()) continue;
+            const named_gaze& gp = gazes[g];
+            render_params p = o.render;
+            p.spp = spp;
+            // One untimed trace at the largest k read gives every method its colours (a
+            // point's rays do not depend on k); each method's first launch is untimed too.
+            uint32_t widest = 0;
+            std::vector<uint32_t> ks;
+            for (const config* c : here) {
+              widest = std::max(widest, c->k);
+              if (std::find(ks.begin(), ks.end(), c->k) == ks.end()) ks.push_back(c->k);
+            }
+            say(fmt::format("tracing {} {} {} spp={}", slug(o.scenes[sc]), what, gp.name, spp));
+            p.reconstruct.k = widest;
+            frame_timing untimed;
+            const point_samples samples = r.trace(gp.at, p, untimed).samples;
+            for (const config* c : here) {
+              p.reconstruct.how = c->how, p.reconstruct.k = c->k;
+              r.prepare(samples, p);
+            }
+            // Interleaved: each repetition times the full-resolution frame, every k's trace
+            // and every method's reconstruction once, so slow phases of a shared machine
+            // hit all of them alike and each speedup is a ratio of neighbouring runs.
+            std::vector<double> full_ms;
+            std::map<uint32_t, std::vector<double>> trace_ms;
+            std::map<uint32_t, uint64_t> rays, points;
+            std::map<const config*, std::vector<double>> frame_ms;
+            for (uint32_t f = 0; f < o.frames; ++f) {
+              say(fmt::format("timing {} {} {} spp={} ({}/{})", slug(o.scenes[sc]), what, gp.name, spp, f + 1, o.frames));
+              full_ms.push_back(time_full(spp));
+              for (uint32_t k : ks) {
+                p.reconstruct.k = k;
+                frame_timing t;
+                r.trace(gp.at, p, t);
+                trace_ms[k].push_back(t.trace_ms);
+                rays[k] = t.rays, points[k] = t.points_traced;
+              }
+              for (const config* c : here) {
+                p.reconstruct.how = c->how, p.reconstruct.k = c->k;
+                frame_timing t;
+                r.reconstruct(samples, gp.at, p, t);
+                frame_ms[c].push_back(trace_ms[c->k].back() + t.reconstruct_ms);
+              }
+            }
+            for (const config* c : here) {
+              say(fmt::format("measuring {} {} {} {} k={} spp={}", slug(o.scenes[sc]), what, gp.name, method_name(c->how),
+                              c->k, spp));
+              p.reconstruct.how = c->how, p.reconstruct.k = c->k;
+              frame_timing t;
+              const frame image = r.reconstruct(samples, gp.at, p, t);
+              result_row row = row_for(*c);
+              std::vector<double> traces = trace_ms[c->k];
+              row.cells["points_traced"] = std::to_string(points[c->k]), row.cells["rays"] = std::to_string(rays[c->k]);
+              row.cells["trace_ms"] = number(summarise(traces).median);
+              std::vector<double> rec;
+              for (size_t f = 0; f < traces.size(); ++f) rec.push_back(frame_ms[c][f] - traces[f]);
+              row.cells["reconstruct_ms"] = number(summarise(rec).median);
+              put_timing(row, pair_timings(frame_ms[c], full_ms), o.spread_limit);
+              put_errors(row, measure(image, truth, eye, gp.at, o.flip));
+              if (o.temporal_frames >= 2) {
+                say(fmt::format("temporal {} {} {} k={} spp={}", slug(o.scenes[sc]), what, method_name(c->how), c->k, spp));
+                flicker_params fp;
+                fp.frames = o.temporal_frames;
+                const flicker_report fl = measure_flicker(r, gp.at, p, fp);
+                row.cells["flicker"] = number(fl.raw);
+                row.cells["flicker_taa"] = number(fl.taa);
+                row.cells["flicker_reference"] = number(fl.reference);
+              }
+              finish(*c, row);
+            }
+          }
+      }
+    }
+    // The full-resolution baseline: every timing of its frames gathered above (more when
+    // none was), errors at each gaze.
+    for (const config& c : all) {
+      if (c.scene != sc || c.kind != "full" || done.count(c.key)) continue;
+      full_frame& f = fulls[c.spp];
+      while (f.ms.size() < o.frames) {
+        say(fmt::format("timing full resolution spp={}", c.spp));
+        time_full(c.spp);
+      }
+      say(fmt::format("measuring full resolution {} spp={}", gazes[c.gaze].name, c.spp));
+      result_row row = row_for(c);
+      row.cells["points_traced"] = "", row.cells["rays"] = std::to_string(f.image.rays);
+      row.cells["trace_ms"] = number(summarise(f.ms).median), row.cells["reconstruct_ms"] = "0";
+      put_timing(row, pair_timings(f.ms, f.ms), o.spread_limit);
+      put_errors(row, measure(f.image, truth, eye, gazes[c.gaze].at, o.flip));
+      finish(c, row);
     }
   }
   say("done");
-  return measured;
+  return measured_rows;
 }
 
 }  // namespace fov

@@ -27,32 +27,48 @@ std::vector<named_gaze> parse_gazes(const std::vector<std::string>& items, const
 struct timing {
   double median = 0, min = 0, max = 0;
 };
-timing summarise(std::vector<double> v);  // v not empty
+timing summarise(std::vector<double> v);  // v not empty; the median of an even count is the mean of the middle two
 
-// A full-resolution reference of one scene at one spp: the frame and its timing.
+// A full-resolution reference of one scene at one spp and seed: the frame and what one
+// trace of it took.
 struct reference_frame {
   frame image;
-  timing ms;
+  double ms = 0;
   uint64_t rays = 0;
   bool from_disk = false;  // read from the cache, not traced by this run
 };
 
-// References per spp for one scene, cached in `dir` (EXR + JSON with the timing) so a
-// resumed or repeated sweep reuses them: get() traces `frames` times at most once per
-// scene, size and spp, and reads the files after that.
+// Converged references, cached in `dir` (EXR + JSON) so a resumed or repeated sweep
+// reuses them: get() traces once per scene, size, spp and seed, and reads the files after.
 class reference_cache {
  public:
-  reference_cache(std::string dir, std::string scene, const display_geometry& d, uint32_t frames);
-  const reference_frame& get(renderer& r, const render_params& base, uint32_t spp,
+  reference_cache(std::string dir, std::string scene, const display_geometry& d);
+  const reference_frame& get(renderer& r, const render_params& base, uint32_t spp, uint64_t seed,
                              const std::function<void(const std::string&)>& say = {});
-  std::string file_base(uint32_t spp) const;  // DIR/<scene slug>-<W>x<H>-spp<N>, without extension
+  // DIR/<scene slug>-<W>x<H>-spp<N>-seed<S>, without extension
+  std::string file_base(uint32_t spp, uint64_t seed) const;
 
  private:
   std::string dir_, scene_;
   display_geometry display_;
-  uint32_t frames_;
-  std::map<uint32_t, reference_frame> refs_;
+  std::map<std::pair<uint32_t, uint64_t>, reference_frame> refs_;
 };
+
+// The seeds of a sweep's two converged references: drawn from the sweep's seed, so they
+// share no ray position with its full-resolution frames (seed) or TAA frames (seed + n).
+std::pair<uint64_t, uint64_t> converged_seeds(uint64_t seed);
+
+// The paired timing of one configuration: per repetition, its frame (trace + reconstruct)
+// and the full-resolution frame at the same spp timed right before it.
+struct paired_timing {
+  timing frame_ms, full_ms, speedup;  // speedup: full / frame per repetition
+};
+paired_timing pair_timings(const std::vector<double>& frame_ms, const std::vector<double>& full_ms);
+
+// Per band (edges 5, 10, 20, 30 degrees), the share of a frame's pixels whose rays hit
+// geometry (finite depth): where a scene is sky, its errors say nothing. NaN for a band
+// without pixels, and for every band of a frame without depth.
+std::vector<double> geometry_coverage(const frame& f, const display_geometry& d, gaze_point gaze);
 
 // A preset name (fove, vive, desktop1080) or "WxH" (8..8192, v = 1); throws usage_error naming --display.
 display_geometry parse_display(const std::string& text);

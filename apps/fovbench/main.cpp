@@ -54,7 +54,18 @@ int main(int argc, char** argv) {
   app.add_option("-o,--out", o.out, "Output directory (results.csv, plots, report.md, references/)");
   app.add_option("--points-dir", o.points_dir, "Where point sets are read, or generated when missing");
   fov::add_render_flags(app, o.render, fov::flags_trace | fov::flags_reconstruct | fov::flags_device | fov::flags_view);
-  app.add_option("--frames", o.frames, "Timed frames per configuration and reference (median reported)");
+  app.add_option("--frames", o.frames, "Timed repetitions per configuration, interleaved with the full-resolution frame (median, min, max)")
+      ->capture_default_str();
+  app.add_option("--reference-spp", o.reference_spp, "Rays per pixel of the converged reference every error is measured against")
+      ->capture_default_str();
+  fov::add_label_option(app, "--baselines", o.baselines, fov::baseline_labels,
+                        "What is measured beside foveation: full (full resolution at each --spp), uniform (uniform sets)")
+      ->delimiter(',');
+  app.add_option("--uniform-fractions", o.uniform_fractions, "Pixel fractions of the uniform sets, e.g. 0.5,0.25")
+      ->delimiter(',');
+  app.add_flag("--no-flip", [&o](int64_t) { o.flip = false; }, "Skip FLIP and the foveated FLIP (seconds per row)");
+  app.add_option("--spread-limit", o.spread_limit, "Flag rows whose timing spread exceeds this fraction of the median")
+      ->capture_default_str();
   app.add_option("--temporal-frames", o.temporal_frames, "Frames of the camera path for flicker (0: skip)");
   app.add_flag("--resume", o.resume, "Skip configurations already in results.csv");
   app.add_option("--budget-psnr", o.budget_psnr, "Report the fastest configuration with PSNR >= this (dB)");

@@ -63,6 +63,9 @@ void draw_panel(cv::Mat& img, const plot_panel& p, int ox) {
       if (!std::isfinite(s.x[i]) || !std::isfinite(s.y[i])) continue;
       if ((p.log_x && s.x[i] <= 0) || (p.log_y && s.y[i] <= 0)) continue;
       xlo = std::min(xlo, s.x[i]), xhi = std::max(xhi, s.x[i]), ylo = std::min(ylo, s.y[i]), yhi = std::max(yhi, s.y[i]);
+      for (const std::vector<double>* bar : {&s.y_lo, &s.y_hi})
+        if (i < bar->size() && std::isfinite((*bar)[i]) && (!p.log_y || (*bar)[i] > 0))
+          ylo = std::min(ylo, (*bar)[i]), yhi = std::max(yhi, (*bar)[i]);
     }
   const fitted_title title = fit_title(p.title, W - left - right);
   cv::putText(img, title.text, {ox + left, 25}, font, title.scale, {0, 0, 0}, 1, cv::LINE_AA);
@@ -120,6 +123,14 @@ void draw_panel(cv::Mat& img, const plot_panel& p, int ox) {
     }
     if (s.lines && pts.size() > 1) cv::polylines(img, pts, false, c, 2, cv::LINE_AA);
     for (size_t j = 0; j < pts.size(); ++j) {
+      const size_t i = index[j];
+      if (i < s.y_lo.size() && i < s.y_hi.size() && std::isfinite(s.y_lo[i]) && std::isfinite(s.y_hi[i]) &&
+          (!p.log_y || s.y_lo[i] > 0)) {
+        const int x = pts[j].x, lo = fy(s.y_lo[i]), hi = fy(s.y_hi[i]);
+        cv::line(img, {x, lo}, {x, hi}, c, 1, cv::LINE_AA);
+        cv::line(img, {x - 4, lo}, {x + 4, lo}, c, 1, cv::LINE_AA);
+        cv::line(img, {x - 4, hi}, {x + 4, hi}, c, 1, cv::LINE_AA);
+      }
       if (s.markers) cv::circle(img, pts[j], 4, c, cv::FILLED, cv::LINE_AA);
       if (index[j] < s.ringed.size() && s.ringed[index[j]]) cv::circle(img, pts[j], 8, black, 1, cv::LINE_AA);
       if (index[j] < s.labels.size() && !s.labels[index[j]].empty())

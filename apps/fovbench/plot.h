@@ -14,6 +14,7 @@ struct plot_series {
   bool lines = true, markers = true;
   std::vector<bool> ringed;  // per point: draw a ring (e.g. on the Pareto front); may be empty
   std::vector<std::string> labels;  // per point: a small text beside it ("" for none); may be empty
+  std::vector<double> y_lo, y_hi;   // per point: an error bar from y_lo to y_hi; may be empty
 };
 
 struct plot_panel {

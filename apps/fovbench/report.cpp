@@ -31,109 +31,178 @@ std::string short_scene(const std::string& s) {
   return s.rfind("env:", 0) == 0 ? "env:" + name : name;
 }
 
-// A configuration of knobs (scale, method, k, spp) averaged over the gazes of the sweep:
-// the gaze is not a knob, so the trade is judged on the average. Its errors are against
-// the reference with the most rays per pixel, so configurations of different spp are
-// judged against one target.
+// A configuration of knobs (kind, scale or pixel fraction, method, k, spp) averaged over
+// the gazes of the sweep: the gaze is not a knob, so the trade is judged on the average.
 struct knob_mean {
-  std::string method, k, scale, spp;
-  double frame_ms = 0, reference_ms = 0, foveated_error = 0, psnr = 0, psnr_fovea = 0, speedup = 0;
+  std::string kind, method, k, scale, fraction, spp;
+  double frame_ms = 0, frame_lo = 0, frame_hi = 0, full_ms = 0, speedup = 0, speedup_lo = 0, speedup_hi = 0;
+  double psnr = 0, psnr_fovea = 0, foveated_error = 0;
+  double flip = 0, flip_fovea = 0, flip_p99 = 0, foveated_flip = 0, foveated_flip_p99 = 0, foveated_flip_worst_band = 0;
   int gazes = 0;
+  std::string label() const {
+    if (kind == "full") return fmt::format("full {}spp", spp);
+    const std::string k_text = method == "nn" ? "" : " k" + k;
+    if (kind == "uniform") return fmt::format("u{} {} {}spp{}", fraction.substr(0, 4), method, spp, k_text);
+    return fmt::format("s{} {} {}spp{}", scale, method, spp, k_text);
+  }
+  // The mean of a named error column.
+  double error(const std::string& metric) const {
+    if (metric == "foveated_flip") return foveated_flip;
+    if (metric == "foveated_flip_worst_band") return foveated_flip_worst_band;
+    if (metric == "foveated_flip_p99") return foveated_flip_p99;
+    if (metric == "flip") return flip;
+    if (metric == "flip_fovea") return flip_fovea;
+    if (metric == "flip_p99") return flip_p99;
+    return foveated_error;
+  }
 };
 
 std::vector<knob_mean> knob_means(const std::vector<const result_row*>& rows) {
   std::vector<knob_mean> out;
+  auto mse = [](double psnr) { return std::isinf(psnr) ? 0.0 : 255.0 * 255.0 / std::pow(10.0, psnr / 10); };
   for (const result_row* r : rows) {
+    const knob_mean id{r->text("kind"), r->text("method"), r->text("k"), r->text("scale"), r->text("pixel_fraction"), r->text("spp")};
     auto it = std::find_if(out.begin(), out.end(), [&](const knob_mean& m) {
-      return m.method == r->text("method") && m.k == r->text("k") && m.scale == r->text("scale") && m.spp == r->text("spp");
+      return m.kind == id.kind && m.method == id.method && m.k == id.k && m.scale == id.scale && m.fraction == id.fraction &&
+             m.spp == id.spp;
     });
-    if (it == out.end()) it = out.insert(out.end(), knob_mean{r->text("method"), r->text("k"), r->text("scale"), r->text("spp")});
-    it->frame_ms += r->number("frame_ms"), it->reference_ms += r->number("reference_ms");
+    if (it == out.end()) it = out.insert(out.end(), id);
+    it->frame_ms += r->number("frame_ms"), it->frame_lo += r->number("frame_ms_lo"), it->frame_hi += r->number("frame_ms_hi");
+    it->full_ms += r->number("full_ms"), it->speedup += r->number("speedup");
+    it->speedup_lo += r->number("speedup_lo"), it->speedup_hi += r->number("speedup_hi");
     // PSNRs are averaged as mean squared errors (an identical band, PSNR inf, adds 0).
-    auto mse = [](double psnr) { return 255.0 * 255.0 / std::pow(10.0, psnr / 10); };
-    it->foveated_error += r->number("foveated_error_vs_best"), it->psnr += mse(r->number("psnr_vs_best_reference"));
-    it->psnr_fovea += mse(r->number("psnr_fovea")), it->speedup += r->number("speedup"), ++it->gazes;
+    it->psnr += mse(r->number("psnr")), it->psnr_fovea += mse(r->number("psnr_fovea"));
+    it->foveated_error += r->number("foveated_error");
+    it->flip += r->number("flip"), it->flip_fovea += r->number("flip_fovea"), it->flip_p99 += r->number("flip_p99");
+    it->foveated_flip += r->number("foveated_flip"), it->foveated_flip_p99 += r->number("foveated_flip_p99");
+    it->foveated_flip_worst_band += r->number("foveated_flip_worst_band");
+    ++it->gazes;
   }
   for (knob_mean& m : out) {
     const double n = m.gazes;
-    m.frame_ms /= n, m.reference_ms /= n, m.foveated_error /= n, m.speedup /= n;
+    for (double* v : {&m.frame_ms, &m.frame_lo, &m.frame_hi, &m.full_ms, &m.speedup, &m.speedup_lo, &m.speedup_hi,
+                      &m.foveated_error, &m.flip, &m.flip_fovea, &m.flip_p99, &m.foveated_flip, &m.foveated_flip_p99,
+                      &m.foveated_flip_worst_band})
+      *v /= n;
     auto psnr = [](double mse) { return mse > 0 ? 10 * std::log10(255.0 * 255.0 / mse) : INFINITY; };
     m.psnr = psnr(m.psnr / n), m.psnr_fovea = psnr(m.psnr_fovea / n);
   }
   return out;
 }
 
-std::vector<size_t> front_of(const std::vector<knob_mean>& means) {
+// The error the figures and the headline use: the foveated FLIP, or the foveated RMSE
+// when the sweep ran with --no-flip.
+std::string headline_metric(const std::vector<knob_mean>& means) {
+  for (const knob_mean& m : means)
+    if (!std::isnan(m.foveated_flip)) return "foveated_flip";
+  return "foveated_error";
+}
+
+// Indices of the front of the means whose kind is in `kinds`.
+std::vector<size_t> front_of(const std::vector<knob_mean>& means, const std::set<std::string>& kinds, const std::string& metric) {
   std::vector<double> x, y;
-  for (const knob_mean& m : means) x.push_back(m.frame_ms), y.push_back(m.foveated_error);
+  for (const knob_mean& m : means) {
+    const bool in = kinds.count(m.kind) > 0;
+    x.push_back(in ? m.frame_ms : NAN), y.push_back(in ? m.error(metric) : NAN);
+  }
   return pareto_front(x, y);
+}
+
+std::vector<std::pair<double, double>> points_of(const std::vector<knob_mean>& means, const std::vector<size_t>& front,
+                                                 const std::string& metric) {
+  std::vector<std::pair<double, double>> out;
+  for (size_t i : front) out.emplace_back(means[i].frame_ms, means[i].error(metric));
+  return out;
+}
+
+const std::set<std::string> foveated_kind{"foveated"}, baseline_kinds{"full", "uniform"};
+
+std::vector<const result_row*> rows_of(const std::vector<result_row>& rows, const std::string& scene) {
+  std::vector<const result_row*> mine;
+  for (const result_row& r : rows)
+    if (r.text("scene") == scene) mine.push_back(&r);
+  return mine;
+}
+
+plot_panel pareto_panel(const std::string& scene, const std::vector<knob_mean>& means, const std::string& metric) {
+  plot_panel p;
+  p.title = fmt::format("Pareto fronts: {} (mean over gazes)", short_scene(scene));
+  p.x_label = "frame time (ms, log scale)";
+  p.y_label = metric + " vs converged reference";
+  p.log_x = true;
+  const std::vector<size_t> fov_front = front_of(means, foveated_kind, metric), base_front = front_of(means, baseline_kinds, metric);
+  auto on = [](const std::vector<size_t>& f, size_t i) { return std::find(f.begin(), f.end(), i) != f.end(); };
+  struct group {
+    std::string name, kind, method;
+    int colour;
+  };
+  const group groups[] = {{"foveated nn", "foveated", "nn", 0}, {"foveated shepard", "foveated", "shepard", 1},
+                          {"foveated rbf", "foveated", "rbf", 2}, {"uniform", "uniform", "", 3}, {"full resolution", "full", "", 4}};
+  for (const group& g : groups) {
+    plot_series s;
+    s.name = g.name;
+    s.colour = g.colour;
+    s.lines = false;
+    for (size_t i = 0; i < means.size(); ++i) {
+      if (means[i].kind != g.kind || (!g.method.empty() && means[i].method != g.method)) continue;
+      s.x.push_back(means[i].frame_ms);
+      s.y.push_back(means[i].error(metric));
+      const bool front = on(fov_front, i) || on(base_front, i);
+      s.ringed.push_back(front);
+      s.labels.push_back(front ? means[i].label() : "");
+    }
+    if (!s.x.empty()) p.series.push_back(s);
+  }
+  for (const auto& [name, front, colour] : {std::tuple<std::string, std::vector<size_t>, int>{"foveated front", fov_front, 6},
+                                            {"baseline front", base_front, 5}}) {
+    plot_series f;
+    f.name = name;
+    f.colour = colour;
+    f.markers = false;
+    for (size_t i : front) f.x.push_back(means[i].frame_ms), f.y.push_back(means[i].error(metric));
+    if (!f.x.empty()) p.series.push_back(f);
+  }
+  return p;
 }
 
 }  // namespace
 
 void write_bench_figures(const std::vector<result_row>& rows, const bench_options& o, const std::string& dir) {
-  std::vector<plot_panel> pareto, profiles, speedups;
+  std::vector<plot_panel> pareto, pareto_flip, profiles, speedups;
   for (const std::string& scene : scenes_of(rows)) {
-    std::vector<const result_row*> mine;
-    for (const result_row& r : rows)
-      if (r.text("scene") == scene) mine.push_back(&r);
+    const std::vector<const result_row*> mine = rows_of(rows, scene);
     const std::vector<knob_mean> means = knob_means(mine);
-    const std::vector<size_t> front = front_of(means);
-    // Pareto: foveated error against frame time (means over the gazes), one colour per
-    // method, the front ringed, joined and labelled (scale, spp, k).
-    plot_panel p;
-    p.title = "Pareto front: " + short_scene(scene) + " (mean over gazes)";
-    p.x_label = "frame time (ms, log scale)";
-    p.y_label = "foveated error vs best reference";
-    p.log_x = true;
-    for (const std::string m : {"nn", "shepard", "rbf"}) {
-      plot_series s;
-      s.name = m;
-      s.colour = method_colour(m);
-      s.lines = false;
-      for (size_t i = 0; i < means.size(); ++i)
-        if (means[i].method == m) {
-          s.x.push_back(means[i].frame_ms);
-          s.y.push_back(means[i].foveated_error);
-          const bool on_front = std::find(front.begin(), front.end(), i) != front.end();
-          s.ringed.push_back(on_front);
-          // The front's points say what they are: scale, rays per sample and k.
-          s.labels.push_back(on_front ? fmt::format("s{} {}spp{}", means[i].scale, means[i].spp,
-                                                    m == std::string("nn") ? "" : " k" + means[i].k)
-                                      : "");
-        }
-      if (!s.x.empty()) p.series.push_back(s);
-    }
-    plot_series f;
-    f.name = "Pareto front";
-    f.colour = 6;
-    f.markers = false;
-    for (size_t i : front) f.x.push_back(means[i].frame_ms), f.y.push_back(means[i].foveated_error);
-    p.series.push_back(f);
-    pareto.push_back(p);
+    const std::string metric = headline_metric(means);
+    pareto.push_back(pareto_panel(scene, means, metric));
+    if (metric == "foveated_flip") pareto_flip.push_back(pareto_panel(scene, means, "flip"));
 
-    // Error by eccentricity: each method at the smallest and largest scale, at the first
-    // gaze, the most rays per sample and the first k listed (nn: 1).
+    // Error by eccentricity: each method at the smallest and largest scale, and the
+    // full-resolution frame, at the first gaze, the most rays per sample and the first k
+    // listed (nn: 1).
     plot_panel e;
     const std::string gaze = mine.empty() ? "" : mine[0]->text("gaze");
     double lo_scale = 1e9, hi_scale = 0, top_spp = 0;
-    for (const result_row* r : mine)
-      lo_scale = std::min(lo_scale, r->number("scale")), hi_scale = std::max(hi_scale, r->number("scale")),
+    for (const result_row* r : mine) {
+      if (r->text("kind") == "foveated")
+        lo_scale = std::min(lo_scale, r->number("scale")), hi_scale = std::max(hi_scale, r->number("scale"));
       top_spp = std::max(top_spp, r->number("spp"));
+    }
     e.title = fmt::format("Error by eccentricity: {} (gaze {}, {:g} spp)", short_scene(scene), gaze, top_spp);
     e.x_label = "eccentricity (degrees)";
-    e.y_label = "RMSE (full scale)";
+    e.y_label = "RMSE vs converged reference (full scale)";
     std::set<std::string> drawn;
     for (const result_row* r : mine) {
       const double s = r->number("scale");
-      if (r->text("gaze") != gaze || r->number("spp") != top_spp || (s != lo_scale && s != hi_scale)) continue;
-      const std::string id = r->text("method") + "|" + r->text("scale");
-      if (drawn.count(id) || (r->text("method") != "nn" && r->text("k") != std::to_string(o.ks.empty() ? 5 : o.ks[0])))
+      const bool full = r->text("kind") == "full";
+      if (r->text("gaze") != gaze || r->number("spp") != top_spp) continue;
+      if (!full && (r->text("kind") != "foveated" || (s != lo_scale && s != hi_scale))) continue;
+      const std::string id = r->text("kind") + "|" + r->text("method") + "|" + r->text("scale");
+      if (drawn.count(id) || (!full && r->text("method") != "nn" && r->text("k") != std::to_string(o.ks.empty() ? 5 : o.ks[0])))
         continue;
       drawn.insert(id);
       plot_series line;
-      line.name = fmt::format("{} k={} s={}", r->text("method"), r->text("k"), r->text("scale"));
-      line.colour = method_colour(r->text("method")) + (s == hi_scale && s != lo_scale ? 3 : 0);
+      line.name = full ? "full resolution" : fmt::format("{} k={} s={}", r->text("method"), r->text("k"), r->text("scale"));
+      line.colour = full ? 4 : method_colour(r->text("method")) + (s == hi_scale && s != lo_scale ? 3 : 0);
       line.markers = false;
       std::stringstream in(r->text("error_profile"));
       std::string v;
@@ -142,17 +211,17 @@ void write_bench_figures(const std::vector<result_row>& rows, const bench_option
     }
     profiles.push_back(e);
 
-    // Speedup against scale: per method (at the first k listed; nn at 1) and spp, averaged over gazes.
+    // Same-spp speedup against scale: per method (at the first k listed; nn at 1) and spp,
+    // means over gazes, bars from the slowest to the fastest paired repetition.
     plot_panel sp;
-    sp.title = "Speedup over the reference: " + short_scene(scene) + " (mean over gazes)";
+    sp.title = "Speedup over full resolution, same spp: " + short_scene(scene) + " (mean over gazes)";
     sp.x_label = "point-set scale s";
-    sp.y_label = "speedup (reference ms / frame ms)";
+    sp.y_label = "speedup (full-resolution ms / frame ms)";
     const std::string first_k = std::to_string(o.ks.empty() ? 5 : o.ks[0]);
-    std::map<std::string, std::map<double, std::pair<double, int>>> curves;
-    for (const result_row* r : mine) {
-      if (r->text("method") != "nn" && r->text("k") != first_k) continue;
-      auto& cell = curves[fmt::format("{} k={} spp={:>2}", r->text("method"), r->text("k"), r->text("spp"))][r->number("scale")];
-      cell.first += r->number("speedup"), ++cell.second;
+    std::map<std::string, std::map<double, const knob_mean*>> curves;
+    for (const knob_mean& m : means) {
+      if (m.kind != "foveated" || (m.method != "nn" && m.k != first_k)) continue;
+      curves[fmt::format("{} k={} spp={:>2}", m.method, m.k, m.spp)][std::stod(m.scale)] = &m;
     }
     int c = 0;
     for (const auto& [name, points] : curves) {
@@ -160,43 +229,131 @@ void write_bench_figures(const std::vector<result_row>& rows, const bench_option
       plot_series s;
       s.name = name;
       s.colour = c++;
-      for (const auto& [scale, sum] : points) s.x.push_back(scale), s.y.push_back(sum.first / sum.second);
+      for (const auto& [scale, m] : points)
+        s.x.push_back(scale), s.y.push_back(m->speedup), s.y_lo.push_back(m->speedup_lo), s.y_hi.push_back(m->speedup_hi);
       sp.series.push_back(s);
     }
     speedups.push_back(sp);
   }
   write_plot(pareto, dir + "/pareto.png");
+  if (!pareto_flip.empty()) write_plot(pareto_flip, dir + "/pareto_flip.png");
   write_plot(profiles, dir + "/error_by_eccentricity.png");
   write_plot(speedups, dir + "/speedup_vs_scale.png");
 }
+
+namespace {
+
+std::string fmt_db(double v) { return std::isfinite(v) ? fmt::format("{:.2f}", v) : std::string("inf"); }
+std::string fmt_err(double v) { return std::isnan(v) ? std::string("-") : fmt::format("{:.4f}", v); }
+
+// min / median / max of a column over rows, as text.
+std::string spread_of(const std::vector<const result_row*>& rows, const std::string& column, const char* format) {
+  std::vector<double> v;
+  for (const result_row* r : rows)
+    if (!std::isnan(r->number(column))) v.push_back(r->number(column));
+  if (v.empty()) return "-";
+  std::sort(v.begin(), v.end());
+  return fmt::format(fmt::runtime(format), v.front()) + " / " + fmt::format(fmt::runtime(format), v[v.size() / 2]) + " / " +
+         fmt::format(fmt::runtime(format), v.back());
+}
+
+std::string equal_error_table(const std::vector<knob_mean>& means, const std::string& metric) {
+  const std::vector<size_t> ff = front_of(means, foveated_kind, metric), bf = front_of(means, baseline_kinds, metric);
+  const auto fov = points_of(means, ff, metric), base = points_of(means, bf, metric);
+  if (fov.empty() || base.empty()) return "No foveated or no baseline configuration to compare.\n";
+  auto range = [](const std::vector<std::pair<double, double>>& f) {
+    double lo = INFINITY, hi = -INFINITY;
+    for (const auto& p : f) lo = std::min(lo, p.second), hi = std::max(hi, p.second);
+    return std::make_pair(lo, hi);
+  };
+  const auto [flo, fhi] = range(fov);
+  const auto [blo, bhi] = range(base);
+  const double lo = std::max(flo, blo), hi = std::min(fhi, bhi);
+  std::string md;
+  if (!(lo < hi)) {
+    md += fmt::format("The fronts share no error level: foveated {:.4f}..{:.4f}, baselines {:.4f}..{:.4f}. ", flo, fhi, blo, bhi);
+    md += flo > bhi ? "Every baseline configuration errs less than the best foveated one.\n"
+                    : blo > fhi ? "Every foveated configuration on the front errs less than the best baseline.\n"
+                                : "\n";
+    return md;
+  }
+  md += fmt::format("| {} | foveated ms | best baseline ms | equal-error speedup |\n|---:|---:|---:|---:|\n", metric);
+  for (int i = 0; i < 5; ++i) {
+    // Log-spaced, worst first; the ends exactly the overlap's.
+    const double e = i == 0 ? hi : i == 4 ? lo : std::exp(std::log(hi) + (std::log(lo) - std::log(hi)) * i / 4.0);
+    const double tf = time_at_error(fov, e), tb = time_at_error(base, e);
+    md += fmt::format("| {:.4f} | {:.1f} | {:.1f} | {:.2f}x |\n", e, tf, tb, tb / tf);
+  }
+  md += fmt::format("\n(Error levels span the overlap of the two fronts, {:.4f}..{:.4f}; times interpolated along each front "
+                    "in log time; below 1x foveation is slower for the same error.)\n", lo, hi);
+  return md;
+}
+
+}  // namespace
 
 void write_bench_report(const std::vector<result_row>& rows, const bench_options& o, const std::string& path, int argc,
                         char** argv) {
   std::string md = "# fovbench report\n\n```\n";
   for (int i = 0; i < argc; ++i) md += (i ? " " : "") + std::string(argv[i]);
   md += "\n```\n\n";
-  md += fmt::format("{} configurations in `results.csv`. Times are medians of {} frames (trace and reconstruction "
-                    "timed apart and added; the reference timed the same way in the same run). Errors are on "
-                    "display values against the full-resolution reference with the same rays per pixel; the "
-                    "foveated error weights each pixel's squared error by the eye's cut-off frequency at its "
-                    "eccentricity relative to the display's (docs/speed-accuracy.md).\n\n",
-                    rows.size(), o.frames);
+  md += fmt::format("{} rows in `results.csv`. Every error is on display values against a converged full-resolution reference "
+                    "({} Sobol rays per pixel); its noise floor is a second such reference (another seed) measured against it. "
+                    "Times are medians of {} repetitions, each timing the full-resolution frame at the same spp right before the "
+                    "configuration (speedups are per-repetition ratios: median, min, max). FLIP is LDR-FLIP at the display's "
+                    "pixels per degree; the foveated FLIP widens its filters as acuity falls (docs/metrics.md).\n\n",
+                    rows.size(), o.reference_spp, o.frames);
+  // How noisy the machine was: the timing spreads of every row.
+  std::vector<const result_row*> all;
+  for (const result_row& r : rows) all.push_back(&r);
+  std::vector<double> rel;
+  size_t noisy = 0;
+  for (const result_row* r : all) {
+    const double m = r->number("frame_ms");
+    if (m > 0) rel.push_back((r->number("frame_ms_hi") - r->number("frame_ms_lo")) / m);
+    noisy += r->text("timing_flag") == "noisy";
+  }
+  std::sort(rel.begin(), rel.end());
+  if (!rel.empty())
+    md += fmt::format("**Timing noise**: the spread (max - min) of a row's repetitions was {:.0f} % of its median at the median "
+                      "row, {:.0f} % at the worst; {} of {} rows exceed the {:.0f} % limit and are flagged `noisy`.\n\n",
+                      100 * rel[rel.size() / 2], 100 * rel.back(), noisy, rows.size(), 100 * o.spread_limit);
   for (const std::string& scene : scenes_of(rows)) {
-    std::vector<const result_row*> mine;
-    for (const result_row& r : rows)
-      if (r.text("scene") == scene) mine.push_back(&r);
-    md += fmt::format("## {}\n\n### Pareto front (frame time against foveated error, means over the gazes)\n\n",
-                      short_scene(scene));
-    md += "| method | k | scale | spp | frame ms | reference ms | speedup | PSNR* | PSNR < 5° | foveated error* |\n";
-    md += "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+    const std::vector<const result_row*> mine = rows_of(rows, scene);
     const std::vector<knob_mean> means = knob_means(mine);
-    for (size_t i : front_of(means)) {
-      const knob_mean& m = means[i];
-      md += fmt::format("| {} | {} | {} | {} | {:.1f} | {:.1f} | {:.2f} | {:.2f} | {:.2f} | {:.4f} |\n", m.method, m.k, m.scale,
-                        m.spp, m.frame_ms, m.reference_ms, m.speedup, m.psnr, m.psnr_fovea, m.foveated_error);
+    const std::string metric = headline_metric(means);
+    md += fmt::format("## {}\n\n", short_scene(scene));
+    // The reference's own error and where the scene has content, per gaze.
+    md += "### The reference: noise floor and content\n\n| gaze | floor PSNR | floor PSNR < 5° | floor FLIP | floor FLIP < 5° | "
+          "floor foveated FLIP | geometry < 5° | 5-10° | 10-20° | 20-30° | > 30° |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+    std::set<std::string> gazes_seen;
+    for (const result_row* r : mine) {
+      if (!gazes_seen.insert(r->text("gaze")).second) continue;
+      auto share = [&](const char* c) { return std::isnan(r->number(c)) ? std::string("-") : fmt::format("{:.0f} %", 100 * r->number(c)); };
+      md += fmt::format("| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |\n", r->text("gaze"), fmt_db(r->number("noise_floor_psnr")),
+                        fmt_db(r->number("noise_floor_psnr_fovea")), fmt_err(r->number("noise_floor_flip")),
+                        fmt_err(r->number("noise_floor_flip_fovea")), fmt_err(r->number("noise_floor_foveated_flip")),
+                        share("geometry_fovea"), share("geometry_5_10"), share("geometry_10_20"), share("geometry_20_30"),
+                        share("geometry_periphery"));
     }
-    md += "\n\\* against the reference with the most rays per pixel (the others: the reference with the same spp; "
-          "speedup: against that reference's time).\n";
+    md += "\nAn error near the floor is the reference's, not the configuration's.\n\n";
+    md += fmt::format("### Equal-error speedup over the best baseline ({})\n\n", metric);
+    md += equal_error_table(means, metric);
+    if (metric == "foveated_flip")
+      for (const std::string other : {"foveated_flip_worst_band", "foveated_flip_p99", "flip", "flip_fovea"})
+        md += fmt::format("\nPooled as `{}`:\n\n", other) + equal_error_table(means, other);
+    md += fmt::format("\n### Pareto fronts ({} against frame time, means over the gazes)\n\n", metric);
+    md += "| kind | configuration | frame ms (min-max) | same-spp speedup (min-max) | PSNR | PSNR < 5° | FLIP | FLIP < 5° | "
+          "foveated FLIP | worst band | foveated error |\n|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+    for (const std::set<std::string>& kinds : {foveated_kind, baseline_kinds})
+      for (size_t i : front_of(means, kinds, metric)) {
+        const knob_mean& m = means[i];
+        md += fmt::format("| {} | {} | {:.1f} ({:.1f}-{:.1f}) | {:.2f} ({:.2f}-{:.2f}) | {} | {} | {} | {} | {} | {} | {:.4f} |\n",
+                          m.kind, m.label(), m.frame_ms, m.frame_lo, m.frame_hi, m.speedup, m.speedup_lo, m.speedup_hi,
+                          fmt_db(m.psnr), fmt_db(m.psnr_fovea), fmt_err(m.flip), fmt_err(m.flip_fovea), fmt_err(m.foveated_flip),
+                          fmt_err(m.foveated_flip_worst_band), m.foveated_error);
+      }
+    md += fmt::format("\nTiming spread over this scene's rows (min / median / max): frame ms {}, same-spp speedup {}.\n",
+                      spread_of(mine, "frame_ms", "{:.1f}"), spread_of(mine, "speedup", "{:.2f}"));
     const bool by_psnr = !std::isnan(o.budget_psnr), by_foveated = !std::isnan(o.budget_foveated);
     if (by_psnr || by_foveated) {
       const knob_mean* fastest = nullptr;
@@ -204,28 +361,29 @@ void write_bench_report(const std::vector<result_row>& rows, const bench_options
         const bool ok = by_psnr ? m.psnr >= o.budget_psnr : m.foveated_error <= o.budget_foveated;
         if (ok && (!fastest || m.frame_ms < fastest->frame_ms)) fastest = &m;
       }
-      const std::string budget = by_psnr ? fmt::format("PSNR* >= {} dB", o.budget_psnr)
-                                         : fmt::format("foveated error* <= {}", o.budget_foveated);
-      md += fastest ? fmt::format("\n**Fastest within the budget ({}, means over the gazes)**: {} k={} s={} spp={}: {:.1f} ms, "
-                                  "{:.2f}x the reference, PSNR {:.2f} dB, foveated error {:.4f}.\n",
-                                  budget, fastest->method, fastest->k, fastest->scale, fastest->spp, fastest->frame_ms,
-                                  fastest->speedup, fastest->psnr, fastest->foveated_error)
+      const std::string budget = by_psnr ? fmt::format("PSNR >= {} dB", o.budget_psnr)
+                                         : fmt::format("foveated error <= {}", o.budget_foveated);
+      md += fastest ? fmt::format("\n**Fastest within the budget ({}, means over the gazes)**: {} ({}): {:.1f} ms, "
+                                  "{:.2f}x full resolution at its spp, PSNR {} dB, foveated error {:.4f}.\n",
+                                  budget, fastest->label(), fastest->kind, fastest->frame_ms, fastest->speedup,
+                                  fmt_db(fastest->psnr), fastest->foveated_error)
                     : fmt::format("\n**No configuration meets the budget ({}).**\n", budget);
     }
     // Beside the thesis: its 4.3x at s = 1.0 came from a sample ratio, not a time.
-    md += "\n### Against the thesis's claims\n\n| scale | method | k | spp | rays / reference rays | measured speedup | PSNR |\n"
-          "|---:|---|---:|---:|---:|---:|---:|\n";
+    md += "\n### Against the thesis's claims (same-spp speedups)\n\n| scale | method | k | spp | rays / full-resolution rays | "
+          "measured speedup (min-max) | PSNR |\n|---:|---|---:|---:|---:|---:|---:|\n";
     for (const result_row* r : mine) {
-      if (r->text("gaze") != mine[0]->text("gaze")) continue;
+      if (r->text("kind") != "foveated" || r->text("gaze") != mine[0]->text("gaze")) continue;
       const double s = r->number("scale");
       if (std::fabs(s - 1.0) > 1e-6 && std::fabs(s - 1.75) > 1e-6) continue;
-      md += fmt::format("| {} | {} | {} | {} | {:.3f} | {:.2f} | {:.2f} |\n", r->text("scale"), r->text("method"), r->text("k"),
-                        r->text("spp"), r->number("rays") / r->number("reference_rays"), r->number("speedup"), r->number("psnr"));
+      md += fmt::format("| {} | {} | {} | {} | {:.3f} | {:.2f} ({:.2f}-{:.2f}) | {} |\n", r->text("scale"), r->text("method"),
+                        r->text("k"), r->text("spp"), r->number("rays") / r->number("full_rays"), r->number("speedup"),
+                        r->number("speedup_lo"), r->number("speedup_hi"), fmt_db(r->number("psnr")));
     }
     md += "\nThe thesis claimed a 4.3x speedup at s = 1.0 from a sample ratio of 22.8 % (1 / ratio), and a mean "
           "detection threshold near s = 1.75 with no difference between methods.\n\n";
   }
-  md += "Figures: `pareto.png`, `error_by_eccentricity.png`, `speedup_vs_scale.png`.\n";
+  md += "Figures: `pareto.png` (foveated FLIP), `pareto_flip.png` (FLIP), `error_by_eccentricity.png`, `speedup_vs_scale.png`.\n";
   write_file_atomic(path, md.data(), md.size());
 }
 

@@ -12,6 +12,14 @@
 
 namespace fov {
 
+// What a user would do instead of foveating, measured beside it.
+enum class baseline {
+  full,     // the whole screen at full resolution with the sweep's rays per pixel (kind full)
+  uniform,  // a uniform set of a fraction of the pixels, traced and reconstructed like a
+            // foveated one (kind uniform: a lower resolution, upsampled by the same methods)
+};
+inline constexpr std::pair<const char*, baseline> baseline_labels[] = {{"full", baseline::full}, {"uniform", baseline::uniform}};
+
 struct bench_options {
   std::vector<std::string> scenes;
   std::string display = "fove";
@@ -25,7 +33,16 @@ struct bench_options {
   // Settings every configuration shares (seed, shadows, texture footprint, RBF kernel and
   // shape, Renka, device, camera); method, k and spp come from the lists above.
   render_params render;
+  // Every error is against a converged reference of this many Sobol rays per pixel; a
+  // second one (another seed) measures its noise floor.
+  uint32_t reference_spp = 256;
+  std::vector<baseline> baselines{baseline::full};
+  std::vector<double> uniform_fractions{0.5, 0.25};
+  bool flip = true;  // FLIP and the foveated FLIP (seconds per row on a large screen)
   uint32_t frames = 3;
+  // A row whose timing spread (max - min) exceeds this fraction of its median is flagged
+  // "noisy" in results.csv and counted in the report.
+  double spread_limit = 0.25;
   uint32_t temporal_frames = 0;
   bool resume = false;
   double budget_psnr = std::numeric_limits<double>::quiet_NaN();

@@ -14,17 +14,28 @@ namespace fov {
 
 const std::vector<std::string>& result_columns() {
   static const std::vector<std::string> columns = {
-      "scene", "gaze", "gaze_x", "gaze_y", "scale", "method", "k", "spp", "texture_footprint", "points_traced", "rays", "reference_rays",
-      "trace_ms", "reconstruct_ms", "frame_ms", "frame_ms_min", "frame_ms_max", "reference_ms", "reference_ms_min",
-      "reference_ms_max", "speedup", "psnr", "ssim", "psnr_fovea", "ssim_fovea", "psnr_5_10", "ssim_5_10",
-      "psnr_10_20", "ssim_10_20", "psnr_20_30", "ssim_20_30", "psnr_periphery", "ssim_periphery", "foveated_error",
-      "foveated_psnr", "psnr_vs_best_reference", "foveated_error_vs_best", "best_reference_spp", "flicker", "flicker_taa", "flicker_reference",
-      "error_profile", "device", "frames", "render_settings"};
+      // What the row is.
+      "scene", "gaze", "gaze_x", "gaze_y", "kind", "scale", "pixel_fraction", "method", "k", "spp", "texture_footprint",
+      // What it cost, timed interleaved with a full-resolution frame at the same spp.
+      "points_traced", "rays", "full_rays", "trace_ms", "reconstruct_ms", "frame_ms", "frame_ms_lo", "frame_ms_hi",
+      "full_ms", "full_ms_lo", "full_ms_hi", "speedup", "speedup_lo", "speedup_hi", "timing_flag",
+      // Its error against the converged reference.
+      "psnr", "ssim", "psnr_fovea", "ssim_fovea", "psnr_5_10", "ssim_5_10", "psnr_10_20", "ssim_10_20", "psnr_20_30",
+      "ssim_20_30", "psnr_periphery", "ssim_periphery", "foveated_error", "foveated_psnr", "flip", "flip_fovea",
+      "flip_5_10", "flip_10_20", "flip_20_30", "flip_periphery", "flip_p99", "foveated_flip", "foveated_flip_p99",
+      "foveated_flip_worst_band",
+      // The converged reference's own error (a second one, another seed, against it) and
+      // the share of each band's pixels that hit geometry.
+      "reference_spp", "noise_floor_psnr", "noise_floor_psnr_fovea", "noise_floor_foveated_error", "noise_floor_flip",
+      "noise_floor_flip_fovea", "noise_floor_foveated_flip", "geometry_fovea", "geometry_5_10", "geometry_10_20",
+      "geometry_20_30", "geometry_periphery",
+      "flicker", "flicker_taa", "flicker_reference", "error_profile", "device", "frames", "render_settings"};
   return columns;
 }
 
 std::string result_row::key() const {
-  return fmt::format("{}|{}|{}|{}|{}|{}", text("scene"), text("gaze"), text("scale"), text("method"), text("k"), text("spp"));
+  return fmt::format("{}|{}|{}|{}|{}|{}|{}|{}", text("scene"), text("gaze"), text("kind"), text("scale"), text("pixel_fraction"),
+                     text("method"), text("k"), text("spp"));
 }
 
 const std::string& result_row::text(const std::string& column) const {
@@ -117,6 +128,26 @@ std::vector<size_t> pareto_front(const std::vector<double>& x, const std::vector
   for (size_t i : order)
     if (y[i] < best) front.push_back(i), best = y[i];
   return front;
+}
+
+double time_at_error(const std::vector<std::pair<double, double>>& front, double error) {
+  // The front sorted by time has falling error; between two of its points the time needed
+  // for an error is interpolated in log time.
+  std::vector<std::pair<double, double>> f = front;
+  std::sort(f.begin(), f.end());
+  for (size_t i = 0; i < f.size(); ++i) {
+    if (f[i].second == error) return f[i].first;
+    if (i + 1 < f.size() && f[i].second > error && f[i + 1].second < error) {
+      const double t = (f[i].second - error) / (f[i].second - f[i + 1].second);
+      return std::exp((1 - t) * std::log(f[i].first) + t * std::log(f[i + 1].first));
+    }
+  }
+  return std::nan("");
+}
+
+double equal_error_speedup(const std::vector<std::pair<double, double>>& foveated,
+                           const std::vector<std::pair<double, double>>& baseline, double error) {
+  return time_at_error(baseline, error) / time_at_error(foveated, error);
 }
 
 }  // namespace fov
