@@ -69,6 +69,23 @@ grep -q "noise floor" "$dir/out/report.md" || fail "report.md states no noise fl
 grep -q "Timing noise" "$dir/out/report.md" || fail "report.md states no timing noise"
 grep -q "Fastest within the budget" "$dir/out/report.md" || fail "report.md names no fastest configuration"
 
+# fovbench compare: two images, every metric.
+refs=("$dir"/out/references/*.exr)
+check "compare"           0 -- "$fovbench" compare "${refs[0]}" "${refs[1]}" --flip-map "$dir/map.png"
+[[ -s "$dir/map.png" ]] || fail "compare wrote no FLIP map"
+check "compare bad size"  2 -- "$fovbench" compare "${refs[0]}" "${refs[1]}" --display fove
+check "compare bad disp"  2 -- "$fovbench" compare "${refs[0]}" "${refs[1]}" --display 64by72
+check "compare bad v"     2 -- "$fovbench" compare "${refs[0]}" "${refs[1]}" --viewing-distance nan
+check "compare bad gaze"  2 -- "$fovbench" compare "${refs[0]}" "${refs[1]}" --gaze 1000,1
+check "compare missing"   1 -- "$fovbench" compare "${refs[0]}" "$dir/none.exr"
+check "compare one"       2 -- "$fovbench" compare "${refs[0]}"
+same=$("$fovbench" compare "${refs[0]}" "${refs[0]}" --display 64x72 --viewing-distance 2 --json)
+python3 - "$same" <<'PY' || fail "compare of identical images: $same"
+import json, sys
+j = json.loads(sys.argv[1])
+assert j["psnr"] is None and j["flip"] == 0 and j["foveated_flip"] == 0 and j["display"]["viewing_distance"] == 2, j
+PY
+
 check "exists without --resume" 1 -- "${sweep[@]}"
 out=$("${sweep[@]}" --resume 2>&1)
 [[ "$out" == *"28 already in"*"0 to measure"* ]] || fail "resume did not skip all: $out"

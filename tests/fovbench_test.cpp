@@ -124,18 +124,6 @@ TEST(ReferenceCache, TracesOnceAndReadsTheFilesAfter) {
   EXPECT_THROW(third.get(r, renka, 2, 7), std::runtime_error);
 }
 
-TEST(Timing, MediansAndPairedSpeedups) {
-  EXPECT_EQ(summarise({3, 1, 2}).median, 2);
-  EXPECT_EQ(summarise({4, 1, 3, 2}).median, 2.5);  // even count: the middle two's mean
-  const paired_timing t = pair_timings({10, 20, 10}, {40, 40, 50});
-  EXPECT_EQ(t.frame_ms.median, 10);
-  EXPECT_EQ(t.full_ms.median, 40);
-  EXPECT_EQ(t.speedup.median, 4);  // per repetition: 4, 2, 5
-  EXPECT_EQ(t.speedup.min, 2);
-  EXPECT_EQ(t.speedup.max, 5);
-  EXPECT_THROW(pair_timings({1, 2}, {1}), std::invalid_argument);
-}
-
 // Two fronts with known times: the baseline reaches error 0.1 in 40 ms, foveation in 10.
 TEST(EqualError, SpeedupAlongBothFronts) {
   const std::vector<std::pair<double, double>> fov = {{10, 0.1}, {20, 0.05}}, base = {{10, 0.4}, {40, 0.1}, {160, 0.025}};

@@ -65,6 +65,15 @@ check "no-flip and map"    2 -- "$fovrender" "${set[@]}" --spp 1 --compare "$dir
 check "flip maps"          0 -- "$fovrender" "${set[@]}" --spp 4 --compare "$dir/ref.exr" --flip-map "$dir/flip.png" \
   --foveated-flip-map "$dir/fflip.png"
 [[ -s "$dir/flip.png" && -s "$dir/fflip.png" ]] || { echo "FAIL FLIP maps not written"; failures=$((failures + 1)); }
+check "speedup, reference" 2 -- "$fovrender" --reference "${set[@]}" --spp 1 --speedup 2 -o "$dir/a.png"
+check "speedup zero"       2 -- "$fovrender" "${set[@]}" --spp 1 --speedup 0 -o "$dir/a.png"
+sp=$("$fovrender" "${set[@]}" --spp 2 --speedup 3 -o "$dir/sp.png" --json)
+python3 - "$sp" <<'PY' || { echo "FAIL --speedup JSON: $sp"; failures=$((failures + 1)); }
+import json, sys
+j = json.loads(sys.argv[1])
+assert 0 < j["speedup_lo"] <= j["speedup"] <= j["speedup_hi"] and j["speedup_pairs"] == 3, j
+assert 0 < j["full_ms_lo"] <= j["full_ms"] <= j["full_ms_hi"] and j["frame_ms"] > 0, j
+PY
 # A perfect match has no PSNR: JSON writes null (never the string "inf"), and FLIP is 0.
 same=$("$fovrender" --reference "${set[@]}" --spp 4 --compare "$dir/ref.exr" --json)
 python3 - "$same" <<'PY' || { echo "FAIL identical frames: $same"; failures=$((failures + 1)); }

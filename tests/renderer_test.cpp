@@ -15,6 +15,7 @@
 #include "fov/knn_table.h"
 #include "fov/metrics.h"
 #include "fov/renderer.h"
+#include "fov/speedup.h"
 #include "fov/usage_error.h"
 #include "opencl_required.h"
 
@@ -309,6 +310,39 @@ TEST(Taa, AMovingCameraLeavesNoGhostTrail) {
             << ghost_with / 8 << ", TAA not reprojected " << ghost_without / 8 << "\n";
   EXPECT_LT(ghost_with, raw) << "TAA must not be farther from the converged image than the raw frame";
   EXPECT_LT(ghost_with, 0.8 * ghost_without);
+}
+
+TEST(Timing, MediansAndPairedSpeedups) {
+  EXPECT_EQ(summarise({3, 1, 2}).median, 2);
+  EXPECT_EQ(summarise({4, 1, 3, 2}).median, 2.5);  // even count: the middle two's mean
+  const paired_timing t = pair_timings({10, 20, 10}, {40, 40, 50});
+  EXPECT_EQ(t.frame_ms.median, 10);
+  EXPECT_EQ(t.full_ms.median, 40);
+  EXPECT_EQ(t.speedup.median, 4);  // per repetition: 4, 2, 5
+  EXPECT_EQ(t.speedup.min, 2);
+  EXPECT_EQ(t.speedup.max, 5);
+  EXPECT_THROW(pair_timings({1, 2}, {1}), std::invalid_argument);
+}
+
+// The paired measurement's shape (not its speed): one foveated and one full frame per
+// repetition, summaries ordered, the image the renderer's.
+TEST(Timing, MeasureSpeedupPairsEveryRepetition) {
+  std::shared_ptr<const scene> s = load_scene("builtin");
+  render_params p;
+  p.spp = 1;
+  p.device = reconstruct_device::cpp;
+  renderer r(s, p);
+  std::shared_ptr<const pointset> set = small_set(48, 40);
+  r.use_pointset(set);
+  const uint64_t before = r.frames_traced();
+  const paired_timing t = measure_speedup(r, {24, 20}, p, 48, 40, 3);
+  EXPECT_EQ(r.frames_traced(), before + 3);
+  for (const timing& x : {t.frame_ms, t.full_ms, t.speedup}) {
+    EXPECT_GT(x.min, 0);
+    EXPECT_LE(x.min, x.median);
+    EXPECT_LE(x.median, x.max);
+  }
+  EXPECT_THROW(measure_speedup(r, {24, 20}, p, 48, 40, 0), std::invalid_argument);
 }
 
 }  // namespace

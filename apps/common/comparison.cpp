@@ -2,7 +2,9 @@
 
 #include <fmt/format.h>
 
+#include "cli.h"
 #include "fov/colour.h"
+#include "fov/usage_error.h"
 #include "image_io.h"
 
 namespace fov {
@@ -110,6 +112,46 @@ void write_error_map(const error_map& map, const std::string& path) {
   // write_frame sRGB-encodes: decoding first makes the stored byte the error itself.
   for (float v : map.value) f.rgb.emplace_back(srgb_decode(std::clamp(v, 0.0f, 1.0f)));
   write_frame(f, path);
+}
+
+std::string run_compare(const compare_options& o) {
+  display_geometry display;
+  const bool named = !o.display.empty();
+  if (named && !display_preset(o.display, display)) {
+    int w = 0, h = 0;
+    char x = 0;
+    if (std::sscanf(o.display.c_str(), "%d%c%d", &w, &x, &h) != 3 || x != 'x' || w < 1 || h < 1 || w > 65536 || h > 65536 ||
+        o.display != fmt::format("{}x{}", w, h))
+      throw usage_error(fmt::format("--display: '{}' is not fove, vive, desktop1080 or WxH", o.display));
+    display = {w, h, 1.0};
+  }
+  if (o.viewing_distance != 0) {
+    if (!(o.viewing_distance > 0 && o.viewing_distance <= 100))
+      throw usage_error(fmt::format("--viewing-distance must lie in (0, 100] display widths (got {})", o.viewing_distance));
+    display.viewing_distance = o.viewing_distance;
+  }
+  if (!o.flip && !(o.flip_map.empty() && o.foveated_flip_map.empty()))
+    throw usage_error("--no-flip leaves no FLIP map to write");
+  const frame test = read_frame(o.test), reference = read_frame(o.reference);
+  if (test.width != reference.width || test.height != reference.height)
+    throw usage_error(fmt::format("{} is {}x{} but {} is {}x{}", o.test, test.width, test.height, o.reference, reference.width,
+                                  reference.height));
+  if (!named) display.width = test.width, display.height = test.height;
+  if (display.width != test.width || display.height != test.height)
+    throw usage_error(fmt::format("--display {} is {}x{}, the images {}x{}", o.display, display.width, display.height,
+                                  test.width, test.height));
+  const gaze_point gaze = require_gaze("--gaze", o.gaze, display);
+  spacing_model eye;
+  eye.display = display;
+  const comparison c = compare_images(test, reference, eye, gaze, o.flip, !o.flip_map.empty() || !o.foveated_flip_map.empty());
+  if (!o.flip_map.empty()) write_error_map(c.flip.flip_map, o.flip_map);
+  if (!o.foveated_flip_map.empty()) write_error_map(c.flip.foveated_map, o.foveated_flip_map);
+  if (!o.json) return comparison_text(c, o.reference) + "\n";
+  json j = comparison_json(c);
+  j["test"] = o.test, j["reference"] = o.reference;
+  j["display"] = {{"width", display.width}, {"height", display.height}, {"viewing_distance", display.viewing_distance}};
+  j["gaze"] = {gaze.x, gaze.y};
+  return j.dump(2) + "\n";
 }
 
 }  // namespace fov

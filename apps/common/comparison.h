@@ -32,6 +32,19 @@ nlohmann::json comparison_json(const comparison& c);
 // Two lines for people: PSNR/SSIM by band, then FLIP, for a reference called `against`.
 std::string comparison_text(const comparison& c, const std::string& against);
 
+// `fovbench compare`: two image files, the display they are seen on and the gaze.
+struct compare_options {
+  std::string test, reference;
+  std::string display;             // a preset or WxH (empty: the images' size)
+  double viewing_distance = 0;     // display widths (0: the display's, 1 for WxH)
+  std::string gaze = "centre";
+  bool json = false, flip = true;
+  std::string flip_map, foveated_flip_map;
+};
+// Reads both, checks sizes (usage_error for flags, file_error for files), compares and
+// writes the maps; returns what to print (JSON or the two lines).
+std::string run_compare(const compare_options& o);
+
 // An error map as a grey image: byte = round(255 x error). Written as write_frame does.
 void write_error_map(const error_map& map, const std::string& path);
 

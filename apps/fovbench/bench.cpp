@@ -113,12 +113,6 @@ std::shared_ptr<const pointset> bench_pointset(const bench_options& o, const dis
 
 }  // namespace
 
-timing summarise(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  const size_t n = v.size();
-  return {n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]), v.front(), v.back()};
-}
-
 reference_cache::reference_cache(std::string dir, std::string scene, const display_geometry& d)
     : dir_(std::move(dir)), scene_(std::move(scene)), display_(d) {}
 
@@ -169,13 +163,6 @@ const reference_frame& reference_cache::get(renderer& r, const render_params& ba
 
 std::pair<uint64_t, uint64_t> converged_seeds(uint64_t seed) {
   return {stream_seed(seed, 0x636f6e7665726765ull, 0), stream_seed(seed, 0x636f6e7665726765ull, 1)};
-}
-
-paired_timing pair_timings(const std::vector<double>& frame_ms, const std::vector<double>& full_ms) {
-  if (frame_ms.empty() || frame_ms.size() != full_ms.size()) throw std::invalid_argument("unpaired timings");
-  std::vector<double> ratio;
-  for (size_t i = 0; i < frame_ms.size(); ++i) ratio.push_back(full_ms[i] / frame_ms[i]);
-  return {summarise(frame_ms), summarise(full_ms), summarise(ratio)};
 }
 
 std::vector<double> geometry_coverage(const frame& f, const display_geometry& d, gaze_point gaze) {

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "fov/renderer.h"
+#include "fov/speedup.h"
 #include "report.h"
 
 namespace fov {
@@ -22,12 +23,6 @@ struct named_gaze {
 
 // "centre", "corner", "X,Y" or "N" (N gazes drawn with `seed`); throws usage_error naming --gazes.
 std::vector<named_gaze> parse_gazes(const std::vector<std::string>& items, const display_geometry& d, uint64_t seed);
-
-// Median and spread of repeated measurements.
-struct timing {
-  double median = 0, min = 0, max = 0;
-};
-timing summarise(std::vector<double> v);  // v not empty; the median of an even count is the mean of the middle two
 
 // A full-resolution reference of one scene at one spp and seed: the frame and what one
 // trace of it took.
@@ -57,13 +52,6 @@ class reference_cache {
 // The seeds of a sweep's two converged references: drawn from the sweep's seed, so they
 // share no ray position with its full-resolution frames (seed) or TAA frames (seed + n).
 std::pair<uint64_t, uint64_t> converged_seeds(uint64_t seed);
-
-// The paired timing of one configuration: per repetition, its frame (trace + reconstruct)
-// and the full-resolution frame at the same spp timed right before it.
-struct paired_timing {
-  timing frame_ms, full_ms, speedup;  // speedup: full / frame per repetition
-};
-paired_timing pair_timings(const std::vector<double>& frame_ms, const std::vector<double>& full_ms);
 
 // Per band (edges 5, 10, 20, 30 degrees), the share of a frame's pixels whose rays hit
 // geometry (finite depth): where a scene is sky, its errors say nothing. NaN for a band

@@ -12,6 +12,7 @@
 #include <fmt/format.h>
 
 #include "../common/cli.h"
+#include "../common/comparison.h"
 #include "../common/render_flags.h"
 #include "bench.h"
 #include "report.h"
@@ -71,7 +72,24 @@ int main(int argc, char** argv) {
   app.add_option("--budget-psnr", o.budget_psnr, "Report the fastest configuration with PSNR >= this (dB)");
   app.add_option("--budget-foveated", o.budget_foveated, "... or with foveated error <= this");
 
+  // fovbench compare TEST REFERENCE: every metric of two images, without a sweep.
+  fov::compare_options co;
+  CLI::App* compare = app.add_subcommand("compare", "Compare two images: PSNR/SSIM, FLIP and foveated FLIP by eccentricity band");
+  compare->add_option("test", co.test, "Test image")->required();
+  compare->add_option("reference", co.reference, "Reference image")->required();
+  compare->add_option("--display", co.display, "fove, vive, desktop1080 or WxH (default: the images' size, v = 1)");
+  compare->add_option("--viewing-distance", co.viewing_distance, "Eye-to-screen distance in display widths");
+  compare->add_option("--gaze", co.gaze, "X,Y in pixels, centre or corner")->capture_default_str();
+  compare->add_flag("--json", co.json, "Print JSON");
+  compare->add_flag("--no-flip", [&co](int64_t) { co.flip = false; }, "PSNR/SSIM only");
+  compare->add_option("--flip-map", co.flip_map, "Write the FLIP map (grey = 255 x error)");
+  compare->add_option("--foveated-flip-map", co.foveated_flip_map, "Write the foveated FLIP map");
+
   return fov::run_tool("fovbench", app, argc, argv, [&]() -> int {
+    if (compare->parsed()) {
+      std::cout << fov::run_compare(co);
+      return 0;
+    }
     o.gazes = split_gazes(o.gazes);
     if (o.scenes.empty()) o.scenes = {"builtin"};
     // The progress bar is drawn only on a terminal; every other message, and an error,

@@ -17,6 +17,7 @@
 #include "fov/metrics.h"
 #include "fov/pointset_io.h"
 #include "fov/renderer.h"
+#include "fov/speedup.h"
 
 namespace {
 
@@ -32,6 +33,7 @@ struct render_options {
   bool reference = false, no_warmup = false, json = false, no_flip = false;
   int width = 1280, height = 1440;  // without --points
   uint32_t taa_frames = 0;
+  uint32_t speedup = 0;  // repetitions of the paired timing (0: none)
 };
 
 }  // namespace
@@ -49,6 +51,10 @@ int main(int argc, char** argv) {
   app.add_option("--height", o.height, "Screen height without --points")->check(CLI::Range(1, 65536));
   app.add_option("--taa-frames", o.taa_frames, "Render this many frames of the view with TAA (--pattern)")
       ->check(CLI::Range(0u, 10000u));
+  app.add_option("--speedup", o.speedup,
+                 "Time N full-resolution frames at the same spp, each right before a foveated frame: JSON speedup "
+                 "(median, min, max of the per-pair ratios)")
+      ->check(CLI::Range(1u, 1000u));
   app.add_flag("--no-warmup", o.no_warmup,
                "Time the very first frame: texture loading, kernel compilation and RBF weights included");
   app.add_option("-o,--output", o.outputs, "Output image (.exr linear, .png sRGB); may be repeated");
@@ -66,6 +72,7 @@ int main(int argc, char** argv) {
     if (o.debug_asked && o.debug_output.empty() && o.outputs.empty()) throw usage_error("--debug-view needs -o or --debug-output");
     if (!o.reference && o.points.empty()) throw usage_error("--points is required unless --reference");
     if (o.reference && o.taa_frames > 0) throw usage_error("--taa-frames applies to foveated frames, not --reference");
+    if (o.reference && o.speedup > 0) throw usage_error("--speedup compares a foveated frame with --reference; give --points instead");
     if (o.compare.empty() && !(o.flip_map.empty() && o.foveated_flip_map.empty() && !o.no_flip))
       throw usage_error("--no-flip, --flip-map and --foveated-flip-map need --compare");
     if (o.no_flip && !(o.flip_map.empty() && o.foveated_flip_map.empty()))
@@ -116,6 +123,14 @@ int main(int argc, char** argv) {
       const fov::frame* last = nullptr;  // the renderer's frame, valid until its next call
       for (uint32_t n = 0; n < std::max<uint32_t>(1, o.taa_frames); ++n) last = &r.foveated(gaze, p, &t);
       image = *last;
+      if (o.speedup > 0) {
+        if (!o.no_warmup) r.warm_up_reference(display.width, display.height, p);
+        const fov::paired_timing st = fov::measure_speedup(r, gaze, p, display.width, display.height, o.speedup);
+        j["speedup"] = st.speedup.median, j["speedup_lo"] = st.speedup.min, j["speedup_hi"] = st.speedup.max;
+        j["full_ms"] = st.full_ms.median, j["full_ms_lo"] = st.full_ms.min, j["full_ms_hi"] = st.full_ms.max;
+        j["frame_ms"] = st.frame_ms.median, j["frame_ms_lo"] = st.frame_ms.min, j["frame_ms_hi"] = st.frame_ms.max;
+        j["speedup_pairs"] = o.speedup;
+      }
       j["device"] = r.device();
       if (p.reconstruct.how == fov::method::rbf)
         j["rbf"] = {{"kernel", fov::label_of(fov::rbf_kernel_labels, p.reconstruct.kernel)}, {"shape", p.reconstruct.shape},
@@ -164,6 +179,10 @@ int main(int argc, char** argv) {
     }
     fmt::print("{} {}x{}: {} rays, trace {:.1f} ms, reconstruct {:.1f} ms\n", j["method"].get<std::string>(), display.width,
                display.height, t.rays, t.trace_ms, t.reconstruct_ms);
+    if (j.contains("speedup"))
+      fmt::print("speedup over full resolution at {} spp: {:.2f}x (min {:.2f}, max {:.2f} over {} pairs; full {:.1f} ms, foveated {:.1f} ms)\n",
+                 p.spp, j["speedup"].get<double>(), j["speedup_lo"].get<double>(), j["speedup_hi"].get<double>(), o.speedup,
+                 j["full_ms"].get<double>(), j["frame_ms"].get<double>());
     if (!compared.empty()) fmt::print("{}\n", compared);
     return 0;
   });
