@@ -65,6 +65,15 @@ check "no-flip and map"    2 -- "$fovrender" "${set[@]}" --spp 1 --compare "$dir
 check "flip maps"          0 -- "$fovrender" "${set[@]}" --spp 4 --compare "$dir/ref.exr" --flip-map "$dir/flip.png" \
   --foveated-flip-map "$dir/fflip.png"
 [[ -s "$dir/flip.png" && -s "$dir/fflip.png" ]] || { echo "FAIL FLIP maps not written"; failures=$((failures + 1)); }
+check "exposure range"     2 -- "$fovrender" "${set[@]}" --spp 1 --exposure 30 -o "$dir/a.png"
+check "exposure nan"       2 -- "$fovrender" "${set[@]}" --spp 1 --exposure nan -o "$dir/a.png"
+check "sun dir zero"       2 -- "$fovrender" "${set[@]}" --spp 1 --sun-dir 0,0,0 -o "$dir/a.png"
+check "sun dir text"       2 -- "$fovrender" "${set[@]}" --spp 1 --sun-dir up -o "$dir/a.png"
+check "sun irradiance"     2 -- "$fovrender" "${set[@]}" --spp 1 --sun-irradiance abc -o "$dir/a.png"
+check "sun negative"       2 -- "$fovrender" "${set[@]}" --spp 1 --sun-irradiance -1 -o "$dir/a.png"
+check "sampler"            2 -- "$fovrender" --reference "${set[@]}" --spp 1 --reference-sampler halton -o "$dir/a.png"
+check "exposed, sunlit"    0 -- "$fovrender" "${set[@]}" --spp 1 --exposure -1 --sun-dir 0,1,0 --sun-irradiance 0.8 -o "$dir/sun.png"
+cmp -s "$dir/sun.png" "$dir/cam-default.png" && fail "--exposure/--sun-* changed nothing"
 check "speedup, reference" 2 -- "$fovrender" --reference "${set[@]}" --spp 1 --speedup 2 -o "$dir/a.png"
 check "speedup zero"       2 -- "$fovrender" "${set[@]}" --spp 1 --speedup 0 -o "$dir/a.png"
 sp=$("$fovrender" "${set[@]}" --spp 2 --speedup 3 -o "$dir/sp.png" --json)

@@ -242,6 +242,46 @@ TEST(Sampler, SobolReferencesConvergeFasterThanRandomOnes) {
   EXPECT_GT(rmse(sobol2), 0.0);
 }
 
+// A white diffuse quad facing the light: under the default light it stays below 1 (no
+// clipping on display); exposure scales every colour by 2^EV exactly; a sun given in the
+// params replaces the scene's.
+TEST(Lighting, DefaultLightDoesNotClipWhiteAndExposureScales) {
+  scene_description d;
+  material white;
+  white.base_colour = glm::vec4(1);
+  d.materials.push_back(white);
+  mesh m;
+  m.positions = {{-5, -5, -3}, {5, -5, -3}, {5, 5, -3}, {-5, 5, -3}};
+  m.normals.assign(4, glm::vec3(0, 0, 1));
+  m.uvs.assign(4, glm::vec2(0.5f));
+  m.triangles = {{0, 1, 2}, {0, 2, 3}};
+  d.meshes.push_back(m);
+  d.instances.push_back({0, glm::mat4(1.0f)});
+  d.sun.direction = {0, 0, 1};  // straight at the quad: the brightest it can be
+  const scene s(d);
+  const camera cam = look_at({0, 0, 0}, {0, 0, -1}, 60);
+  trace_params tp;
+  tp.spp = 1;
+  const frame plain = trace_reference(s, cam, 4, 4, tp).image;
+  for (const glm::vec3& c : plain.rgb) {
+    EXPECT_GT(c.r, 0.8f);
+    EXPECT_LT(std::max({c.r, c.g, c.b}), 1.0f);
+  }
+  tp.exposure_ev = 1;
+  const frame brighter = trace_reference(s, cam, 4, 4, tp).image;
+  for (size_t i = 0; i < plain.rgb.size(); ++i) EXPECT_EQ(brighter.rgb[i], 2.0f * plain.rgb[i]);
+  tp.exposure_ev = 0;
+  light sideways;
+  sideways.direction = glm::normalize(glm::vec3(1, 0, 1));  // 45 degrees off the normal
+  sideways.colour = d.sun.colour;
+  tp.sun = sideways;
+  const frame lit = trace_reference(s, cam, 4, 4, tp).image;
+  const glm::vec3 ambient = plain.rgb[0] - d.sun.colour;  // direct light at normal incidence is the irradiance
+  EXPECT_NEAR(lit.rgb[0].r, ambient.r + d.sun.colour.r * std::sqrt(0.5f), 1e-4f);
+  tp.exposure_ev = 21;
+  EXPECT_THROW(trace_reference(s, cam, 4, 4, tp), std::invalid_argument);
+}
+
 TEST(Tracer, MirroredPatternsTraceTheSetPlacedForTheMirroredGaze) {
   pointset set;
   set.model.display = {48, 40, 1.0};

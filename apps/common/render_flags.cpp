@@ -6,6 +6,19 @@
 
 namespace fov {
 
+namespace {
+
+glm::vec3 parse_triple(const std::string& flag, const std::string& text) {
+  glm::vec3 v;
+  char comma[2] = {0, 0}, extra = 0;
+  std::istringstream in(text);
+  if (!(in >> v.x >> comma[0] >> v.y >> comma[1] >> v.z) || comma[0] != ',' || comma[1] != ',' || (in >> extra))
+    throw CLI::ValidationError(flag, "expected X,Y,Z (got '" + text + "')");
+  return v;
+}
+
+}  // namespace
+
 void add_render_flags(CLI::App& app, render_params& p, unsigned groups) {
   if (groups & flags_spp)
     app.add_option("--spp", p.spp, "Rays per point (foveated) or per pixel (reference)")
@@ -17,6 +30,24 @@ void add_render_flags(CLI::App& app, render_params& p, unsigned groups) {
     add_label_option(app, "--texture-footprint", p.footprint, texture_footprint_labels,
                      "Foveated rays filter textures over their share of the point's disc (disc: the thesis's "
                      "prefilter) or of a pixel (pixel: sharper, cheaper, aliased periphery)");
+    app.add_option("--exposure", p.exposure_ev, "Exposure in EV: every colour times 2^EV, then clamped for display")
+        ->capture_default_str();
+    app.add_option_function<std::string>(
+        "--sun-dir", [&p](const std::string& t) { p.sun_direction = parse_triple("--sun-dir", t); },
+        "Replace the scene's light by a sun in direction X,Y,Z (towards the light)");
+    app.add_option_function<std::string>(
+        "--sun-irradiance",
+        [&p](const std::string& t) {
+          if (t.find(',') != std::string::npos) {
+            p.sun_irradiance = parse_triple("--sun-irradiance", t);
+            return;
+          }
+          char* end = nullptr;
+          const double v = std::strtod(t.c_str(), &end);
+          if (t.empty() || *end) throw CLI::ValidationError("--sun-irradiance", "expected V or R,G,B (got '" + t + "')");
+          p.sun_irradiance = glm::vec3(float(v));
+        },
+        "Replace the scene's light by a sun of this irradiance (V or R,G,B; white albedo facing it: V + ambient)");
     add_label_option(app, "--reference-sampler", p.reference_sampler, pixel_sampler_labels,
                      "Full-resolution rays inside each pixel: sobol (Owen-scrambled Sobol: stratified, converges) or "
                      "random (independent uniform positions)");
@@ -40,14 +71,7 @@ void add_render_flags(CLI::App& app, render_params& p, unsigned groups) {
                      "Reconstruct with OpenCL (falls back to C++ with a warning) or C++");
   if (groups & flags_view) {
     app.add_option("--hfov", p.view.hfov_deg, "Horizontal field of view in degrees (default: the scene's camera, else 90)");
-    auto point = [](const std::string& flag, const std::string& text) {
-      glm::vec3 v;
-      char comma[2] = {0, 0}, extra = 0;
-      std::istringstream in(text);
-      if (!(in >> v.x >> comma[0] >> v.y >> comma[1] >> v.z) || comma[0] != ',' || comma[1] != ',' || (in >> extra))
-        throw CLI::ValidationError(flag, "expected X,Y,Z (got '" + text + "')");
-      return v;
-    };
+    const auto point = parse_triple;
     CLI::Option* eye = app.add_option_function<std::string>(
         "--eye", [&p, point](const std::string& t) { p.view.eye = point("--eye", t); },
         "Camera position X,Y,Z in world units (default: the scene camera's)");

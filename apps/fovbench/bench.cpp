@@ -217,8 +217,10 @@ std::string render_settings_label(const render_params& p) {
   auto point = [](const std::optional<glm::vec3>& v) {
     return v ? fmt::format("{:g},{:g},{:g}", v->x, v->y, v->z) : std::string("-");  // -: the scene camera's
   };
-  return fmt::format("seed={} sampler={} shadows={} renka={} rbf_kernel={} rbf_shape={:g} hfov={:g} eye={} look_at={} up={}",
-                     p.seed, label_of(pixel_sampler_labels, p.reference_sampler), p.shadows ? 1 : 0, p.reconstruct.renka ? 1 : 0, label_of(rbf_kernel_labels, p.reconstruct.kernel),
+  return fmt::format("seed={} sampler={} exposure={:g} sun_dir={} sun_irradiance={} shadows={} renka={} rbf_kernel={} "
+                     "rbf_shape={:g} hfov={:g} eye={} look_at={} up={}",
+                     p.seed, label_of(pixel_sampler_labels, p.reference_sampler), p.exposure_ev, point(p.sun_direction),
+                     point(p.sun_irradiance), p.shadows ? 1 : 0, p.reconstruct.renka ? 1 : 0, label_of(rbf_kernel_labels, p.reconstruct.kernel),
                      p.reconstruct.shape, p.view.hfov_deg, point(p.view.eye), point(p.view.target), point(p.view.up));
 }
 

@@ -20,7 +20,8 @@ double ms_since(clock_type::time_point t) {
 // The settings a traced frame depends on (besides gaze, camera and set).
 bool same_trace(const render_params& a, const render_params& b) {
   return a.spp == b.spp && a.seed == b.seed && a.shadows == b.shadows && a.footprint == b.footprint &&
-         a.reconstruct.k == b.reconstruct.k && a.taa == b.taa && a.pattern == b.pattern;
+         a.reconstruct.k == b.reconstruct.k && a.taa == b.taa && a.pattern == b.pattern && a.exposure_ev == b.exposure_ev &&
+         a.sun_direction == b.sun_direction && a.sun_irradiance == b.sun_irradiance;
 }
 
 // The tracing half of the params, without a frame's pattern.
@@ -31,6 +32,13 @@ trace_params base_trace(const render_params& p) {
   tp.shadows = p.shadows;
   tp.footprint = p.footprint;
   tp.sampler = p.reference_sampler;
+  tp.exposure_ev = p.exposure_ev;
+  if (p.sun_direction || p.sun_irradiance) {
+    light sun;
+    if (p.sun_direction) sun.direction = glm::normalize(*p.sun_direction);
+    if (p.sun_irradiance) sun.colour = *p.sun_irradiance;
+    tp.sun = sun;
+  }
   tp.k = p.reconstruct.k;
   return tp;
 }
@@ -44,6 +52,12 @@ std::string validate(const render_params& p, const pointset* set) {
     return fmt::format("--k must lie in 1..{}{} (got {})", k_max, set ? " (the set's k)" : "", p.reconstruct.k);
   if (!(p.reconstruct.shape > 0 && std::isfinite(p.reconstruct.shape)))
     return fmt::format("--rbf-shape must be positive (got {})", p.reconstruct.shape);
+  if (!(std::fabs(p.exposure_ev) <= 20)) return fmt::format("--exposure must lie in -20..20 EV (got {})", p.exposure_ev);
+  if (p.sun_direction && !(glm::length(*p.sun_direction) > 1e-6f && std::isfinite(glm::length(*p.sun_direction))))
+    return "--sun-dir must be a finite, non-zero direction";
+  if (p.sun_irradiance && !(std::isfinite(glm::length(*p.sun_irradiance)) && glm::all(glm::greaterThanEqual(*p.sun_irradiance, glm::vec3(0))) &&
+                            glm::all(glm::lessThanEqual(*p.sun_irradiance, glm::vec3(1e6f)))))
+    return "--sun-irradiance must be finite, non-negative and at most 1e6 per channel";
   if (!(p.temporal.alpha > 0 && p.temporal.alpha <= 1))
     return fmt::format("TAA alpha must lie in (0, 1] (got {})", p.temporal.alpha);
   return validate(p.view);

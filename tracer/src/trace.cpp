@@ -71,7 +71,7 @@ struct shaded {
 // colour, then every normal map, then every emission), so that consecutive lookups read
 // the same texture near the same texels: OpenImageIO's per-thread tile cache then hits,
 // where a lane-by-lane order cycled through three textures' tiles.
-void shade_hits(const scene::impl& d, const camera_frame& f, const RTCRayHit16& rh, const bool* hit,
+void shade_hits(const scene::impl& d, const light& l, const camera_frame& f, const RTCRayHit16& rh, const bool* hit,
                 const glm::vec3* dirs, const float* radius_px, shaded* out) {
   surface s[16];
   float duv[16];
@@ -98,7 +98,6 @@ void shade_hits(const scene::impl& d, const camera_frame& f, const RTCRayHit16& 
   }
   for (int i = 0; i < 16; ++i)
     if (hit[i]) out[i].colour = d.emission(*s[i].mat, s[i].uv, duv[i]);
-  const light& l = d.desc.sun;
   for (int i = 0; i < 16; ++i) {
     if (!hit[i]) continue;
     glm::vec3 ng = s[i].geometric_normal, n = normal[i];
@@ -127,8 +126,8 @@ void shade_hits(const scene::impl& d, const camera_frame& f, const RTCRayHit16& 
 
 // Traces rays[begin, end) in packets of 16 and hands each result to sink(ray, colour, depth, hit).
 template <class Sink>
-void trace_rays(const scene::impl& d, const camera_frame& f, const sample_ray* rays, size_t count, bool shadows,
-                task_timing& timing, Sink&& sink) {
+void trace_rays(const scene::impl& d, const light& sun, const camera_frame& f, const sample_ray* rays, size_t count,
+                bool shadows, task_timing& timing, Sink&& sink) {
   trace_timing& t = timing.local;
   RTCIntersectContext context;
   for (size_t base = 0; base < count; base += 16) {
@@ -164,7 +163,7 @@ void trace_rays(const scene::impl& d, const camera_frame& f, const sample_ray* r
       hit[i] = i < n && rh.hit.geomID[i] != RTC_INVALID_GEOMETRY_ID;
       radius[i] = rays[base + std::min(i, n - 1)].radius_px;
     }
-    shade_hits(d, f, rh, hit, dirs, radius, result);
+    shade_hits(d, sun, f, rh, hit, dirs, radius, result);
     alignas(64) int shadow_valid[16];
     alignas(64) RTCRay16 shadow;
     bool any_shadow = false;
@@ -212,15 +211,15 @@ void trace_rays(const scene::impl& d, const camera_frame& f, const sample_ray* r
 
 // A ray sink for trace_rays: averages each run of `spp` consecutive rays, which belong to
 // one owner (a point or a pixel), and hands emit(owner, mean colour, mean depth of the
-// rays that hit or +inf, hits) the result.
+// rays that hit or +inf, hits) the result, its colour times `exposure`.
 template <class Emit>
-auto per_owner_mean(uint32_t spp, Emit emit) {
-  return [spp, emit, sum = glm::vec3(0), depth_sum = 0.0, hits = uint32_t(0), seen = uint32_t(0)](
+auto per_owner_mean(uint32_t spp, float exposure, Emit emit) {
+  return [spp, exposure, emit, sum = glm::vec3(0), depth_sum = 0.0, hits = uint32_t(0), seen = uint32_t(0)](
              const sample_ray& ray, glm::vec3 c, float depth, bool hit) mutable {
     sum += c;
     if (hit) depth_sum += depth, ++hits;
     if (++seen < spp) return;
-    emit(ray.owner, sum / float(spp), hits ? float(depth_sum / hits) : infinity, hits);
+    emit(ray.owner, sum * (exposure / float(spp)), hits ? float(depth_sum / hits) : infinity, hits);
     sum = glm::vec3(0);
     depth_sum = 0;
     hits = seen = 0;
@@ -273,8 +272,11 @@ uint32_t owen_scramble(uint32_t v, uint32_t seed) {
   return reverse_bits(x);
 }
 
+float exposure_factor(const trace_params& p) { return std::exp2(p.exposure_ev); }
+
 void check(const trace_params& p, int width, int height) {
   if (p.spp < 1 || p.spp > max_spp) throw std::invalid_argument(fmt::format("spp must lie in 1..{}", max_spp));
+  if (!(std::fabs(p.exposure_ev) <= 20)) throw std::invalid_argument("exposure must lie in -20..20 EV");
   if (width < 1 || height < 1) throw std::invalid_argument("screen size must be positive");
 }
 
@@ -326,8 +328,8 @@ points_trace trace_points(const scene& sc, const camera& cam, const pointset& se
       const float radius = (pixel_footprint ? 0.5f : set.points[i].spacing) * radius_scale;
       point_rays(set, i, out.offset, params, [&](float x, float y) { rays.push_back({x, y, radius, i}); });
     }
-    trace_rays(d, f, rays.data(), rays.size(), params.shadows, timing,
-               per_owner_mean(spp, [&](uint32_t i, glm::vec3 c, float depth, uint32_t hits) {
+    trace_rays(d, params.sun ? *params.sun : d.desc.sun, f, rays.data(), rays.size(), params.shadows, timing,
+               per_owner_mean(spp, exposure_factor(params), [&](uint32_t i, glm::vec3 c, float depth, uint32_t hits) {
                  out.colour[i] = c;
                  out.depth[i] = depth;
                  out.hits[i] = uint16_t(hits);
@@ -388,8 +390,8 @@ reference_trace trace_reference(const scene& sc, const camera& cam, int width, i
               rays.push_back({float(x) + float(random.uniform()), float(y) + float(random.uniform()), radius, pixel});
           }
         }
-      trace_rays(d, f, rays.data(), rays.size(), params.shadows, timing,
-                 per_owner_mean(spp, [&](uint32_t pixel, glm::vec3 c, float depth, uint32_t) {
+      trace_rays(d, params.sun ? *params.sun : d.desc.sun, f, rays.data(), rays.size(), params.shadows, timing,
+                 per_owner_mean(spp, exposure_factor(params), [&](uint32_t pixel, glm::vec3 c, float depth, uint32_t) {
                    out.rgb[pixel] = c;
                    out.depth[pixel] = depth;
                  }));

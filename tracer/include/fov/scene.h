@@ -55,7 +55,9 @@ struct light {
   enum class kind { directional, point } type = kind::directional;
   glm::vec3 direction = glm::normalize(glm::vec3(0.4f, 1.0f, 0.3f));  // towards the light
   glm::vec3 position{0, 10, 0};
-  glm::vec3 colour{2.5f, 2.4f, 2.2f};  // irradiance (directional) or intensity (point)
+  // Irradiance (directional) or intensity (point). The default keeps white albedo facing
+  // it, plus the default ambient (0.35 x the mean sky, about 0.16), below 1: no clipping.
+  glm::vec3 colour{0.8f, 0.77f, 0.7f};
 };
 
 // What rays that miss see, and the ambient light every surface gets.

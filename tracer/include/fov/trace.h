@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -66,6 +67,11 @@ struct trace_params {
   bool tile_costs = false;
   // Reference only: the positions of a pixel's rays.
   pixel_sampler sampler = pixel_sampler::sobol;
+  // Every traced colour times 2^exposure_ev (a camera's exposure; -20..20). Displayed
+  // values are then clamped to [0, 1] and sRGB-encoded (colour.h): no other tone curve.
+  float exposure_ev = 0;
+  // The light to shade with instead of the scene's (its direction, irradiance or position).
+  std::optional<light> sun;
 };
 
 // What a trace measured, when trace_params asked for it.
