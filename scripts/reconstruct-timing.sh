@@ -3,7 +3,8 @@
 # fov::renderer, which reconstructs into its reused frame after an untimed warm-up. For
 # each method (k = 5, FOVE s = 1.0, 4 spp, centred gaze, OpenCL on the default device),
 # REPS rounds that run fovrender once and fovbench once (--frames 1) in turn, so the two
-# see the same machine load; prints each tool's median, min and max reconstruct_ms.
+# see the same machine load (fovbench with a cheap 8-spp reference and no FLIP: only its
+# timing is read); prints each tool's median, min and max reconstruct_ms.
 # Usage: scripts/reconstruct-timing.sh [REPS]   (default 5; needs scripts/build.sh and
 # precomputed/generate.sh default)
 set -euo pipefail
@@ -22,7 +23,7 @@ for rep in $(seq 1 "$reps"); do
     "$build/apps/fovrender" --points "$set_file" --method $method --k $k --spp 4 -o "$out/f.exr" --json 2>/dev/null |
       python3 -c 'import json,sys; print("fovrender", sys.argv[1], json.load(sys.stdin)["reconstruct_ms"])' $method >> "$out/times"
     "$build/apps/fovbench" --display fove --points-dir "$out/sets" --scales 1.0 --methods $method --k 5 --spp 4 \
-        --gazes centre --frames 1 -o "$out/bench-$rep-$method" >/dev/null 2>&1
+        --gazes centre --frames 1 --reference-spp 8 --no-flip -o "$out/bench-$rep-$method" >/dev/null 2>&1
     python3 -c 'import csv,sys; r=list(csv.DictReader(open(sys.argv[1])))[0]; print("fovbench", r["method"], r["reconstruct_ms"])' \
         "$out/bench-$rep-$method/results.csv" >> "$out/times"
   done
