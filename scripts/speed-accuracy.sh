@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # The speed/accuracy study of docs/speed-accuracy.md: one fovbench sweep per scene at the
-# FOVE geometry (1280x1440), foveated sets against the baselines a user would render
+# FOVE geometry (1280x1440), centred gaze and one in the lower left (on content in every
+# view), foveated sets against the baselines a user would render
 # instead (full resolution at each spp, uniform sets of 1/2 and 1/4 of the pixels), every
 # error against a converged 256-spp Sobol reference with its noise floor.
 #   out/study/builtin  the built-in scene, lit so that its whites do not clip
@@ -10,7 +11,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bench=build/apps/fovbench
-common=(--display fove --scales 1.0,1.75 --methods nn,shepard --k 5 --spp 1,4,16 --gazes "centre;320,360"
+common=(--display fove --scales 1.0,1.75 --methods nn,shepard --k 5 --spp 1,4,16 --gazes "centre;320,1080"
         --frames 3 --reference-spp 256 --baselines full,uniform --uniform-fractions 0.5,0.25 --resume)
 "$bench" --scene builtin --sun-irradiance 0.8,0.77,0.7 "${common[@]}" -o out/study/builtin
 helmet=../shared/scenes/flight-helmet/FlightHelmet.gltf

@@ -136,21 +136,6 @@ TEST(EqualError, SpeedupAlongBothFronts) {
   EXPECT_NEAR(equal_error_speedup(fov, base, 0.05), std::pow(40.0, 1 / 3.0) * std::pow(160.0, 2 / 3.0) / 20, 1e-9);
 }
 
-TEST(Coverage, SharesOfGeometryPerBand) {
-  frame f;
-  f.width = 100, f.height = 1;
-  f.rgb.assign(100, glm::vec3(0));
-  for (int x = 0; x < 100; ++x) f.depth.push_back(x < 5 ? 1.0f : std::numeric_limits<float>::infinity());
-  // Seen from 2 widths with the gaze at x = 0: the first 17 pixels lie within 5 degrees.
-  const std::vector<double> c = geometry_coverage(f, {100, 1, 2.0}, {0, 0.5});
-  ASSERT_EQ(c.size(), 5u);
-  EXPECT_NEAR(c[0], 5.0 / 17.0, 1e-12);
-  EXPECT_EQ(c[1], 0.0);
-  EXPECT_TRUE(std::isnan(c[4]));  // no pixel beyond 30 degrees
-  f.depth.clear();
-  for (double v : geometry_coverage(f, {100, 1, 2.0}, {0, 0.5})) EXPECT_TRUE(std::isnan(v));
-}
-
 TEST(ConvergedSeeds, ShareNothingWithTheSweepsFrames) {
   for (uint64_t seed : {1ull, 2ull, 1000ull}) {
     const auto [a, b] = converged_seeds(seed);

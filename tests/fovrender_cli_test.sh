@@ -90,6 +90,8 @@ import json, sys
 m = json.loads(sys.argv[1])["metrics"]
 assert m["psnr"] is None and m["psnr_fovea"] is None and m["flip"] == 0 and m["foveated_flip"] == 0, m
 assert all(b["psnr"] is None for b in m["bands"]), m["bands"]
+# Our EXR keeps the depth: every band with pixels states its share of geometry.
+assert all(0 <= b["geometry"] <= 1 for b in m["bands"] if b["pixels"]), m["bands"]
 PY
 
 json=$("$fovrender" "${set[@]}" --spp 4 --compare "$dir/ref.exr" --json)

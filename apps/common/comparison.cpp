@@ -15,6 +15,7 @@ comparison compare_images(const frame& test, const frame& reference, const spaci
                           bool flip, bool keep_maps) {
   comparison c;
   c.error = measure_error(test, reference, eye, gaze);
+  c.geometry = geometry_coverage(reference, eye.display, gaze, c.error.edges_deg);
   if (flip) c.flip = measure_flip(test, reference, eye, gaze, c.error.edges_deg, keep_maps), c.has_flip = true;
   return c;
 }
@@ -59,6 +60,7 @@ json comparison_json(const comparison& c) {
               {"pixels", e.bands[b].pixels},
               {"psnr", db_json(e.bands[b].psnr)},
               {"ssim", e.bands[b].pixels ? json(e.bands[b].ssim) : json(nullptr)}};
+    band["geometry"] = number_or_null(c.geometry[b]);  // null: the reference has no depth (not an EXR of ours)
     if (c.has_flip) band["flip"] = number_or_null(c.flip.flip.bands[b]), band["foveated_flip"] = number_or_null(c.flip.foveated.bands[b]);
     bands.push_back(band);
   }

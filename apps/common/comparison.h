@@ -20,6 +20,7 @@ struct comparison {
   error_report error;  // PSNR/SSIM by band, foveated RMSE (metrics.h)
   flip_report flip;    // FLIP and the foveated FLIP (flip.h), when asked
   bool has_flip = false;
+  std::vector<double> geometry;  // per band, the share of the reference's pixels on geometry (NaN: no depth)
 };
 
 // Bands of the report: 5, 10, 20, 30 degrees.

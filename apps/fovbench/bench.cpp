@@ -165,22 +165,6 @@ std::pair<uint64_t, uint64_t> converged_seeds(uint64_t seed) {
   return {stream_seed(seed, 0x636f6e7665726765ull, 0), stream_seed(seed, 0x636f6e7665726765ull, 1)};
 }
 
-std::vector<double> geometry_coverage(const frame& f, const display_geometry& d, gaze_point gaze) {
-  const std::vector<double> edges{5, 10, 20, 30};
-  if (f.depth.size() != size_t(f.width) * size_t(f.height))
-    return std::vector<double>(edges.size() + 1, std::nan(""));  // a frame without depth says nothing
-  std::vector<double> hits(edges.size() + 1, 0), all(edges.size() + 1, 0);
-  for (int y = 0; y < f.height; ++y)
-    for (int x = 0; x < f.width; ++x) {
-      const double e = pixel_eccentricity_deg(d, gaze, x, y);
-      const size_t b = size_t(std::upper_bound(edges.begin(), edges.end(), e) - edges.begin());
-      ++all[b];
-      hits[b] += std::isfinite(f.depth[size_t(y) * f.width + x]) ? 1 : 0;
-    }
-  std::vector<double> out;
-  for (size_t b = 0; b < all.size(); ++b) out.push_back(all[b] > 0 ? hits[b] / all[b] : std::nan(""));
-  return out;
-}
 
 std::vector<named_gaze> parse_gazes(const std::vector<std::string>& items, const display_geometry& d, uint64_t seed) {
   std::vector<named_gaze> out;
@@ -394,7 +378,7 @@ size_t run_bench(const bench_options& o, const bench_reporter& report) {
       if (!floors.count(g)) {
         say(fmt::format("noise floor at {}", gazes[g].name));
         floors[g] = measure(second, truth, eye, gazes[g].at, o.flip);
-        coverage[g] = geometry_coverage(truth, display, gazes[g].at);
+        coverage[g] = geometry_coverage(truth, display, gazes[g].at, {5, 10, 20, 30});
       }
       return floors[g];
     };

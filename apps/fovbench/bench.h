@@ -53,10 +53,6 @@ class reference_cache {
 // share no ray position with its full-resolution frames (seed) or TAA frames (seed + n).
 std::pair<uint64_t, uint64_t> converged_seeds(uint64_t seed);
 
-// Per band (edges 5, 10, 20, 30 degrees), the share of a frame's pixels whose rays hit
-// geometry (finite depth): where a scene is sky, its errors say nothing. NaN for a band
-// without pixels, and for every band of a frame without depth.
-std::vector<double> geometry_coverage(const frame& f, const display_geometry& d, gaze_point gaze);
 
 // A preset name (fove, vive, desktop1080) or "WxH" (8..8192, v = 1); throws usage_error naming --display.
 display_geometry parse_display(const std::string& text);

@@ -202,7 +202,7 @@ void write_bench_figures(const std::vector<result_row>& rows, const bench_option
       drawn.insert(id);
       plot_series line;
       line.name = full ? "full resolution" : fmt::format("{} k={} s={}", r->text("method"), r->text("k"), r->text("scale"));
-      line.colour = full ? 4 : method_colour(r->text("method")) + (s == hi_scale && s != lo_scale ? 3 : 0);
+      line.colour = full ? 6 : method_colour(r->text("method")) + (s == hi_scale && s != lo_scale ? 3 : 0);
       line.markers = false;
       std::stringstream in(r->text("error_profile"));
       std::string v;

@@ -113,6 +113,23 @@ frame_comparison compare_frames(const frame& test, const frame& reference, const
   return {r.overall, r.bands[0], r.bands[1], r.bands[2]};
 }
 
+std::vector<double> geometry_coverage(const frame& f, const display_geometry& d, gaze_point gaze,
+                                      const std::vector<double>& edges) {
+  if (f.depth.size() != size_t(f.width) * size_t(f.height) || f.rgb.size() != f.depth.size())
+    return std::vector<double>(edges.size() + 1, std::numeric_limits<double>::quiet_NaN());
+  std::vector<double> hits(edges.size() + 1, 0), all(edges.size() + 1, 0);
+  for (int y = 0; y < f.height; ++y)
+    for (int x = 0; x < f.width; ++x) {
+      const double e = pixel_eccentricity_deg(d, gaze, x, y);
+      const size_t b = size_t(std::upper_bound(edges.begin(), edges.end(), e) - edges.begin());
+      ++all[b];
+      hits[b] += std::isfinite(f.depth[size_t(y) * f.width + x]) ? 1 : 0;
+    }
+  std::vector<double> out;
+  for (size_t b = 0; b < all.size(); ++b) out.push_back(all[b] > 0 ? hits[b] / all[b] : std::numeric_limits<double>::quiet_NaN());
+  return out;
+}
+
 double mean_luminance_change(const frame& a, const frame& b) {
   if (a.width != b.width || a.height != b.height || a.rgb.size() != b.rgb.size())
     throw std::invalid_argument("frames differ in size");

@@ -53,6 +53,12 @@ struct error_report {
 error_report measure_error(const frame& test, const frame& reference, const spacing_model& eye, gaze_point gaze,
                            const std::vector<double>& edges_deg = {5, 10, 20, 30}, double bin_deg = 2.5);
 
+// Per band (edges as in error_report), the share of a frame's pixels whose rays hit
+// geometry (finite depth): where a scene is sky, its errors say nothing. NaN for a band
+// without pixels, and for every band of a frame without depth.
+std::vector<double> geometry_coverage(const frame& f, const display_geometry& display, gaze_point gaze,
+                                      const std::vector<double>& edges_deg = {5, 10, 20, 30});
+
 // Mean absolute change of display luminance (Rec. 709 weights on sRGB-encoded values,
 // 0..1) between two frames of the same size: the flicker measure.
 double mean_luminance_change(const frame& a, const frame& b);
