@@ -8,7 +8,9 @@
 # observer would call foveation. Writes out/scale-visibility/table.md.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-build/apps/fovgen sweep --display fove --k 20 --seed 1 --scales 1.0:3.0:0.5 --skip-existing -o precomputed >/dev/null
+for s in 1.00 1.50 2.00 2.50 3.00; do  # the sets fovbench and generate.sh make, when missing
+  [[ -f precomputed/fove-s$s.fovset ]] || build/apps/fovgen --display fove --scale $s --k 20 --seed 1 -o precomputed/fove-s$s.fovset
+done
 out=out/scale-visibility
 mkdir -p "$out"
 render=build/apps/fovrender
