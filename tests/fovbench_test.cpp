@@ -136,13 +136,6 @@ TEST(EqualError, SpeedupAlongBothFronts) {
   EXPECT_NEAR(equal_error_speedup(fov, base, 0.05), std::pow(40.0, 1 / 3.0) * std::pow(160.0, 2 / 3.0) / 20, 1e-9);
 }
 
-TEST(ConvergedSeeds, ShareNothingWithTheSweepsFrames) {
-  for (uint64_t seed : {1ull, 2ull, 1000ull}) {
-    const auto [a, b] = converged_seeds(seed);
-    EXPECT_NE(a, b);
-    for (uint64_t n = 0; n < 1000; ++n) EXPECT_TRUE(a != seed + n && b != seed + n);
-  }
-}
 
 TEST(BenchOptions, AreCheckedBeforeAnythingRuns) {
   bench_options o;

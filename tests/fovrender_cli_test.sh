@@ -74,6 +74,15 @@ check "sun negative"       2 -- "$fovrender" "${set[@]}" --spp 1 --sun-irradianc
 check "sampler"            2 -- "$fovrender" --reference "${set[@]}" --spp 1 --reference-sampler halton -o "$dir/a.png"
 check "exposed, sunlit"    0 -- "$fovrender" "${set[@]}" --spp 1 --exposure -1 --sun-dir 0,1,0 --sun-irradiance 0.8 -o "$dir/sun.png"
 cmp -s "$dir/sun.png" "$dir/cam-default.png" && fail "--exposure/--sun-* changed nothing"
+check "weak reference"     2 -- "$fovrender" "${set[@]}" --spp 4 --reference-spp 4 -o "$dir/a.png"
+check "two references"     2 -- "$fovrender" "${set[@]}" --spp 1 --reference-spp 8 --compare "$dir/ref.exr"
+conv=$("$fovrender" "${set[@]}" --spp 1 --reference-spp 8 --json)
+python3 - "$conv" <<'PY' || { echo "FAIL --reference-spp JSON: $conv"; failures=$((failures + 1)); }
+import json, sys
+j = json.loads(sys.argv[1])
+assert j["reference_spp"] == 8 and j["metrics"]["flip"] > 0 and j["noise_floor"]["flip"] > 0, j
+assert j["noise_floor"]["flip"] < j["metrics"]["flip"], "the 8-spp references must differ less than a 1-spp frame from them"
+PY
 check "speedup, reference" 2 -- "$fovrender" --reference "${set[@]}" --spp 1 --speedup 2 -o "$dir/a.png"
 check "speedup zero"       2 -- "$fovrender" "${set[@]}" --spp 1 --speedup 0 -o "$dir/a.png"
 sp=$("$fovrender" "${set[@]}" --spp 2 --speedup 3 -o "$dir/sp.png" --json)

@@ -345,5 +345,13 @@ TEST(Timing, MeasureSpeedupPairsEveryRepetition) {
   EXPECT_THROW(measure_speedup(r, {24, 20}, p, 48, 40, 0), std::invalid_argument);
 }
 
+TEST(ConvergedSeeds, ShareNothingWithTheSweepsFrames) {
+  for (uint64_t seed : {1ull, 2ull, 1000ull}) {
+    const auto [a, b] = converged_seeds(seed);
+    EXPECT_NE(a, b);
+    for (uint64_t n = 0; n < 1000; ++n) EXPECT_TRUE(a != seed + n && b != seed + n);
+  }
+}
+
 }  // namespace
 }  // namespace fov

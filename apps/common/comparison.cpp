@@ -116,6 +116,24 @@ void write_error_map(const error_map& map, const std::string& path) {
   write_frame(f, path);
 }
 
+converged_comparison compare_converged(renderer& r, const frame& image, const spacing_model& eye, gaze_point gaze,
+                                       const render_params& p, uint32_t spp, bool flip, bool keep_maps) {
+  const auto [seed_a, seed_b] = converged_seeds(p.seed);
+  render_params q = p;
+  q.spp = spp;
+  q.reference_sampler = pixel_sampler::sobol;
+  q.seed = seed_a;
+  frame_timing t;
+  const frame truth = r.reference(image.width, image.height, q, &t).image;
+  q.seed = seed_b;
+  const frame second = r.reference(image.width, image.height, q).image;
+  converged_comparison c;
+  c.reference_ms = t.trace_ms;
+  c.against = compare_images(image, truth, eye, gaze, flip, keep_maps);
+  c.floor = compare_images(second, truth, eye, gaze, flip, false);
+  return c;
+}
+
 std::string run_compare(const compare_options& o) {
   display_geometry display;
   const bool named = !o.display.empty();

@@ -9,6 +9,7 @@
 
 #include "fov/flip.h"
 #include "fov/metrics.h"
+#include "fov/renderer.h"
 
 namespace fov {
 
@@ -32,6 +33,16 @@ nlohmann::json comparison_json(const comparison& c);
 
 // Two lines for people: PSNR/SSIM by band, then FLIP, for a reference called `against`.
 std::string comparison_text(const comparison& c, const std::string& against);
+
+// A frame against a converged reference traced here (p with `spp` Sobol rays per pixel,
+// seed converged_seeds(p.seed).first), and that reference's noise floor: a second one
+// (the other seed) compared with it the same way. fovrender --reference-spp.
+struct converged_comparison {
+  comparison against, floor;
+  double reference_ms = 0;  // tracing one of the two references
+};
+converged_comparison compare_converged(renderer& r, const frame& image, const spacing_model& eye, gaze_point gaze,
+                                       const render_params& p, uint32_t spp, bool flip, bool keep_maps);
 
 // `fovbench compare`: two image files, the display they are seen on and the gaze.
 struct compare_options {

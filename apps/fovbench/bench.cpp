@@ -161,9 +161,6 @@ const reference_frame& reference_cache::get(renderer& r, const render_params& ba
   return refs_.emplace(id, std::move(ref)).first->second;
 }
 
-std::pair<uint64_t, uint64_t> converged_seeds(uint64_t seed) {
-  return {stream_seed(seed, 0x636f6e7665726765ull, 0), stream_seed(seed, 0x636f6e7665726765ull, 1)};
-}
 
 
 std::vector<named_gaze> parse_gazes(const std::vector<std::string>& items, const display_geometry& d, uint64_t seed) {

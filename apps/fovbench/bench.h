@@ -49,9 +49,6 @@ class reference_cache {
   std::map<std::pair<uint32_t, uint64_t>, reference_frame> refs_;
 };
 
-// The seeds of a sweep's two converged references: drawn from the sweep's seed, so they
-// share no ray position with its full-resolution frames (seed) or TAA frames (seed + n).
-std::pair<uint64_t, uint64_t> converged_seeds(uint64_t seed);
 
 
 // A preset name (fove, vive, desktop1080) or "WxH" (8..8192, v = 1); throws usage_error naming --display.

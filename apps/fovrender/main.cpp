@@ -34,7 +34,27 @@ struct render_options {
   int width = 1280, height = 1440;  // without --points
   uint32_t taa_frames = 0;
   uint32_t speedup = 0;  // repetitions of the paired timing (0: none)
+  uint32_t reference_spp = 0;  // compare against a converged reference traced here (0: none)
 };
+
+// The flags that only make sense together, before anything is read or rendered (exit 2).
+void check_options(const render_options& o, const fov::render_params& p) {
+  if (o.outputs.empty() && o.compare.empty() && o.reference_spp == 0)
+    throw usage_error("nothing to do: give -o, --compare or --reference-spp");
+  if (o.debug_asked && o.debug_output.empty() && o.outputs.empty()) throw usage_error("--debug-view needs -o or --debug-output");
+  if (!o.reference && o.points.empty()) throw usage_error("--points is required unless --reference");
+  if (o.reference && o.taa_frames > 0) throw usage_error("--taa-frames applies to foveated frames, not --reference");
+  if (o.reference && o.speedup > 0) throw usage_error("--speedup compares a foveated frame with --reference; give --points instead");
+  const bool comparing = !o.compare.empty() || o.reference_spp > 0;
+  if (!o.compare.empty() && o.reference_spp > 0) throw usage_error("give --compare or --reference-spp, not both");
+  if (o.reference_spp > 0 && o.reference_spp <= p.spp)
+    throw usage_error(fmt::format("--reference-spp {} must exceed --spp {}: a reference must be better than the frame",
+                                  o.reference_spp, p.spp));
+  if (!comparing && !(o.flip_map.empty() && o.foveated_flip_map.empty() && !o.no_flip))
+    throw usage_error("--no-flip, --flip-map and --foveated-flip-map need --compare or --reference-spp");
+  if (o.no_flip && !(o.flip_map.empty() && o.foveated_flip_map.empty()))
+    throw usage_error("--no-flip leaves no FLIP map to write");
+}
 
 }  // namespace
 
@@ -62,21 +82,17 @@ int main(int argc, char** argv) {
                                                "Write that overlay too (none unless given)", false);
   app.add_option("--debug-output", o.debug_output, "File for the overlay (default: the first -o with '-VIEW' before the extension)");
   app.add_option("--compare", o.compare, "Reference image: print PSNR/SSIM, FLIP and foveated FLIP by eccentricity band");
+  app.add_option("--reference-spp", o.reference_spp,
+                 "Compare against a converged reference of N Sobol rays per pixel traced here, with its noise floor "
+                 "(a second one, another seed) in JSON noise_floor")
+      ->check(CLI::Range(1u, fov::max_spp));
   app.add_flag("--no-flip", o.no_flip, "With --compare: PSNR/SSIM only (FLIP takes seconds on a large frame)");
   app.add_option("--flip-map", o.flip_map, "With --compare: write the FLIP map (grey = 255 x error)");
   app.add_option("--foveated-flip-map", o.foveated_flip_map, "With --compare: write the foveated FLIP map");
   app.add_flag("--json", o.json, "Print JSON");
   return fov::run_tool("fovrender", app, argc, argv, [&] {
     o.debug_asked = debug->count() > 0;
-    if (o.outputs.empty() && o.compare.empty()) throw usage_error("nothing to do: give -o and/or --compare");
-    if (o.debug_asked && o.debug_output.empty() && o.outputs.empty()) throw usage_error("--debug-view needs -o or --debug-output");
-    if (!o.reference && o.points.empty()) throw usage_error("--points is required unless --reference");
-    if (o.reference && o.taa_frames > 0) throw usage_error("--taa-frames applies to foveated frames, not --reference");
-    if (o.reference && o.speedup > 0) throw usage_error("--speedup compares a foveated frame with --reference; give --points instead");
-    if (o.compare.empty() && !(o.flip_map.empty() && o.foveated_flip_map.empty() && !o.no_flip))
-      throw usage_error("--no-flip, --flip-map and --foveated-flip-map need --compare");
-    if (o.no_flip && !(o.flip_map.empty() && o.foveated_flip_map.empty()))
-      throw usage_error("--no-flip leaves no FLIP map to write");
+    check_options(o, p);
     p.taa = o.taa_frames > 0;
 
     fov::require_valid(p);  // what does not depend on the set, before loading it
@@ -162,14 +178,25 @@ int main(int argc, char** argv) {
       fov::write_frame(fov::debug_overlay(o.debug, image, o.reference ? nullptr : set.get(), gaze), o.debug_output);
     }
     std::string compared;
-    if (!o.compare.empty()) {
+    if (!o.compare.empty() || o.reference_spp > 0) {
       fov::spacing_model eye;  // the viewer's eye: the set's acuity model at its true eccentricity
       eye.display = display;
       if (set) eye.acuity = set->model.acuity;
       const bool maps = !o.flip_map.empty() || !o.foveated_flip_map.empty();
-      const fov::comparison c = fov::compare_images(image, compare_to, eye, gaze, !o.no_flip, maps);
+      fov::comparison c;
+      if (o.reference_spp > 0) {
+        const fov::converged_comparison cc = fov::compare_converged(r, image, eye, gaze, p, o.reference_spp, !o.no_flip, maps);
+        c = cc.against;
+        j["noise_floor"] = fov::comparison_json(cc.floor);
+        j["reference_spp"] = o.reference_spp;
+        j["converged_reference_ms"] = cc.reference_ms;
+        compared = fov::comparison_text(c, fmt::format("a {}-spp converged reference", o.reference_spp)) +
+                   "\nnoise floor, a second reference " + fov::comparison_text(cc.floor, "the first");
+      } else {
+        c = fov::compare_images(image, compare_to, eye, gaze, !o.no_flip, maps);
+        compared = fov::comparison_text(c, o.compare);
+      }
       j["metrics"] = fov::comparison_json(c);
-      compared = fov::comparison_text(c, o.compare);
       if (!o.flip_map.empty()) fov::write_error_map(c.flip.flip_map, o.flip_map);
       if (!o.foveated_flip_map.empty()) fov::write_error_map(c.flip.foveated_map, o.foveated_flip_map);
     }

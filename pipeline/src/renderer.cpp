@@ -1,5 +1,7 @@
 #include "fov/renderer.h"
 
+#include "fov/random.h"
+
 #include <chrono>
 #include <cmath>
 #include <stdexcept>
@@ -61,6 +63,10 @@ std::string validate(const render_params& p, const pointset* set) {
   if (!(p.temporal.alpha > 0 && p.temporal.alpha <= 1))
     return fmt::format("TAA alpha must lie in (0, 1] (got {})", p.temporal.alpha);
   return validate(p.view);
+}
+
+std::pair<uint64_t, uint64_t> converged_seeds(uint64_t seed) {
+  return {stream_seed(seed, 0x636f6e7665726765ull, 0), stream_seed(seed, 0x636f6e7665726765ull, 1)};
 }
 
 trace_params renderer::frame_trace_params(const render_params& p, uint64_t n) {

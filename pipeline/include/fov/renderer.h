@@ -61,6 +61,11 @@ struct render_params {
 // the setting as the tools' flags do (e.g. "--spp must lie in 1..65535 (got 0)").
 std::string validate(const render_params& p, const pointset* set = nullptr);
 
+// The seeds of two converged references (docs/metrics.md) for frames rendered with
+// `seed`: drawn from it, so they share no ray position with its full-resolution frames
+// (seed) or TAA frames (seed + n), and differ from each other (the noise floor).
+std::pair<uint64_t, uint64_t> converged_seeds(uint64_t seed);
+
 // What one frame cost, in milliseconds of wall time, and what it traced.
 //  - trace_ms: trace_points (on a trace that ran ahead: its own duration);
 //  - reconstruct_ms: reconstruction into the renderer's reused frame, TAA excluded;
