@@ -48,6 +48,9 @@ void add_render_flags(CLI::App& app, render_params& p, unsigned groups) {
           p.sun_irradiance = glm::vec3(float(v));
         },
         "Replace the scene's light by a sun of this irradiance (V or R,G,B; white albedo facing it: V + ambient)");
+    add_label_option(app, "--disc-sampler", p.disc_sampler, pixel_sampler_labels,
+                     "Foveated rays inside each point's disc: random (independent uniform positions, the thesis's) or "
+                     "sobol (scrambled Sobol, concentric map: stratified)");
     add_label_option(app, "--reference-sampler", p.reference_sampler, pixel_sampler_labels,
                      "Full-resolution rays inside each pixel: sobol (Owen-scrambled Sobol: stratified, converges) or "
                      "random (independent uniform positions)");

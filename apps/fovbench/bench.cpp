@@ -198,9 +198,13 @@ std::string render_settings_label(const render_params& p) {
   auto point = [](const std::optional<glm::vec3>& v) {
     return v ? fmt::format("{:g},{:g},{:g}", v->x, v->y, v->z) : std::string("-");  // -: the scene camera's
   };
-  return fmt::format("seed={} sampler={} exposure={:g} sun_dir={} sun_irradiance={} shadows={} renka={} rbf_kernel={} "
+  // The disc sampler is named only when it is not the thesis's, so results of sweeps made
+  // before it existed still resume.
+  const std::string disc = p.disc_sampler == pixel_sampler::random ? "" : std::string(" disc_sampler=") +
+                                                                             label_of(pixel_sampler_labels, p.disc_sampler);
+  return fmt::format("seed={} sampler={}{} exposure={:g} sun_dir={} sun_irradiance={} shadows={} renka={} rbf_kernel={} "
                      "rbf_shape={:g} hfov={:g} eye={} look_at={} up={}",
-                     p.seed, label_of(pixel_sampler_labels, p.reference_sampler), p.exposure_ev, point(p.sun_direction),
+                     p.seed, label_of(pixel_sampler_labels, p.reference_sampler), disc, p.exposure_ev, point(p.sun_direction),
                      point(p.sun_irradiance), p.shadows ? 1 : 0, p.reconstruct.renka ? 1 : 0, label_of(rbf_kernel_labels, p.reconstruct.kernel),
                      p.reconstruct.shape, p.view.hfov_deg, point(p.view.eye), point(p.view.target), point(p.view.up));
 }

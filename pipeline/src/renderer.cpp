@@ -22,7 +22,7 @@ double ms_since(clock_type::time_point t) {
 // The settings a traced frame depends on (besides gaze, camera and set).
 bool same_trace(const render_params& a, const render_params& b) {
   return a.spp == b.spp && a.seed == b.seed && a.shadows == b.shadows && a.footprint == b.footprint &&
-         a.reconstruct.k == b.reconstruct.k && a.taa == b.taa && a.pattern == b.pattern && a.exposure_ev == b.exposure_ev &&
+         a.reconstruct.k == b.reconstruct.k && a.taa == b.taa && a.pattern == b.pattern && a.exposure_ev == b.exposure_ev && a.disc_sampler == b.disc_sampler &&
          a.sun_direction == b.sun_direction && a.sun_irradiance == b.sun_irradiance;
 }
 
@@ -34,6 +34,7 @@ trace_params base_trace(const render_params& p) {
   tp.shadows = p.shadows;
   tp.footprint = p.footprint;
   tp.sampler = p.reference_sampler;
+  tp.disc_sampler = p.disc_sampler;
   tp.exposure_ev = p.exposure_ev;
   if (p.sun_direction || p.sun_irradiance) {
     light sun;

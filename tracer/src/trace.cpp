@@ -226,11 +226,13 @@ auto per_owner_mean(uint32_t spp, float exposure, Emit emit) {
   };
 }
 
-// Calls emit(x, y) with the screen position of each of point i's params.spp rays: uniform
-// in the disc of radius p around it (rejection from the square, no trigonometry; one
-// splitmix64 draw gives both coordinates, 24 bits each), from a stream seeded by
-// (seed, i), so the point gets the same rays every frame. The set is placed at `offset`
-// and mirrored as trace_params says (the disc mirrored too).
+// Calls emit(x, y) with the screen position of each of point i's params.spp rays inside
+// the disc of radius p around it, as params.disc_sampler says: random (uniform, rejection
+// from the square: one splitmix64 draw gives both coordinates, 24 bits each, from a stream
+// seeded by (seed, i)) or sobol (the scrambled Sobol points of owen_sobol_2d, scrambles
+// seeded by (seed, i), mapped to the disc by Shirley and Chiu's concentric map, which
+// keeps areas and so the strata). The point gets the same rays every frame. The set is
+// placed at `offset` and mirrored as trace_params says (the disc mirrored too).
 template <class Emit>
 void point_rays(const pointset& set, uint32_t i, canvas_offset offset, const trace_params& params, Emit&& emit) {
   const display_geometry& disp = set.model.display;
@@ -240,6 +242,15 @@ void point_rays(const pointset& set, uint32_t i, canvas_offset offset, const tra
   if (params.mirror_x) cx = float(disp.width) - cx;
   if (params.mirror_y) cy = float(disp.height) - cy;
   const float sx = params.mirror_x ? -p.spacing : p.spacing, sy = params.mirror_y ? -p.spacing : p.spacing;
+  if (params.disc_sampler == pixel_sampler::sobol) {
+    const uint64_t scrambles = splitmix64(random);
+    for (uint32_t s = 0; s < params.spp; ++s) {
+      const glm::vec2 q = owen_sobol_2d(s, uint32_t(scrambles), uint32_t(scrambles >> 32));
+      const glm::vec2 d = concentric_disc(q);
+      emit(cx + sx * d.x, cy + sy * d.y);
+    }
+    return;
+  }
   for (uint32_t s = 0; s < params.spp; ++s) {
     float u, v;
     do {
@@ -283,6 +294,16 @@ void check(const trace_params& p, int width, int height) {
 }  // namespace
 
 const char* texture_footprint_name(texture_footprint f) { return label_of(texture_footprint_labels, f); }
+
+glm::vec2 concentric_disc(glm::vec2 u) {
+  const float a = 2 * u.x - 1, b = 2 * u.y - 1;
+  if (a == 0 && b == 0) return {0, 0};
+  constexpr float quarter_pi = 0.78539816339744831f;
+  float r, phi;
+  if (std::fabs(a) > std::fabs(b)) r = a, phi = quarter_pi * (b / a);
+  else r = b, phi = 2 * quarter_pi - quarter_pi * (a / b);
+  return {r * std::cos(phi), r * std::sin(phi)};
+}
 
 glm::vec2 owen_sobol_2d(uint32_t s, uint32_t sx, uint32_t sy) {
   // Dimension 0 is the van der Corput sequence (bit reversal); dimension 1 is Sobol's

@@ -67,6 +67,8 @@ struct trace_params {
   bool tile_costs = false;
   // Reference only: the positions of a pixel's rays.
   pixel_sampler sampler = pixel_sampler::sobol;
+  // Foveated only: the positions of a point's rays in its disc (random: the thesis's).
+  pixel_sampler disc_sampler = pixel_sampler::random;
   // Every traced colour times 2^exposure_ev (a camera's exposure; -20..20). Displayed
   // values are then clamped to [0, 1] and sRGB-encoded (colour.h): no other tone curve.
   float exposure_ev = 0;
@@ -95,8 +97,8 @@ struct reference_trace {
 constexpr int reference_tile = 8;
 
 // Traces every point the screen needs for this gaze (traced_point_mask with params.k):
-// each casts params.spp rays through uniform random positions in the disc of radius
-// p around it (fixed per point: seeded by params.seed and the point's index).
+// each casts params.spp rays through positions in the disc of radius p around it
+// (params.disc_sampler; fixed per point: seeded by params.seed and the point's index).
 points_trace trace_points(const scene& s, const camera& cam, const pointset& set, gaze_point gaze,
                           const trace_params& params);
 
@@ -109,6 +111,10 @@ std::vector<glm::vec2> point_ray_positions(const pointset& set, const point_samp
 // of [0, 1)^2. The first 2^m samples put one sample in every elementary interval of
 // area 2^-m (e.g. one per cell of a 2^(m/2) grid for even m).
 glm::vec2 owen_sobol_2d(uint32_t s, uint32_t sx, uint32_t sy);
+
+// Shirley and Chiu's concentric map of [0, 1)^2 onto the unit disc: area-preserving, so
+// stratified points stay stratified.
+glm::vec2 concentric_disc(glm::vec2 u);
 
 // Full resolution: params.spp rays per pixel at params.sampler's positions inside it.
 reference_trace trace_reference(const scene& s, const camera& cam, int width, int height, const trace_params& params);
