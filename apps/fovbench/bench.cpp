@@ -55,21 +55,27 @@ struct config {
 
 std::string fraction_text(double f) { return fmt::format("{:.4f}", f); }
 
+// The cells that say which row a configuration is (its key), written the same way for
+// --resume's key and for the row itself.
+result_row identity_row(const bench_options& o, const std::vector<named_gaze>& gazes, const config& c) {
+  result_row r;
+  r.cells = {{"scene", o.scenes[c.scene]}, {"gaze", gazes[c.gaze].name}, {"kind", c.kind}, {"spp", std::to_string(c.spp)}};
+  if (c.kind == "full") {
+    r.cells["method"] = "full", r.cells["pixel_fraction"] = fraction_text(1);
+  } else {
+    r.cells["method"] = method_name(c.how), r.cells["k"] = std::to_string(c.k);
+    if (c.kind == "foveated") r.cells["scale"] = fmt::format("{:.2f}", o.scales[c.set]);
+    else r.cells["pixel_fraction"] = fraction_text(o.uniform_fractions[c.set]);
+  }
+  return r;
+}
+
 std::vector<config> all_configs(const bench_options& o, const std::vector<named_gaze>& gazes) {
   std::vector<config> all;
   auto add = [&](size_t sc, const std::string& kind, size_t set, size_t g, method how, uint32_t k, uint32_t spp) {
-    result_row r;
-    r.cells = {{"scene", o.scenes[sc]}, {"gaze", gazes[g].name}, {"kind", kind}, {"spp", std::to_string(spp)}};
-    if (kind == "full") {
-      r.cells["method"] = "full", r.cells["pixel_fraction"] = fraction_text(1);
-    } else {
-      r.cells["method"] = method_name(how), r.cells["k"] = std::to_string(k);
-      if (kind == "foveated") r.cells["scale"] = fmt::format("{:.2f}", o.scales[set]);
-      else r.cells["pixel_fraction"] = fraction_text(o.uniform_fractions[set]);
-    }
-    const std::string key = r.key();
-    if (std::none_of(all.begin(), all.end(), [&](const config& c) { return c.key == key; }))
-      all.push_back({sc, kind, set, g, how, k, spp, key});
+    config c{sc, kind, set, g, how, k, spp, ""};
+    c.key = identity_row(o, gazes, c).key();
+    if (std::none_of(all.begin(), all.end(), [&](const config& d) { return d.key == c.key; })) all.push_back(c);
   };
   const bool uniform = std::count(o.baselines.begin(), o.baselines.end(), baseline::uniform) > 0;
   const bool full = std::count(o.baselines.begin(), o.baselines.end(), baseline::full) > 0;
@@ -183,6 +189,7 @@ std::vector<named_gaze> parse_gazes(const std::vector<std::string>& items, const
   return out;
 }
 
+
 display_geometry parse_display(const std::string& text) {
   display_geometry display;
   if (display_preset(text, display)) return display;
@@ -193,7 +200,6 @@ display_geometry parse_display(const std::string& text) {
     throw usage_error(fmt::format("--display: '{}' is not fove, vive, desktop1080 or WxH (8..8192)", text));
   return {w, h, 1.0};
 }
-
 std::string render_settings_label(const render_params& p) {
   auto point = [](const std::optional<glm::vec3>& v) {
     return v ? fmt::format("{:g},{:g},{:g}", v->x, v->y, v->z) : std::string("-");  // -: the scene camera's
@@ -384,19 +390,11 @@ size_t run_bench(const bench_options& o, const bench_reporter& report) {
       return floors[g];
     };
     auto row_for = [&](const config& c) {
-      result_row row;
+      result_row row = identity_row(o, gazes, c);
       const named_gaze& gp = gazes[c.gaze];
-      row.cells = {{"scene", o.scenes[sc]}, {"gaze", gp.name}, {"gaze_x", number(gp.at.x)}, {"gaze_y", number(gp.at.y)},
-                   {"kind", c.kind}, {"spp", std::to_string(c.spp)}, {"texture_footprint", footprint},
-                   {"device", r.device()}, {"frames", std::to_string(o.frames)}, {"render_settings", settings},
-                   {"full_rays", std::to_string(uint64_t(display.width) * display.height * c.spp)}};
-      if (c.kind == "full") {
-        row.cells["method"] = "full", row.cells["pixel_fraction"] = fraction_text(1);
-      } else {
-        row.cells["method"] = method_name(c.how), row.cells["k"] = std::to_string(c.k);
-        if (c.kind == "foveated") row.cells["scale"] = fmt::format("{:.2f}", o.scales[c.set]);
-        else row.cells["pixel_fraction"] = fraction_text(o.uniform_fractions[c.set]);
-      }
+      row.cells.insert({{"gaze_x", number(gp.at.x)}, {"gaze_y", number(gp.at.y)}, {"texture_footprint", footprint},
+                        {"device", r.device()}, {"frames", std::to_string(o.frames)}, {"render_settings", settings},
+                        {"full_rays", std::to_string(uint64_t(display.width) * display.height * c.spp)}});
       const measured& floor = floor_at(c.gaze);
       put_floor(row, floor, coverage[c.gaze], o.reference_spp);
       return row;
