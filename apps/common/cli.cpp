@@ -4,6 +4,7 @@
 #include <cstdlib>
 
 #include <iostream>
+#include <sstream>
 
 #include <fmt/format.h>
 
@@ -49,6 +50,17 @@ gaze_point require_gaze(const std::string& flag, const std::string& text, const 
   if (g.x < 0 || g.x > d.width || g.y < 0 || g.y > d.height)
     throw usage_error(fmt::format("{} {} lies outside the {}x{} screen", flag, text, d.width, d.height));
   return g;
+}
+
+display_geometry parse_display(const std::string& text) {
+  display_geometry display;
+  if (display_preset(text, display)) return display;
+  int w = 0, h = 0;
+  char x = 0, extra = 0;
+  std::stringstream in(text);
+  if (!(in >> w >> x >> h) || x != 'x' || (in >> extra) || w < 8 || h < 8 || w > 8192 || h > 8192)
+    throw usage_error(fmt::format("--display: '{}' is not fove, vive, desktop1080 or WxH (8..8192)", text));
+  return {w, h, 1.0};
 }
 
 }  // namespace fov

@@ -135,16 +135,8 @@ converged_comparison compare_converged(renderer& r, const frame& image, const sp
 }
 
 std::string run_compare(const compare_options& o) {
-  display_geometry display;
   const bool named = !o.display.empty();
-  if (named && !display_preset(o.display, display)) {
-    int w = 0, h = 0;
-    char x = 0;
-    if (std::sscanf(o.display.c_str(), "%d%c%d", &w, &x, &h) != 3 || x != 'x' || w < 1 || h < 1 || w > 65536 || h > 65536 ||
-        o.display != fmt::format("{}x{}", w, h))
-      throw usage_error(fmt::format("--display: '{}' is not fove, vive, desktop1080 or WxH", o.display));
-    display = {w, h, 1.0};
-  }
+  display_geometry display = named ? parse_display(o.display) : display_geometry{};
   if (o.viewing_distance != 0) {
     if (!(o.viewing_distance > 0 && o.viewing_distance <= 100))
       throw usage_error(fmt::format("--viewing-distance must lie in (0, 100] display widths (got {})", o.viewing_distance));

@@ -47,7 +47,7 @@ converged_comparison compare_converged(renderer& r, const frame& image, const sp
 // `fovbench compare`: two image files, the display they are seen on and the gaze.
 struct compare_options {
   std::string test, reference;
-  std::string display;             // a preset or WxH (empty: the images' size)
+  std::string display;             // a preset or WxH, 8..8192 (parse_display; empty: the images' size)
   double viewing_distance = 0;     // display widths (0: the display's, 1 for WxH)
   std::string gaze = "centre";
   bool json = false, flip = true;

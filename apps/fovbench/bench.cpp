@@ -190,16 +190,6 @@ std::vector<named_gaze> parse_gazes(const std::vector<std::string>& items, const
 }
 
 
-display_geometry parse_display(const std::string& text) {
-  display_geometry display;
-  if (display_preset(text, display)) return display;
-  int w = 0, h = 0;
-  char x = 0, extra = 0;
-  std::stringstream in(text);
-  if (!(in >> w >> x >> h) || x != 'x' || (in >> extra) || w < 8 || h < 8 || w > 8192 || h > 8192)
-    throw usage_error(fmt::format("--display: '{}' is not fove, vive, desktop1080 or WxH (8..8192)", text));
-  return {w, h, 1.0};
-}
 std::string render_settings_label(const render_params& p) {
   auto point = [](const std::optional<glm::vec3>& v) {
     return v ? fmt::format("{:g},{:g},{:g}", v->x, v->y, v->z) : std::string("-");  // -: the scene camera's

@@ -51,8 +51,6 @@ class reference_cache {
 
 
 
-// A preset name (fove, vive, desktop1080) or "WxH" (8..8192, v = 1); throws usage_error naming --display.
-display_geometry parse_display(const std::string& text);
 
 // The options' render settings that every row shares, as one text (its render_settings
 // column): a results.csv holds rows of one setting only, so --resume can refuse others.
