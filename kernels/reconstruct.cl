@@ -30,8 +30,10 @@ __kernel void reconstruct_nn(__global const uint* table, uint canvas_width, uint
 }
 
 // Depth by Shepard over the neighbours that hit something (finite depth), with their own R;
-// +inf when none did.
+// +inf when none did. A pixel on a point (a grid point) takes its depth, a miss included.
 inline float shepard_depth(const float* h, const uint* idx, uint k, uint renka, __global const float* depth) {
+  for (uint j = 0; j < k; ++j)
+    if (h[j] == 0.0f) return depth[idx[j]];
   float r_hit = -1.0f;
   uint hits = 0;
   for (uint j = 0; j < k; ++j)
@@ -41,7 +43,6 @@ inline float shepard_depth(const float* h, const uint* idx, uint k, uint renka, 
   for (uint j = 0; j < k; ++j) {
     const float d = depth[idx[j]];
     if (!isfinite(d)) continue;
-    if (h[j] == 0.0f) return d;
     float w = (r_hit - h[j]) / (r_hit * h[j]);
     if (renka) w *= w;
     dacc += w * d;

@@ -115,6 +115,91 @@ TEST(DartThrowing, DeterministicForAnyThreadCount) {
   EXPECT_FALSE(other.size() == one.size() && other[0].x == one[0].x && other[0].y == one[0].y);
 }
 
+TEST(FovealGrid, EveryGridPixelHoldsOnePointAtItsCentreAndDartsKeepTheirSpacing) {
+  const spacing_model m = testing::partial_grid_model();
+  dart_params params = testing::grid_darts();
+  dart_stats stats;
+  const std::vector<point> pts = throw_darts(m, params, &stats);
+  const uint32_t cw = 2 * m.display.width, ch = 2 * m.display.height;
+  std::vector<int> held(size_t(cw) * ch, 0);
+  uint64_t grid_pixels = 0, darts_in_grid_pixels = 0;
+  for (uint32_t y = 0; y < ch; ++y)
+    for (uint32_t x = 0; x < cw; ++x) grid_pixels += is_grid_pixel(m, params, x, y);
+  pointset set;
+  set.model = m, set.darts = params;
+  for (const point& p : pts) {
+    const uint32_t px = uint32_t(p.x), py = uint32_t(p.y);
+    if (is_grid_point(set, p)) {
+      ++held[size_t(py) * cw + px];
+      EXPECT_EQ(p.spacing, 1.0f);
+    } else {
+      darts_in_grid_pixels += is_grid_pixel(m, params, px, py) && p.x - float(px) == 0.5f && p.y - float(py) == 0.5f;
+      // A dart keeps the model's spacing at its position, and its spacing is above the grid's
+      // almost everywhere (only at the disc's rim may a dart sit where the model asks for less).
+      const double d = std::hypot(double(p.x) - m.display.width, double(p.y) - m.display.height);
+      ASSERT_FLOAT_EQ(p.spacing, float(point_spacing_px(m, d)));
+    }
+  }
+  // The grid is a proper part of the canvas: a disc, with darts around it.
+  EXPECT_GT(grid_pixels, 5000u);
+  EXPECT_LT(grid_pixels, uint64_t(cw) * ch / 2);
+  EXPECT_EQ(stats.grid_points, grid_pixels);
+  EXPECT_EQ(darts_in_grid_pixels, 0u);
+  for (uint32_t y = 0; y < ch; ++y)
+    for (uint32_t x = 0; x < cw; ++x)
+      ASSERT_EQ(held[size_t(y) * cw + x], is_grid_pixel(m, params, x, y) ? 1 : 0) << x << "," << y;
+  EXPECT_EQ(pts.size(), stats.grid_points + stats.phase1_points + stats.phase2_points);
+  EXPECT_GT(stats.phase1_points, 1000u);
+  // The spacing rule holds across the seam (every pair, exhaustively) and the set is maximal.
+  EXPECT_EQ(brute_force_violations(pts), 0u);
+  EXPECT_EQ(count_spacing_violations(pts, cw, ch), 0u);
+  EXPECT_LT(stats.free_fraction, 1e-3);
+  // The ring just outside the grid is as dense as the dart rule allows: no gap along the rim.
+  // Darts at spacing p reach at least 0.5 / p^2 points per pixel in a maximal set.
+  double rim = -1;
+  for (uint32_t x = uint32_t(m.display.width); x < cw; ++x)
+    if (!is_grid_pixel(m, params, x, uint32_t(m.display.height))) {
+      rim = x + 0.5 - m.display.width;
+      break;
+    }
+  ASSERT_GT(rim, 10.0);
+  uint64_t in_ring = 0;
+  for (const point& p : pts) {
+    const double d = std::hypot(double(p.x) - m.display.width, double(p.y) - m.display.height);
+    in_ring += d >= rim && d < rim + 4;
+  }
+  const double ring_area = M_PI * ((rim + 4) * (rim + 4) - rim * rim);
+  const double p_outer = point_spacing_px(m, rim + 4);
+  EXPECT_GT(double(in_ring) / ring_area, 0.5 / (p_outer * p_outer)) << in_ring << " points in the rim ring";
+  // More grid spacing, a larger grid; and the thesis's layout has none.
+  params.grid_spacing = 1.5;
+  dart_stats wider;
+  throw_darts(m, params, &wider);
+  EXPECT_GT(wider.grid_points, stats.grid_points);
+  dart_stats none;
+  throw_darts(m, testing::quick_darts(), &none);
+  EXPECT_EQ(none.grid_points, 0u);
+  params.grid_spacing = 0.2;
+  EXPECT_THROW(throw_darts(m, params), std::invalid_argument);
+}
+
+TEST(FovealGrid, DeterministicForAnyThreadCount) {
+  std::vector<point> one, two;
+  {
+    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 1);
+    one = throw_darts(testing::partial_grid_model(), testing::grid_darts(5));
+  }
+  {
+    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 2);
+    two = throw_darts(testing::partial_grid_model(), testing::grid_darts(5));
+  }
+  ASSERT_EQ(one.size(), two.size());
+  for (size_t i = 0; i < one.size(); ++i) {
+    ASSERT_EQ(one[i].x, two[i].x);
+    ASSERT_EQ(one[i].y, two[i].y);
+  }
+}
+
 TEST(DartThrowing, MoreSaturationLeavesLessFreeArea) {
   const spacing_model m = small_model(256, 256);
   dart_stats loose, tight;

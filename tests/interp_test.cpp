@@ -10,6 +10,7 @@
 #include "fov/metrics.h"
 #include "fov/rbf_cache.h"
 #include "fov/reconstruct.h"
+#include "test_sets.h"
 
 namespace fov {
 namespace {
@@ -31,6 +32,58 @@ struct fixture {
     for (size_t i = 0; i < set.points.size(); ++i) samples.colour[i] = f(set.points[i].x, set.points[i].y);
   }
 };
+
+// Issue 15: a smooth field stays smooth where the foveal grid meets the darts. Every method
+// returns the field exactly on grid pixels; in the ring where grid and darts mix, the mean
+// error is no larger than among the darts just outside, and no pixel there jumps.
+TEST(FovealGrid, ASmoothFieldStaysSmoothAcrossTheSeam) {
+  knn_params kp;
+  kp.k = 8;
+  const pointset set = generate_pointset(testing::partial_grid_model(), testing::grid_darts(), kp);
+  const int w = set.model.display.width, h = set.model.display.height;
+  auto field = [](double x, double y) { return 0.5 + 0.4 * std::sin(x / 9.0) * std::cos(y / 11.0); };
+  point_samples samples;
+  samples.offset = offset_for_gaze(set.model.display, screen_centre(set.model.display));
+  samples.colour.resize(set.points.size());
+  samples.depth.assign(set.points.size(), 1.0f);
+  for (size_t i = 0; i < set.points.size(); ++i)
+    samples.colour[i] = glm::vec3(float(field(set.points[i].x, set.points[i].y)));
+  // The rim: the grid's radius along the row through the centre.
+  double rim = 0;
+  for (int x = w; x < 2 * w; ++x)
+    if (!is_grid_pixel(set.model, set.darts, uint32_t(x), uint32_t(h))) {
+      rim = x + 0.5 - w;
+      break;
+    }
+  ASSERT_GT(rim, 20.0);
+  for (method m : {method::nn, method::shepard, method::rbf}) {
+    reconstruct_params rp;
+    rp.how = m;
+    rp.k = 5;
+    const frame f = reconstruct(set, samples, rp);
+    double seam_sum = 0, outside_sum = 0, seam_worst = 0, outside_worst = 0;
+    size_t seam_n = 0, outside_n = 0, grid_exact = 0, grid_n = 0;
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        const double cx = x + samples.offset.x + 0.5, cy = y + samples.offset.y + 0.5;
+        const double d = std::hypot(cx - w, cy - h);
+        const double err = std::fabs(f.rgb[size_t(y) * w + x].r - field(cx, cy));
+        if (is_grid_pixel(set.model, set.darts, uint32_t(cx), uint32_t(cy))) {
+          ++grid_n;
+          grid_exact += f.rgb[size_t(y) * w + x].r == float(field(cx, cy));
+        }
+        if (std::fabs(d - rim) < 3) seam_sum += err, ++seam_n, seam_worst = std::max(seam_worst, err);
+        if (d >= rim + 3 && d < rim + 9) outside_sum += err, ++outside_n, outside_worst = std::max(outside_worst, err);
+      }
+    ASSERT_GT(seam_n, 100u);
+    ASSERT_GT(outside_n, 100u);
+    EXPECT_EQ(grid_exact, grid_n) << method_name(m);
+    EXPECT_LE(seam_sum / seam_n, outside_sum / outside_n) << method_name(m);
+    // A single pixel at the rim may sit a little farther from its nearest point than any
+    // among the darts outside (darts keep their spacing from the grid); a gap would double it.
+    EXPECT_LE(seam_worst, 1.5 * outside_worst) << method_name(m);
+  }
+}
 
 TEST(Shepard, PixelOnAPointReturnsItsValue) {
   const double h[3] = {0.0, 1.0, 2.0};

@@ -161,6 +161,54 @@ TEST_F(PointsetFile, RejectsOutOfRangeIndicesEvenWithValidChecksums) {
   EXPECT_NE(load_error(path("range.fovset")).find("out of range"), std::string::npos) << load_error(path("range.fovset"));
 }
 
+TEST_F(PointsetFile, GridSetsRoundTripAndVersionOneFilesStillLoad) {
+  knn_params kp;
+  kp.k = 6;
+  const pointset grid = generate_pointset(testing::partial_grid_model(), testing::grid_darts(), kp);
+  ASSERT_GT(grid.stats.grid_points, 1000u);
+  save_pointset(path("g.fovset"), grid);
+  const pointset back = load_pointset(path("g.fovset"));
+  EXPECT_EQ(back.darts.fovea, fovea_layout::grid);
+  EXPECT_EQ(back.darts.grid_spacing, grid.darts.grid_spacing);
+  EXPECT_EQ(back.stats.grid_points, grid.stats.grid_points);
+  uint64_t marked = 0;
+  for (const point& p : back.points) marked += is_grid_point(back, p);
+  EXPECT_EQ(marked, grid.stats.grid_points);
+
+  // A grid point moved off its pixel centre, checksums re-sealed: the count check catches it.
+  std::vector<char> bytes = read(path("g.fovset"));
+  size_t moved = 0;
+  for (size_t i = 0; i < back.points.size(); ++i)
+    if (is_grid_point(back, back.points[i])) moved = i;
+  float x = back.points[moved].x + 0.25f;
+  std::memcpy(&bytes[512 + moved * 12], &x, 4);
+  auto reseal = [&](std::vector<char>& b, size_t points) {
+    const uint32_t crc = crc32c(&b[512], points * 12);
+    std::memcpy(&b[200], &crc, 4);
+    const uint32_t header_crc = crc32c(b.data(), 508);
+    std::memcpy(&b[508], &header_crc, 4);
+  };
+  reseal(bytes, back.points.size());
+  write(path("moved.fovset"), bytes);
+  EXPECT_NE(load_error(path("moved.fovset")).find("grid pixels"), std::string::npos) << load_error(path("moved.fovset"));
+
+  // Version 1 (before the fovea layout) had zeros where version 2 keeps it: it loads as darts.
+  save_pointset(path("d.fovset"), set_);
+  bytes = read(path("d.fovset"));
+  const uint32_t v1 = 1;
+  std::memcpy(&bytes[8], &v1, 4);
+  reseal(bytes, set_.points.size());
+  write(path("v1.fovset"), bytes);
+  ASSERT_EQ(load_error(path("v1.fovset")), "");
+  EXPECT_EQ(load_pointset(path("v1.fovset")).darts.fovea, fovea_layout::darts);
+  // ... but a version-1 file with the layout field set is refused.
+  const uint32_t grid_layout = 1;
+  std::memcpy(&bytes[44], &grid_layout, 4);
+  reseal(bytes, set_.points.size());
+  write(path("v1grid.fovset"), bytes);
+  EXPECT_NE(load_error(path("v1grid.fovset")).find("version 1"), std::string::npos) << load_error(path("v1grid.fovset"));
+}
+
 TEST_F(PointsetFile, FailedWritesLeaveNothingBehind) {
   EXPECT_THROW(save_pointset(path("no/such/dir/a.fovset"), set_), file_error);
   EXPECT_THROW(check_writable(path("no/such/dir/a.fovset")), file_error);

@@ -18,6 +18,7 @@
 #include "fov/speedup.h"
 #include "fov/usage_error.h"
 #include "opencl_required.h"
+#include "test_sets.h"
 
 namespace fov {
 namespace {
@@ -275,6 +276,62 @@ TEST_F(pipeline, TheDevicePathGivesTheCppFrames) {
         EXPECT_LT(worst, 1e-4f) << method_name(m) << " taa " << taa << " frame " << n << " (brightest " << brightest << ")";
       }
     }
+}
+
+// Issue 15: where the set is a pixel grid, the foveated frame is the full-resolution frame
+// with the same rays per pixel, bit for bit, whatever the method, gaze or device.
+struct foveal_grid : ::testing::Test {
+  std::shared_ptr<const scene> scn = load_scene("builtin");
+  std::shared_ptr<pointset> set = [] {
+    knn_params kp;
+    kp.k = 8;
+    auto s = std::make_shared<pointset>(generate_pointset(testing::partial_grid_model(), testing::grid_darts(), kp));
+    set_knn_radii(s->table, s->points);
+    return s;
+  }();
+  int w = set->model.display.width, h = set->model.display.height;
+  // Calls f(screen index, canvas pixel is a grid pixel) for every screen pixel.
+  template <class F>
+  void each_pixel(gaze_point g, F&& f) const {
+    const canvas_offset o = offset_for_gaze(set->model.display, g);
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x)
+        f(size_t(y) * w + x, is_grid_pixel(set->model, set->darts, uint32_t(x + o.x), uint32_t(y + o.y)));
+  }
+};
+
+TEST_F(foveal_grid, GridPixelsAreTheFullResolutionFrameExactly) {
+  render_params p;
+  p.taa = false;
+  p.reconstruct.k = 5;
+  for (reconstruct_device device : {reconstruct_device::cpp, reconstruct_device::opencl})
+    for (uint32_t spp : {1u, 4u})
+      for (method m : {method::nn, method::shepard, method::rbf})
+        for (gaze_point g : {screen_centre(set->model.display), gaze_point{30, 70}}) {
+          p.spp = spp, p.reconstruct.how = m, p.device = device;
+          renderer r(scn, p);
+          r.use_pointset(set);
+          if (device == reconstruct_device::opencl && !r.on_device()) {
+            if (opencl_required()) FAIL() << "no OpenCL device, and FOV_REQUIRE_OPENCL=1: " << r.device_problem();
+            continue;
+          }
+          const frame fov = r.foveated(g, p);
+          const frame full = r.reference(w, h, p).image;
+          size_t grid = 0, same = 0, other_differ = 0;
+          each_pixel(g, [&](size_t i, bool on_grid) {
+            if (!on_grid) {
+              other_differ += fov.rgb[i] != full.rgb[i];
+              return;
+            }
+            ++grid;
+            same += fov.rgb[i] == full.rgb[i] && fov.depth[i] == full.depth[i];
+          });
+          const std::string what = fmt::format("{} {} spp {} gaze {},{}", label_of(reconstruct_device_labels, device), spp,
+                                               method_name(m), g.x, g.y);
+          EXPECT_GT(grid, 2000u) << what;
+          EXPECT_EQ(same, grid) << what;
+          EXPECT_GT(other_differ, (size_t(w * h) - grid) / 10) << what << ": outside the grid the set is sparser";
+        }
 }
 
 // A camera sliding sideways over the built-in scene, 2 rays per pixel a frame. Against a

@@ -21,6 +21,15 @@ inline dart_params quick_darts(uint64_t seed = 7, uint32_t saturation = 2000) {
   return d;
 }
 
+// A small screen seen from far away (N v = 1280, as a FOVE's 1280 px at v = 1) and thinned
+// by s = 4, so that its foveal grid covers a disc of about 52 px radius and darts the rest.
+inline spacing_model partial_grid_model() { return small_model(128, 96, 10.0, 4.0); }
+inline dart_params grid_darts(uint64_t seed = 7) {
+  dart_params d = quick_darts(seed);
+  d.fovea = fovea_layout::grid;
+  return d;
+}
+
 // Pairs closer than min(p_i, p_j), by checking every pair.
 inline uint64_t brute_force_violations(const std::vector<point>& pts) {
   uint64_t n = 0;

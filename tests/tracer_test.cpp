@@ -13,6 +13,7 @@
 #include "fov/knn_table.h"
 #include "fov/trace.h"
 #include "fov/usage_error.h"
+#include "test_sets.h"
 
 namespace fov {
 namespace {
@@ -385,6 +386,57 @@ std::string write_axis_envmap(const fs::path& dir) {
   out->write_image(OIIO::TypeDesc::FLOAT, px.data());
   out->close();
   return path;
+}
+
+TEST(FovealGrid, MirroredPatternsCastTheNextSamplesOfEachPixel) {
+  // Pattern n (mirror_x + 2 mirror_y) casts samples [n spp, (n + 1) spp) of its pixel's
+  // sequence: the four patterns' mean is the full-resolution frame at 4 spp. An emitting
+  // half-plane with a slanted edge: a pixel on the edge is the share of its rays on one side.
+  scene s(emitter({{-100, -100, -5}, {0.4f, -100, -5}, {-0.4f, 100, -5}, {-100, 100, -5}}, {1, 0, 0}));
+  const camera cam = look_at({0, 0, 0}, {0, 0, -1}, 90);
+  knn_params kp;
+  kp.k = 5;
+  const pointset set = generate_pointset(testing::partial_grid_model(), testing::grid_darts(), kp);
+  const int w = set.model.display.width, h = set.model.display.height;
+  const gaze_point g = screen_centre(set.model.display);
+  trace_params tp;
+  tp.spp = 2;
+  tp.k = 5;
+  std::vector<float> mean(size_t(w) * h, 0);
+  std::vector<int> patterns(size_t(w) * h, 0);
+  for (int n = 0; n < 4; ++n) {
+    tp.mirror_x = n & 1, tp.mirror_y = n & 2;
+    const point_samples ps = trace_points(s, cam, set, g, tp).samples;
+    for (uint32_t i : ps.traced) {
+      const point& p = set.points[i];
+      if (!is_grid_point(set, p)) continue;
+      float x = p.x - float(ps.offset.x), y = p.y - float(ps.offset.y);
+      if (tp.mirror_x) x = float(w) - x;
+      if (tp.mirror_y) y = float(h) - y;
+      if (x < 0 || y < 0 || x >= float(w) || y >= float(h)) continue;
+      const size_t at = size_t(y) * w + size_t(x);
+      mean[at] += 0.25f * ps.colour[i].r;
+      ++patterns[at];
+    }
+  }
+  tp.mirror_x = tp.mirror_y = false;
+  tp.spp = 8;
+  const frame full = trace_reference(s, cam, w, h, tp).image;
+  tp.spp = 2;
+  const frame two = trace_reference(s, cam, w, h, tp).image;
+  size_t grid = 0, on_edge = 0, moved = 0, same = 0;
+  for (size_t i = 0; i < mean.size(); ++i) {
+    if (patterns[i] == 0) continue;
+    ASSERT_EQ(patterns[i], 4) << "every grid pixel in every pattern";
+    ++grid;
+    on_edge += full.rgb[i].r > 0 && full.rgb[i].r < 1;
+    moved += full.rgb[i].r != two.rgb[i].r;
+    same += mean[i] == full.rgb[i].r;
+  }
+  EXPECT_GT(grid, 2000u);
+  EXPECT_GT(on_edge, 40u);
+  EXPECT_GT(moved, 10u) << "more samples must change some edge pixels, or the test proves nothing";
+  EXPECT_EQ(same, grid);
 }
 
 TEST(Tracer, EnvironmentSceneReturnsTheImageAlongEachAxis) {

@@ -38,6 +38,8 @@ struct generate_options {
   uint64_t seed = 1;
   uint32_t saturation = fov::dart_params{}.saturation_rejections;
   std::string encoding = "ref-left-zstd";
+  fov::fovea_layout fovea = fov::dart_params{}.fovea;
+  double grid_spacing = fov::dart_params{}.grid_spacing;
   bool json = false;
 };
 
@@ -51,6 +53,11 @@ void add_generate_flags(CLI::App& app, generate_options& o) {
   app.add_option("--seed", o.seed, "Random seed; same flags + seed give a byte-identical file");
   app.add_option("--saturation", o.saturation, "Consecutive rejected darts that end a tile's dart throwing");
   app.add_option("--encoding", o.encoding, "Table encoding on disk: ref-left-zstd (compact) or raw (mmap-able)");
+  fov::add_label_option(app, "--fovea", o.fovea, fov::fovea_layout_labels,
+                        "darts: Poisson-disc darts everywhere (the thesis); grid: one point per pixel centre "
+                        "where the model's spacing is at most --grid-spacing, darts outside");
+  app.add_option("--grid-spacing", o.grid_spacing,
+                 "With --fovea grid: the largest model spacing (pixels, 0.5..4) that still gets grid points");
   app.add_flag("--json", o.json, "Print a JSON summary on stdout");
 }
 
@@ -74,6 +81,10 @@ fov::spacing_model model_from(const generate_options& o, CLI::App& app) {
   if (o.k < 1 || o.k > fov::max_knn) throw usage_error(fmt::format("--k must lie in 1..{} (got {})", fov::max_knn, o.k));
   if (o.group < 1) throw usage_error("--group must be at least 1");
   if (o.saturation < 1) throw usage_error("--saturation must be at least 1");
+  if (!(o.grid_spacing >= 0.5 && o.grid_spacing <= 4))
+    throw usage_error(fmt::format("--grid-spacing must lie in 0.5..4 pixels (got {})", o.grid_spacing));
+  if (app.count("--grid-spacing") && o.fovea != fov::fovea_layout::grid)
+    throw usage_error("--grid-spacing needs --fovea grid");
   fov::table_encoding e;
   if (!fov::parse_table_encoding(o.encoding, e))
     throw usage_error(fmt::format("--encoding: unknown '{}' (ref-left-zstd, raw)", o.encoding));
@@ -94,7 +105,10 @@ json summary(const fov::pointset& set, const std::string& path) {
   j["table_group"] = set.table.group;
   j["seed"] = set.darts.seed;
   j["saturation_rejections"] = set.darts.saturation_rejections;
+  j["fovea"] = fov::label_of(fov::fovea_layout_labels, set.darts.fovea);
+  if (set.darts.fovea == fov::fovea_layout::grid) j["grid_spacing"] = set.darts.grid_spacing;
   j["points_total"] = set.points.size();
+  j["grid_points"] = set.stats.grid_points;
   j["phase1_points"] = set.stats.phase1_points;
   j["phase2_points"] = set.stats.phase2_points;
   j["darts_thrown"] = set.stats.darts_thrown;
@@ -140,6 +154,8 @@ fov::pointset generate_file(const fov::spacing_model& model, const generate_opti
   set.model = model;
   set.darts.seed = o.seed;
   set.darts.saturation_rejections = o.saturation;
+  set.darts.fovea = o.fovea;
+  set.darts.grid_spacing = o.grid_spacing;
   set.points = fov::throw_darts(model, set.darts, &set.stats);
   if (set.points.size() < o.k)
     throw usage_error(fmt::format("--k {} exceeds the {} points of this set; use --k {} or less", o.k,
@@ -221,9 +237,9 @@ int run_generate(CLI::App& app, const generate_options& o, const std::string& ou
   if (o.json) {
     std::cout << j.dump(2) << "\n";
   } else {
-    fmt::print("{}: {} points ({} + {} in phase 2), free area {:.2e}, {} spacing violations, "
+    fmt::print("{}: {} points ({} on the foveal grid, {} + {} darts in phase 2), free area {:.2e}, {} spacing violations, "
                "darts {:.1f} s + table {:.1f} s, {:.1f} MB\n",
-               output, set.points.size(), set.stats.phase1_points, set.stats.phase2_points, set.stats.free_fraction,
+               output, set.points.size(), set.stats.grid_points, set.stats.phase1_points, set.stats.phase2_points, set.stats.free_fraction,
                j["spacing_violations"].get<uint64_t>(), set.stats.seconds, set.knn_seconds,
                j.value("file_bytes", 0.0) / 1e6);
   }
@@ -347,6 +363,8 @@ int main(int argc, char** argv) {
             // Reuse only a set these exact flags would write again (the file is deterministic).
             reuse = old.model.scale == s && old.darts.seed == sweep_gen.seed &&
                     old.darts.saturation_rejections == sweep_gen.saturation && old.table.k == sweep_gen.k &&
+                    old.darts.fovea == sweep_gen.fovea &&
+                    (sweep_gen.fovea != fov::fovea_layout::grid || old.darts.grid_spacing == sweep_gen.grid_spacing) &&
                     old.table.group == std::clamp<uint32_t>(sweep_gen.group, 1, sweep_gen.k) &&
                     old.model.display.width == m.display.width && old.model.display.height == m.display.height &&
                     old.model.display.viewing_distance == m.display.viewing_distance;

@@ -30,8 +30,9 @@ struct tile {
 
 class dart_board {
  public:
-  dart_board(const spacing_model& model) : model_(model) {
+  dart_board(const spacing_model& model, const dart_params& params) : model_(model), params_(params) {
     const double w = model.display.width, h = model.display.height;
+    grid_radius_ = grid_radius();
     canvas_w_ = float(2 * w);
     canvas_h_ = float(2 * h);
     cx_ = w;
@@ -52,7 +53,9 @@ class dart_board {
         const double dx = std::max({0.0, double(t.x0) - cx_, cx_ - double(t.x1)});
         const double dy = std::max({0.0, double(t.y0) - cy_, cy_ - double(t.y1)});
         const double p_min = point_spacing_px(model, std::hypot(dx, dy));
-        t.cell = float(0.99 * p_min / std::sqrt(2.0));
+        // Grid points lie 1 px apart: cells that may hold one must be smaller than that too.
+        const bool grid_reach = std::hypot(dx, dy) <= grid_radius_ + 1;
+        t.cell = float(0.99 * (grid_reach ? std::min(p_min, 1.0) : p_min) / std::sqrt(2.0));
         t.nx = std::max(1, int(std::ceil((t.x1 - t.x0) / t.cell)));
         t.ny = std::max(1, int(std::ceil((t.y1 - t.y0) / t.cell)));
         const size_t cells = size_t(t.nx) * t.ny;
@@ -60,6 +63,37 @@ class dart_board {
         t.cx.assign(cells, std::numeric_limits<float>::quiet_NaN());
         t.cy.assign(cells, std::numeric_limits<float>::quiet_NaN());
       }
+  }
+
+  // The largest distance from the canvas centre at which the model's spacing is at most
+  // the grid spacing (the spacing never decreases with distance); -1 without a grid.
+  double grid_radius() const {
+    if (params_.fovea != fovea_layout::grid || point_spacing_px(model_, 0) > params_.grid_spacing) return -1;
+    double lo = 0, hi = std::hypot(2.0 * model_.display.width, 2.0 * model_.display.height);
+    if (point_spacing_px(model_, hi) <= params_.grid_spacing) return hi;
+    for (int i = 0; i < 64; ++i) {
+      const double mid = 0.5 * (lo + hi);
+      (point_spacing_px(model_, mid) <= params_.grid_spacing ? lo : hi) = mid;
+    }
+    return lo;
+  }
+
+  // One point at the centre of every grid pixel (is_grid_pixel), spacing 1 px, before any
+  // dart: darts then keep their own spacing from them.
+  uint64_t place_grid() {
+    if (grid_radius_ < 0) return 0;
+    const int w = model_.display.width, h = model_.display.height;
+    const int r = int(std::ceil(grid_radius_)) + 1;
+    uint64_t placed = 0;
+    for (int py = std::max(0, h - r); py < std::min(2 * h, h + r); ++py)
+      for (int px = std::max(0, w - r); px < std::min(2 * w, w + r); ++px) {
+        if (!is_grid_pixel(model_, params_, uint32_t(px), uint32_t(py))) continue;
+        const float x = float(px) + 0.5f, y = float(py) + 0.5f;
+        const int tx = int(x / tile_size_), ty = int(y / tile_size_);
+        insert(tiles_[size_t(ty) * tiles_x_ + tx], x, y, 1.0f);
+        ++placed;
+      }
+    return placed;
   }
 
   float spacing_at(float x, float y) const {
@@ -188,6 +222,8 @@ class dart_board {
 
  private:
   spacing_model model_;
+  dart_params params_;
+  double grid_radius_ = -1;
   float tile_size_;
   int tiles_x_, tiles_y_;
   std::vector<tile> tiles_;
@@ -230,8 +266,11 @@ std::vector<point> throw_darts(const spacing_model& model, const dart_params& pa
   if (params.saturation_rejections == 0) throw std::invalid_argument("saturation_rejections must be positive");
   if (!(params.central_fraction >= 0 && params.central_fraction <= 2))
     throw std::invalid_argument("central_fraction must lie in [0, 2]");
+  if (params.fovea == fovea_layout::grid && !(params.grid_spacing >= 0.5 && params.grid_spacing <= 4))
+    throw std::invalid_argument("grid_spacing must lie in 0.5..4 pixels");
   const auto start = std::chrono::steady_clock::now();
-  dart_board board(model);
+  dart_board board(model, params);
+  const uint64_t grid = board.place_grid();
   board.phase(1, 0, 0, board.canvas_w_, board.canvas_h_, params);
   const uint64_t after_phase1 = board.point_count();
   const double hw = 0.5 * params.central_fraction * model.display.width;
@@ -240,7 +279,8 @@ std::vector<point> throw_darts(const spacing_model& model, const dart_params& pa
     board.phase(2, float(board.cx_ - hw), float(board.cy_ - hh), float(board.cx_ + hw), float(board.cy_ + hh),
                 params);
   dart_stats s;
-  s.phase1_points = after_phase1;
+  s.grid_points = grid;
+  s.phase1_points = after_phase1 - grid;
   s.phase2_points = board.point_count() - after_phase1;
   s.darts_thrown = board.darts();
   if (params.free_area_probes > 0) {

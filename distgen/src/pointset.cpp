@@ -36,6 +36,18 @@ canvas_offset offset_for_gaze(const display_geometry& display, gaze_point gaze) 
   return {display.width - int(std::floor(gaze_x + 0.5)), display.height - int(std::floor(gaze_y + 0.5))};
 }
 
+bool is_grid_pixel(const spacing_model& model, const dart_params& params, uint32_t px, uint32_t py) {
+  if (params.fovea != fovea_layout::grid) return false;
+  const double dx = px + 0.5 - model.display.width, dy = py + 0.5 - model.display.height;
+  return point_spacing_px(model, std::hypot(dx, dy)) <= params.grid_spacing;
+}
+
+bool is_grid_point(const pointset& set, const point& p) {
+  if (set.darts.fovea != fovea_layout::grid) return false;
+  const float fx = std::floor(p.x), fy = std::floor(p.y);
+  return p.x - fx == 0.5f && p.y - fy == 0.5f && is_grid_pixel(set.model, set.darts, uint32_t(fx), uint32_t(fy));
+}
+
 uint64_t count_spacing_violations(const std::vector<point>& points, uint32_t canvas_width,
                                   uint32_t canvas_height) {
   if (points.empty()) return 0;

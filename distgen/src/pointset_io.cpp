@@ -32,7 +32,7 @@ struct header {
   uint32_t version, header_bytes;
   uint32_t width, height;
   double viewing_distance, scale;
-  uint32_t acuity_model, reserved0;
+  uint32_t acuity_model, fovea;  // fovea: fovea_layout (version 1: reserved, 0 = darts)
   double ct0, alpha, e2;
   uint64_t seed;
   uint32_t saturation_rejections, free_area_probes;
@@ -43,6 +43,8 @@ struct header {
   uint32_t canvas_width, canvas_height, k, group, encoding, chunk_rows;
   uint64_t points_offset, points_bytes, table_offset, table_bytes;
   uint32_t points_crc, table_crc;
+  double grid_spacing;  // version 2
+  uint64_t grid_points;  // version 2
   uint32_t header_crc;  // CRC-32C of bytes [0, 508) with this field excluded
 };
 
@@ -52,7 +54,7 @@ void visit_fields(H& h, F&& f) {
   for (auto& c : h.magic) f(c);
   f(h.version); f(h.header_bytes);
   f(h.width); f(h.height); f(h.viewing_distance); f(h.scale);
-  f(h.acuity_model); f(h.reserved0); f(h.ct0); f(h.alpha); f(h.e2);
+  f(h.acuity_model); f(h.fovea); f(h.ct0); f(h.alpha); f(h.e2);
   f(h.seed); f(h.saturation_rejections); f(h.free_area_probes); f(h.central_fraction);
   f(h.phase1_points); f(h.phase2_points); f(h.darts_thrown); f(h.free_probes_accepted);
   f(h.free_fraction);
@@ -60,6 +62,7 @@ void visit_fields(H& h, F&& f) {
   f(h.canvas_width); f(h.canvas_height); f(h.k); f(h.group); f(h.encoding); f(h.chunk_rows);
   f(h.points_offset); f(h.points_bytes); f(h.table_offset); f(h.table_bytes);
   f(h.points_crc); f(h.table_crc);
+  f(h.grid_spacing); f(h.grid_points);
 }
 constexpr size_t header_crc_offset = pointset_header_bytes - 4;
 
@@ -212,6 +215,9 @@ header make_header(const pointset& set, uint32_t k, uint32_t group, const save_p
   h.viewing_distance = set.model.display.viewing_distance;
   h.scale = set.model.scale;
   h.acuity_model = uint32_t(set.model.acuity.model);
+  h.fovea = uint32_t(set.darts.fovea);
+  h.grid_spacing = set.darts.fovea == fovea_layout::grid ? set.darts.grid_spacing : 0.0;
+  h.grid_points = set.stats.grid_points;
   h.ct0 = set.model.acuity.ct0;
   h.alpha = set.model.acuity.alpha;
   h.e2 = set.model.acuity.e2;
@@ -354,8 +360,8 @@ pointset load_pointset(const std::string& path, const load_params& params) {
   if (file_size < pointset_header_bytes)
     throw fail(fmt::format("truncated: {} bytes, the header alone needs {}", file_size, pointset_header_bytes));
   const header h = decode_header(head);
-  if (h.version != pointset_format_version)
-    throw fail(fmt::format("unknown format version {} (this build reads {})", h.version, pointset_format_version));
+  if (h.version < 1 || h.version > pointset_format_version)
+    throw fail(fmt::format("unknown format version {} (this build reads 1..{})", h.version, pointset_format_version));
   if (h.header_bytes != pointset_header_bytes) throw fail("unexpected header size");
   if (crc32c(head, header_crc_offset) != h.header_crc) throw fail("header checksum mismatch (file corrupted)");
 
@@ -372,7 +378,20 @@ pointset load_pointset(const std::string& path, const load_params& params) {
   if (h.chunk_rows == 0) throw fail("chunk_rows is zero");
   if (h.point_count < h.k || h.point_count >= (uint64_t(1) << 32)) throw fail("point count out of range");
   set.darts = {h.seed, h.saturation_rejections, h.central_fraction, h.free_area_probes};
-  set.stats = {h.phase1_points, h.phase2_points, h.darts_thrown, h.free_fraction, h.free_probes_accepted, 0.0};
+  set.stats = {};
+  set.stats.phase1_points = h.phase1_points, set.stats.phase2_points = h.phase2_points;
+  set.stats.darts_thrown = h.darts_thrown, set.stats.free_fraction = h.free_fraction;
+  set.stats.free_probes_accepted = h.free_probes_accepted;
+  if (h.version == 1 && (h.fovea != 0 || h.grid_spacing != 0 || h.grid_points != 0))
+    throw fail("version 1 file with fields of version 2 set (file corrupted)");
+  if (h.fovea == uint32_t(fovea_layout::grid)) {
+    if (!(h.grid_spacing >= 0.5 && h.grid_spacing <= 4)) throw fail("grid spacing outside 0.5..4 pixels");
+    set.darts.fovea = fovea_layout::grid;
+    set.darts.grid_spacing = h.grid_spacing;
+    set.stats.grid_points = h.grid_points;
+  } else if (h.fovea != uint32_t(fovea_layout::darts) || h.grid_spacing != 0 || h.grid_points != 0) {
+    throw fail(fmt::format("unknown fovea layout {}", h.fovea));
+  }
 
   const uint64_t pixels = uint64_t(h.canvas_width) * h.canvas_height;
   if (h.points_bytes != h.point_count * sizeof(point)) throw fail("points section has the wrong size");
@@ -383,9 +402,14 @@ pointset load_pointset(const std::string& path, const load_params& params) {
   set.points.resize(h.point_count);
   read_at(h.points_offset, set.points.data(), h.points_bytes);
   if (crc32c(set.points.data(), h.points_bytes) != h.points_crc) throw fail("points checksum mismatch (file corrupted)");
-  for (const point& p : set.points)
+  uint64_t grid_points = 0;
+  for (const point& p : set.points) {
     if (!(p.x >= 0 && p.x < float(h.canvas_width) && p.y >= 0 && p.y < float(h.canvas_height) && p.spacing > 0))
       throw fail("a point lies outside the canvas or has no spacing");
+    grid_points += is_grid_point(set, p);
+  }
+  if (grid_points != set.stats.grid_points)
+    throw fail(fmt::format("{} points on grid pixels, the header says {}", grid_points, set.stats.grid_points));
   knn_table& t = set.table;  // its shape is known even when the entries are not loaded
   t.width = h.canvas_width;
   t.height = h.canvas_height;

@@ -132,6 +132,14 @@ void pixel_weights(const pointset& set, const reconstruct_params& params, uint32
     dist[j] = std::hypot(double(p.x) - x, double(p.y) - y);
   }
   if (params.how == method::rbf) {
+    // A neighbour on the pixel centre (a grid point): the interpolant's value there is its
+    // value, exactly, where a solved system would give it only to rounding.
+    for (uint32_t j = 0; j < k; ++j)
+      if (dist[j] == 0) {
+        if (stats) ++stats->pixels;
+        for (uint32_t i = 0; i < k; ++i) w[i] = i == j ? 1 : 0;
+        return;
+      }
     const bool sample = stats && (cy * 131 + cx) % 257 == 0;
     double condition = 0;
     if (stats) ++stats->pixels;
@@ -219,6 +227,12 @@ frame reconstruct(const pointset& set, const point_samples& samples, const recon
         }
         out.rgb[at] = glm::vec3(float(c.r), float(c.g), float(c.b));
         out.depth[at] = hits ? float(shepard_weighted(dist_hit, depth, hits, params.renka)) : infinity;
+        // On a point (a grid point): its depth, a miss included, as its colour is its own.
+        for (uint32_t j = 0; j < k; ++j)
+          if (dist[j] == 0) {
+            out.depth[at] = samples.depth[t.entries[t.offset(row + tx, j)]];
+            break;
+          }
       }
     }
     if (stats && rbf && !cache) {

@@ -7,7 +7,8 @@
 // Scenes: builtin, ../shared/scenes/flight-helmet when present, and a generated env:
 // image whose rays all cost the same (it separates the tracer's own overhead from the
 // content under the fovea, which differs between foveated and reference rays). Point sets come
-// from precomputed/fove-s1.00.fovset and fove-s1.75.fovset, generated in memory if missing.
+// from precomputed/fove-s1.00.fovset and fove-s1.75.fovset (and their --fovea grid twins
+// fove-s1.00-grid.fovset, fove-s1.75-grid.fovset), generated in memory if missing.
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
@@ -77,15 +78,18 @@ const fov::scene& get_scene(size_t i) {
 
 fov::camera bench_camera(const fov::scene& s) { return s.default_camera(90); }
 
-const fov::pointset& get_set(double scale) {
-  static std::map<double, fov::pointset> sets;
-  auto it = sets.find(scale);
+const fov::pointset& get_set(double scale, bool grid = false) {
+  static std::map<std::pair<double, bool>, fov::pointset> sets;
+  auto it = sets.find({scale, grid});
   if (it != sets.end()) return it->second;
-  const fs::path file = fs::path(FOV_SOURCE_DIR) / fmt::format("precomputed/fove-s{:.2f}.fovset", scale);
-  if (fs::exists(file)) return sets[scale] = fov::load_pointset(file.string());
+  const fs::path file =
+      fs::path(FOV_SOURCE_DIR) / fmt::format("precomputed/fove-s{:.2f}{}.fovset", scale, grid ? "-grid" : "");
+  if (fs::exists(file)) return sets[{scale, grid}] = fov::load_pointset(file.string());
   fov::spacing_model m;
   m.scale = scale;
-  return sets[scale] = fov::generate_pointset(m, {}, {});
+  fov::dart_params darts;
+  if (grid) darts.fovea = fov::fovea_layout::grid;
+  return sets[{scale, grid}] = fov::generate_pointset(m, darts, {});
 }
 
 // Intersects one packet of primary rays through screen positions at[0, n), n <= 16, and
@@ -232,7 +236,7 @@ void BM_TracePointsByGaze(benchmark::State& state) {
   });
 }
 // args: scene, spp, scale x 100, pixel footprint (0: disc, the default; 1: pixel; see
-// fov::texture_footprint). Foveated and reference frames traced in turn, each
+// fov::texture_footprint), grid (0: the thesis's darts, 1: fovgen --fovea grid). Foveated and reference frames traced in turn, each
 // iteration; counters are medians over iterations. The plain goal compares the foveated
 // frame's time with its share of the reference's rays (ray_over_time: ray ratio / time
 // ratio). Rays do not all cost the same, and foveated rays crowd under the gaze, so the
@@ -243,7 +247,7 @@ void BM_TracePointsByGaze(benchmark::State& state) {
 void BM_ContentWeightedRatio(benchmark::State& state) {
   if (scene_specs().at(size_t(state.range(0))).empty()) return state.SkipWithError("scene absent");
   const fov::scene& s = get_scene(size_t(state.range(0)));
-  const fov::pointset& set = get_set(double(state.range(2)) / 100);
+  const fov::pointset& set = get_set(double(state.range(2)) / 100, state.range(4) != 0);
   const fov::display_geometry& d = set.model.display;
   fov::trace_params tp;
   tp.spp = uint32_t(state.range(1));
@@ -293,16 +297,16 @@ void BM_ContentWeightedRatio(benchmark::State& state) {
   state.counters["content_over_time"] = median(content) / time_ratio;
 }
 BENCHMARK(BM_ContentWeightedRatio)
-    ->ArgNames({"scene", "spp", "s100", "pixel_footprint"})
-    ->ArgsProduct({{0, 1, 2}, {4, 32}, {100, 175}, {0}})
+    ->ArgNames({"scene", "spp", "s100", "pixel_footprint", "grid"})
+    ->ArgsProduct({{0, 1, 2}, {1, 4, 32}, {100, 175}, {0}, {0, 1}})
     ->Iterations(3)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 // The helmet's foveated rays with the reference's texture filter width: what is left of
 // its overhead once wider filters (two MIP levels where the reference magnifies) are out.
 BENCHMARK(BM_ContentWeightedRatio)
-    ->ArgNames({"scene", "spp", "s100", "pixel_footprint"})
-    ->ArgsProduct({{1}, {4, 32}, {100, 175}, {1}})
+    ->ArgNames({"scene", "spp", "s100", "pixel_footprint", "grid"})
+    ->ArgsProduct({{1}, {4, 32}, {100, 175}, {1}, {0}})
     ->Iterations(3)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();

@@ -226,13 +226,44 @@ auto per_owner_mean(uint32_t spp, float exposure, Emit emit) {
   };
 }
 
-// Calls emit(x, y) with the screen position of each of point i's params.spp rays inside
-// the disc of radius p around it, as params.disc_sampler says: random (uniform, rejection
-// from the square: one splitmix64 draw gives both coordinates, 24 bits each, from a stream
-// seeded by (seed, i)) or sobol (the scrambled Sobol points of owen_sobol_2d, scrambles
-// seeded by (seed, i), mapped to the disc by Shirley and Chiu's concentric map, which
-// keeps areas and so the strata). The point gets the same rays every frame. The set is
-// placed at `offset` and mirrored as trace_params says (the disc mirrored too).
+// Calls emit(x, y) with the screen positions of samples [first, first + params.spp) of
+// pixel (x, y)'s rays, as params.sampler says: sobol (owen_sobol_2d, scrambles seeded by
+// (seed, pixel index)) or random (uniform, from a stream seeded by (seed, pixel index)).
+// A full-resolution pixel casts samples [0, spp); so does a grid point in pattern 0. (x, y)
+// may lie off the screen (a grid point some border pixel reads): it seeds as the index
+// y * width + x would, modulo 2^32.
+template <class Emit>
+void pixel_rays(int x, int y, int width, const trace_params& params, uint32_t first, Emit&& emit) {
+  const uint32_t pixel = uint32_t(int64_t(y) * width + x);
+  if (params.sampler == pixel_sampler::sobol) {
+    uint64_t h = stream_seed(params.seed, 0x736f626f6cull, pixel);
+    const uint64_t scrambles = splitmix64(h);
+    for (uint32_t s = first; s < first + params.spp; ++s) {
+      const glm::vec2 u = owen_sobol_2d(s, uint32_t(scrambles), uint32_t(scrambles >> 32));
+      emit(float(x) + u.x, float(y) + u.y);
+    }
+    return;
+  }
+  rng random(stream_seed(params.seed, 0x706978656Cull, pixel));
+  for (uint64_t s = 0; s < 2 * uint64_t(first); ++s) random.uniform();
+  for (uint32_t s = 0; s < params.spp; ++s) {
+    const float u = float(random.uniform());
+    const float v = float(random.uniform());
+    emit(float(x) + u, float(y) + v);
+  }
+}
+
+// Calls emit(x, y) with the screen position of each of point i's params.spp rays. A grid
+// point (is_grid_point) stands for the screen pixel it lands on and casts that pixel's rays
+// (pixel_rays), samples [pattern * spp, (pattern + 1) * spp) with pattern = mirror_x +
+// 2 mirror_y: pattern 0 casts exactly the full-resolution frame's rays, and the four
+// mirrored patterns together a 4 spp-sample stratified set for TAA to average. Any other
+// point casts rays inside the disc of radius p around it, as params.disc_sampler says:
+// random (uniform, rejection from the square: one splitmix64 draw gives both coordinates,
+// 24 bits each, from a stream seeded by (seed, i)) or sobol (the scrambled Sobol points of
+// owen_sobol_2d, scrambles seeded by (seed, i), mapped to the disc by Shirley and Chiu's
+// concentric map, which keeps areas and so the strata). The point gets the same rays every
+// frame. The set is placed at `offset` and mirrored as trace_params says (the disc too).
 template <class Emit>
 void point_rays(const pointset& set, uint32_t i, canvas_offset offset, const trace_params& params, Emit&& emit) {
   const display_geometry& disp = set.model.display;
@@ -241,6 +272,11 @@ void point_rays(const pointset& set, uint32_t i, canvas_offset offset, const tra
   float cx = p.x - float(offset.x), cy = p.y - float(offset.y);
   if (params.mirror_x) cx = float(disp.width) - cx;
   if (params.mirror_y) cy = float(disp.height) - cy;
+  if (is_grid_point(set, p)) {
+    const uint32_t pattern = (params.mirror_x ? 1u : 0u) + (params.mirror_y ? 2u : 0u);
+    pixel_rays(int(std::floor(cx)), int(std::floor(cy)), disp.width, params, pattern * params.spp, emit);
+    return;
+  }
   const float sx = params.mirror_x ? -p.spacing : p.spacing, sy = params.mirror_y ? -p.spacing : p.spacing;
   if (params.disc_sampler == pixel_sampler::sobol) {
     const uint64_t scrambles = splitmix64(random);
@@ -346,7 +382,9 @@ points_trace trace_points(const scene& sc, const camera& cam, const pointset& se
     rays.reserve((r.end() - r.begin()) * spp);
     for (size_t k = r.begin(); k < r.end(); ++k) {
       const uint32_t i = out.traced[k];
-      const float radius = (pixel_footprint ? 0.5f : set.points[i].spacing) * radius_scale;
+      // A grid point's rays are a pixel's: they filter textures as a full-resolution pixel's do.
+      const bool pixel_wide = pixel_footprint || is_grid_point(set, set.points[i]);
+      const float radius = (pixel_wide ? 0.5f : set.points[i].spacing) * radius_scale;
       point_rays(set, i, out.offset, params, [&](float x, float y) { rays.push_back({x, y, radius, i}); });
     }
     trace_rays(d, params.sun ? *params.sun : d.desc.sun, f, rays.data(), rays.size(), params.shadows, timing,
@@ -398,18 +436,8 @@ reference_trace trace_reference(const scene& sc, const camera& cam, int width, i
       for (int y = y0; y < std::min(height, y0 + t); ++y)
         for (int x = x0; x < std::min(width, x0 + t); ++x) {
           const uint32_t pixel = uint32_t(y) * uint32_t(width) + uint32_t(x);
-          if (params.sampler == pixel_sampler::sobol) {
-            uint64_t h = stream_seed(params.seed, 0x736f626f6cull, pixel);
-            const uint64_t scrambles = splitmix64(h);
-            for (uint32_t s = 0; s < spp; ++s) {
-              const glm::vec2 u = owen_sobol_2d(s, uint32_t(scrambles), uint32_t(scrambles >> 32));
-              rays.push_back({float(x) + u.x, float(y) + u.y, radius, pixel});
-            }
-          } else {
-            rng random(stream_seed(params.seed, 0x706978656Cull, pixel));
-            for (uint32_t s = 0; s < spp; ++s)
-              rays.push_back({float(x) + float(random.uniform()), float(y) + float(random.uniform()), radius, pixel});
-          }
+          pixel_rays(x, y, width, params, 0,
+                     [&](float sx, float sy) { rays.push_back({sx, sy, radius, pixel}); });
         }
       trace_rays(d, params.sun ? *params.sun : d.desc.sun, f, rays.data(), rays.size(), params.shadows, timing,
                  per_owner_mean(spp, exposure_factor(params), [&](uint32_t pixel, glm::vec3 c, float depth, uint32_t) {

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "fov/acuity.h"
+#include "fov/labels.h"
 
 namespace fov {
 
@@ -18,6 +19,16 @@ struct point {
   float x = 0, y = 0;
   float spacing = 0;  // p: the minimum distance that was enforced when it was accepted
 };
+
+// How the fovea is filled. The value is stored in point-set files, so never renumber.
+enum class fovea_layout : uint32_t {
+  darts = 0,  // Poisson-disc darts everywhere, as the thesis throws them
+  grid = 1,   // one point at every canvas pixel centre where the model's spacing is at most
+              // dart_params::grid_spacing (the thesis's "regular pixel density" of the fovea,
+              // Sec. 8.2, made exact); darts fill the rest, kept that far from the grid
+};
+inline constexpr std::pair<const char*, fovea_layout> fovea_layout_labels[] = {
+    {"darts", fovea_layout::darts}, {"grid", fovea_layout::grid}};
 
 // How the dart thrower runs and when it calls a region saturated.
 struct dart_params {
@@ -28,11 +39,16 @@ struct dart_params {
   double central_fraction = 0.8;
   // Monte-Carlo probes used to estimate how much of the canvas is still free (0: skip).
   uint32_t free_area_probes = 1u << 20;
+  fovea_layout fovea = fovea_layout::darts;
+  // fovea_layout::grid: the largest model spacing (pixels) at which a pixel centre still gets
+  // a grid point; 1 = wherever the model asks for at least a pixel's density. 0.5 .. 4.
+  double grid_spacing = 1.0;
 };
 
 // What dart throwing did; all counts are exact, free_fraction is estimated.
 struct dart_stats {
-  uint64_t phase1_points = 0, phase2_points = 0;
+  uint64_t grid_points = 0;  // placed on pixel centres before any dart (fovea_layout::grid)
+  uint64_t phase1_points = 0, phase2_points = 0;  // darts accepted in each phase
   uint64_t darts_thrown = 0;
   // Fraction of the canvas area where one more dart would still be accepted:
   // 0 means the set is maximal. Estimated from free_area_probes uniform probes.
@@ -131,6 +147,15 @@ canvas_offset offset_for_gaze(const display_geometry& display, gaze_point gaze);
 inline bool on_screen(const point& p, const display_geometry& display, canvas_offset offset) {
   return p.x >= offset.x && p.x < offset.x + display.width && p.y >= offset.y && p.y < offset.y + display.height;
 }
+
+// True when the canvas pixel (px, py) holds a grid point: the layout is grid and the model's
+// spacing at its centre is at most params.grid_spacing. The one rule the dart thrower places
+// grid points by and every reader recognises them by (a disc around the canvas centre).
+bool is_grid_pixel(const spacing_model& model, const dart_params& params, uint32_t px, uint32_t py);
+
+// True when p is one of the set's grid points: it lies on the centre of a grid pixel. Grid
+// points stand for whole pixels: the tracer casts a full-resolution pixel's rays for them.
+bool is_grid_point(const pointset& set, const point& p);
 
 // 64-bit Morton (Z-order) code of a canvas position, at 1/64-pixel resolution.
 uint64_t morton_code(float x, float y);

@@ -9,7 +9,8 @@
 
 namespace fov {
 
-inline constexpr uint32_t pointset_format_version = 1;
+// 2 adds the fovea layout (a pixel grid in the fovea); version 1 files still load.
+inline constexpr uint32_t pointset_format_version = 2;
 inline constexpr uint32_t pointset_header_bytes = 512;
 
 // How the k-NN table is stored on disk.
