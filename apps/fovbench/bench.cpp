@@ -99,16 +99,23 @@ std::shared_ptr<const pointset> bench_pointset(const bench_options& o, const dis
                                                const std::function<void(const std::string&)>& say) {
   display_geometry preset;
   const std::string name = display_preset(o.display, preset) ? o.display : fmt::format("{}x{}", display.width, display.height);
-  const std::string path = (fs::path(o.points_dir) / fmt::format("{}-s{:.2f}.fovset", name, scale)).string();
+  const bool grid = o.fovea == fovea_layout::grid;
+  const std::string path =
+      (fs::path(o.points_dir) / fmt::format("{}-s{:.2f}{}.fovset", name, scale, grid ? "-grid" : "")).string();
   if (!fs::exists(path)) {
     say(fmt::format("generating {}", path));
     spacing_model model;
     model.display = display;
     model.scale = scale;
+    dart_params darts;
+    darts.fovea = o.fovea;
     fs::create_directories(o.points_dir);
-    save_pointset(path, generate_pointset(model, {}, {}));
+    save_pointset(path, generate_pointset(model, darts, {}));
   }
   auto set = std::make_shared<const pointset>(load_pointset(path));
+  if (set->darts.fovea != o.fovea)
+    throw std::runtime_error(fmt::format("{}: its fovea is {}, not {}", path, label_of(fovea_layout_labels, set->darts.fovea),
+                                         label_of(fovea_layout_labels, o.fovea)));
   if (set->model.display.width != display.width || set->model.display.height != display.height)
     throw std::runtime_error(fmt::format("{}: made for {}x{}, not {}x{}", path, set->model.display.width,
                                          set->model.display.height, display.width, display.height));
@@ -311,6 +318,7 @@ size_t run_bench(const bench_options& o, const bench_reporter& report) {
   const display_geometry display = check_bench_options(o);
   const std::vector<named_gaze> gazes = parse_gazes(o.gazes, display, o.render.seed);
   const std::string footprint = texture_footprint_name(o.render.footprint);
+  const std::string fovea = label_of(fovea_layout_labels, o.fovea);
   const std::string settings = render_settings_label(o.render);
   const std::string results_path = (fs::path(o.out) / "results.csv").string();
   std::set<std::string> done;
@@ -322,6 +330,9 @@ size_t run_bench(const bench_options& o, const bench_reporter& report) {
       if (r.text("texture_footprint") != footprint)
         throw std::runtime_error(fmt::format("{}: its rows were traced with --texture-footprint {}, not {}; use another -o",
                                              results_path, r.text("texture_footprint"), footprint));
+      if (r.text("fovea") != fovea)
+        throw std::runtime_error(fmt::format("{}: its foveated sets have --fovea {}, not {}; use another -o", results_path,
+                                             r.text("fovea"), fovea));
       if (r.text("render_settings") != settings)
         throw std::runtime_error(fmt::format("{}: its rows were measured with {}, not {}; use another -o", results_path,
                                              r.text("render_settings"), settings));
@@ -383,7 +394,7 @@ size_t run_bench(const bench_options& o, const bench_reporter& report) {
       result_row row = identity_row(o, gazes, c);
       const named_gaze& gp = gazes[c.gaze];
       row.cells.insert({{"gaze_x", number(gp.at.x)}, {"gaze_y", number(gp.at.y)}, {"texture_footprint", footprint},
-                        {"device", r.device()}, {"frames", std::to_string(o.frames)}, {"render_settings", settings},
+                        {"fovea", fovea}, {"device", r.device()}, {"frames", std::to_string(o.frames)}, {"render_settings", settings},
                         {"full_rays", std::to_string(uint64_t(display.width) * display.height * c.spp)}});
       const measured& floor = floor_at(c.gaze);
       put_floor(row, floor, coverage[c.gaze], o.reference_spp);

@@ -54,6 +54,8 @@ int main(int argc, char** argv) {
   app.add_option("--gazes", o.gazes, "centre, corner, X,Y, or N (N seeded random gazes)")->delimiter(';');
   app.add_option("-o,--out", o.out, "Output directory (results.csv, plots, report.md, references/)");
   app.add_option("--points-dir", o.points_dir, "Where point sets are read, or generated when missing");
+  fov::add_label_option(app, "--fovea", o.fovea, fov::fovea_layout_labels,
+                        "The foveated sets' fovea (fovgen --fovea): darts (the thesis) or grid (DISPLAY-sS-grid.fovset)");
   fov::add_render_flags(app, o.render, fov::flags_trace | fov::flags_reconstruct | fov::flags_device | fov::flags_view);
   app.add_option("--frames", o.frames, "Timed repetitions per configuration, interleaved with the full-resolution frame (median, min, max)")
       ->capture_default_str();
