@@ -16,14 +16,18 @@ helmet=../shared/scenes/flight-helmet/FlightHelmet.gltf
 env_map=/usr/share/blender/datafiles/studiolights/world/forest.exr
 for fovea in darts grid; do
   "$bench" --scene builtin --sun-irradiance 0.8,0.77,0.7 --fovea $fovea "${common[@]}" -o out/parity/$fovea/builtin
-  if [[ -f $helmet ]]; then
-    "$bench" --scene "$helmet" --eye 0.1,0.28,0.22 --look-at 0,0.3,0 --hfov 60 --fovea $fovea "${common[@]}" \
-      -o out/parity/$fovea/helmet
-  else
-    echo "foveal-parity.sh: $helmet missing; no helmet sweep" >&2
-  fi
+done
+for fovea in darts grid; do
   "$bench" --scene "env:$env_map" --fovea $fovea "${common[@]}" -o out/parity/$fovea/env
 done
+if [[ -f $helmet ]]; then
+  for fovea in darts grid; do
+    "$bench" --scene "$helmet" --eye 0.1,0.28,0.22 --look-at 0,0.3,0 --hfov 60 --fovea $fovea "${common[@]}" \
+      -o out/parity/$fovea/helmet
+  done
+else
+  echo "foveal-parity.sh: $helmet missing; no helmet sweep" >&2
+fi
 # tables.md: per scene, gaze and band, FLIP and PSNR of each layout's foveated frame and of
 # full resolution at the same spp, with the noise floor; then each run's report.md headline.
 python3 - out/parity <<'PY' > out/parity/tables.md
@@ -42,7 +46,7 @@ for scene in ("builtin", "helmet", "env"):
     darts, grid = rows("darts", scene), rows("grid", scene)
     if not grid: continue
     print(f"## {scene}\n")
-    for gaze in ("centre", "320,1080"):
+    for gaze in ("centre", "320_1080"):
         print(f"### gaze {gaze}\n")
         print("| frame | spp | rays | frame ms | speedup | " + " | ".join(f"FLIP {b}" for _, b in bands) + " | " +
               " | ".join(f"PSNR {b}" for _, b in bands) + " |")

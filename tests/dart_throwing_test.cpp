@@ -140,6 +140,19 @@ TEST(FovealGrid, EveryGridPixelHoldsOnePointAtItsCentreAndDartsKeepTheirSpacing)
       ASSERT_FLOAT_EQ(p.spacing, float(point_spacing_px(m, d)));
     }
   }
+  // The fast test gives is_grid_point's answers: for every point, and for every pixel centre
+  // and a point a hair beside each.
+  set.points = pts;
+  const grid_test fast(set);
+  for (const point& p : pts) ASSERT_EQ(fast(p), is_grid_point(set, p));
+  for (uint32_t y = 0; y < ch; ++y)
+    for (uint32_t x = 0; x < cw; ++x) {
+      const point centre{float(x) + 0.5f, float(y) + 0.5f, 1.0f};
+      ASSERT_EQ(fast(centre), is_grid_point(set, centre)) << x << "," << y;
+      ASSERT_EQ(fast(centre), is_grid_pixel(m, params, x, y));
+      const point beside{std::nextafter(centre.x, 1e9f), centre.y, 1.0f};
+      ASSERT_FALSE(fast(beside));
+    }
   // The grid is a proper part of the canvas: a disc, with darts around it.
   EXPECT_GT(grid_pixels, 5000u);
   EXPECT_LT(grid_pixels, uint64_t(cw) * ch / 2);

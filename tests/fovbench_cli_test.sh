@@ -16,6 +16,7 @@ check "bad gaze"        2 -- "$fovbench" "${common[@]}" --gazes 500,10 -o "$dir/
 check "two budgets"     2 -- "$fovbench" "${common[@]}" --budget-psnr 20 --budget-foveated 0.1 -o "$dir/x"
 check "missing scene"   1 -- "$fovbench" "${common[@]}" --scene "$dir/none.gltf" -o "$dir/x"
 check "bad footprint"   2 -- "$fovbench" "${common[@]}" --texture-footprint wide -o "$dir/x"
+check "bad fovea"       2 -- "$fovbench" "${common[@]}" --fovea hex -o "$dir/x"
 check "bad eye"         2 -- "$fovbench" "${common[@]}" --eye 1,2 -o "$dir/x"
 check "bad baseline"    2 -- "$fovbench" "${common[@]}" --baselines lowres -o "$dir/x"
 check "bad fraction"    2 -- "$fovbench" "${common[@]}" --baselines uniform --uniform-fractions 0.3 -o "$dir/x"
@@ -63,6 +64,22 @@ full = {(r["gaze"], r["spp"]): float(r["flip"]) for r in rows if r["kind"] == "f
 assert full[("centre", "2")] < full[("centre", "1")], full
 assert {r["gaze"] for r in rows} == {"centre", "20_30"}
 assert {r["texture_footprint"] for r in rows} == {"disc"}
+assert {r["fovea"] for r in rows} == {"darts"}
+PY
+# A grid fovea: on this tiny screen (N v = 64) the model asks for more than a pixel's density
+# everywhere, so the whole set is a pixel grid and every foveated nn frame is the full frame.
+check "grid sweep"      0 -- "$fovbench" "${common[@]}" --scene builtin --scales 1.0 --methods nn --spp 1,2 \
+  --baselines full --reference-spp 8 --fovea grid -o "$dir/grid"
+[[ -s "$dir/sets/64x72-s1.00-grid.fovset" ]] || fail "the grid sweep did not write its -grid set"
+python3 - "$dir/grid/results.csv" <<'PY' || fail "grid results.csv"
+import csv, sys
+rows = list(csv.DictReader(open(sys.argv[1])))
+assert {r["fovea"] for r in rows} == {"grid"}, rows
+for spp in ("1", "2"):
+    fov = [r for r in rows if r["kind"] == "foveated" and r["spp"] == spp]
+    full = [r for r in rows if r["kind"] == "full" and r["spp"] == spp]
+    assert len(fov) == 1 and len(full) == 1, rows
+    assert fov[0]["flip"] == full[0]["flip"] and fov[0]["psnr"] == full[0]["psnr"], (fov[0]["flip"], full[0]["flip"])
 PY
 grep -q "Equal-error speedup over the best baseline" "$dir/out/report.md" || fail "report.md has no equal-error speedup"
 grep -q "noise floor" "$dir/out/report.md" || fail "report.md states no noise floor"
@@ -95,6 +112,7 @@ out=$("${sweep[@]}" --resume 2>&1)
 [[ $(($(wc -l < "$dir/out/results.csv") - 1)) -eq 28 ]] || fail "resumed CSV should hold 28 rows"
 check "resume, other reference" 1 -- "${base[@]}" --reference-spp 32 --resume
 check "resume, other footprint" 1 -- "${sweep[@]}" --resume --texture-footprint pixel
+check "resume, other fovea" 1 -- "${sweep[@]}" --resume --fovea grid
 # The pixel footprint reads sharper textures: the same configurations, other colours.
 "$fovbench" "${common[@]}" --scene builtin --scales 2.0 --methods nn --spp 1 --texture-footprint pixel \
   --reference-spp 16 --baselines full,uniform --uniform-fractions 0.25 -o "$dir/pixel" >/dev/null 2>&1 || fail "pixel-footprint sweep"

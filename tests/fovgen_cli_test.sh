@@ -21,6 +21,10 @@ check "unwritable output" 2 -- "$fovgen" "${small[@]}" -o "$dir/no/such/dir/a.fo
 check "missing output"    2 -- "$fovgen" "${small[@]}"
 check "not a number"      2 -- "$fovgen" --width abc -o "$dir/a.fovset"
 check "unknown flag"      2 -- "$fovgen" --frobnicate
+check "unknown fovea"     2 -- "$fovgen" "${small[@]}" --fovea hex -o "$dir/a.fovset"
+check "grid spacing low"  2 -- "$fovgen" "${small[@]}" --fovea grid --grid-spacing 0.1 -o "$dir/a.fovset"
+check "grid spacing nan"  2 -- "$fovgen" "${small[@]}" --fovea grid --grid-spacing nan -o "$dir/a.fovset"
+check "grid spacing, darts" 2 -- "$fovgen" "${small[@]}" --grid-spacing 2 -o "$dir/a.fovset"
 check "k above points"    2 -- "$fovgen" --width 1 --height 1 --k 20 -o "$dir/one.fovset"
 [[ -e "$dir/one.fovset" ]] && { echo "FAIL a failed generation left its output"; failures=$((failures + 1)); }
 
@@ -49,6 +53,17 @@ for key in width height viewing_distance scale k seed points_total spacing_viola
 done
 grep -q '"spacing_violations": 0,' <<<"$json" || { echo "FAIL spacing violations not 0"; failures=$((failures + 1)); }
 [[ $(head -c 8 "$dir/p.png" | od -An -c | tr -d ' ') == "211PNG\r\n032\n" ]] || { echo "FAIL plot is not a PNG"; failures=$((failures + 1)); }
+
+# A grid fovea: a partial grid (N v = 1280 as on a FOVE, thinned by s = 4), reported by info.
+check "generate grid"     0 -- "$fovgen" --width 128 --height 96 -v 10 --scale 4 --saturation 500 --k 8 --fovea grid -o "$dir/g.fovset"
+grid_json=$("$fovgen" info "$dir/g.fovset" --json)
+grep -q '"fovea": "grid",' <<<"$grid_json" || fail "info --json lacks fovea grid"
+grid_points=$(grep -o '"grid_points": [0-9]*' <<<"$grid_json" | grep -o '[0-9]*$')
+[[ ${grid_points:-0} -gt 5000 && ${grid_points:-0} -lt 24576 ]] || fail "grid points $grid_points, not a partial grid"
+grep -q '"spacing_violations": 0,' <<<"$grid_json" || fail "grid set has spacing violations"
+"$fovgen" info "$dir/a.fovset" --json | grep -q '"fovea": "darts",' || fail "the default fovea is not darts"
+"$fovgen" --width 128 --height 96 -v 10 --scale 4 --saturation 500 --k 8 --fovea grid -o "$dir/g2.fovset" >/dev/null
+cmp -s "$dir/g.fovset" "$dir/g2.fovset" || fail "same grid flags, different bytes"
 
 "$fovgen" "${small[@]}" --k 8 --seed 3 -o "$dir/x.fovset" >/dev/null
 "$fovgen" "${small[@]}" --k 8 --seed 3 -o "$dir/y.fovset" >/dev/null

@@ -32,7 +32,7 @@ class dart_board {
  public:
   dart_board(const spacing_model& model, const dart_params& params) : model_(model), params_(params) {
     const double w = model.display.width, h = model.display.height;
-    grid_radius_ = grid_radius();
+    grid_radius_ = grid_radius(model, params);
     canvas_w_ = float(2 * w);
     canvas_h_ = float(2 * h);
     cx_ = w;
@@ -63,19 +63,6 @@ class dart_board {
         t.cx.assign(cells, std::numeric_limits<float>::quiet_NaN());
         t.cy.assign(cells, std::numeric_limits<float>::quiet_NaN());
       }
-  }
-
-  // The largest distance from the canvas centre at which the model's spacing is at most
-  // the grid spacing (the spacing never decreases with distance); -1 without a grid.
-  double grid_radius() const {
-    if (params_.fovea != fovea_layout::grid || point_spacing_px(model_, 0) > params_.grid_spacing) return -1;
-    double lo = 0, hi = std::hypot(2.0 * model_.display.width, 2.0 * model_.display.height);
-    if (point_spacing_px(model_, hi) <= params_.grid_spacing) return hi;
-    for (int i = 0; i < 64; ++i) {
-      const double mid = 0.5 * (lo + hi);
-      (point_spacing_px(model_, mid) <= params_.grid_spacing ? lo : hi) = mid;
-    }
-    return lo;
   }
 
   // One point at the centre of every grid pixel (is_grid_pixel), spacing 1 px, before any

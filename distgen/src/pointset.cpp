@@ -48,6 +48,36 @@ bool is_grid_point(const pointset& set, const point& p) {
   return p.x - fx == 0.5f && p.y - fy == 0.5f && is_grid_pixel(set.model, set.darts, uint32_t(fx), uint32_t(fy));
 }
 
+double grid_radius(const spacing_model& model, const dart_params& params) {
+  if (params.fovea != fovea_layout::grid || point_spacing_px(model, 0) > params.grid_spacing) return -1;
+  double lo = 0, hi = std::hypot(2.0 * model.display.width, 2.0 * model.display.height);
+  if (point_spacing_px(model, hi) <= params.grid_spacing) return hi;
+  for (int i = 0; i < 64 && hi - lo > 1e-9; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (point_spacing_px(model, mid) <= params.grid_spacing ? lo : hi) = mid;
+  }
+  return lo;
+}
+
+grid_test::grid_test(const pointset& set) : set_(&set) {
+  const double r = grid_radius(set.model, set.darts);
+  if (r < 0) return;
+  // Within [r - 1e-6, r + 1e-6] px the test evaluates the model, as is_grid_pixel does.
+  inside2_ = std::max(0.0, r - 1e-6) * std::max(0.0, r - 1e-6);
+  outside2_ = (r + 1e-6) * (r + 1e-6);
+}
+
+bool grid_test::operator()(const point& p) const {
+  if (outside2_ < 0) return false;
+  const float fx = std::floor(p.x), fy = std::floor(p.y);
+  if (p.x - fx != 0.5f || p.y - fy != 0.5f) return false;
+  const double dx = double(p.x) - set_->model.display.width, dy = double(p.y) - set_->model.display.height;
+  const double d2 = dx * dx + dy * dy;
+  if (d2 < inside2_) return true;
+  if (d2 > outside2_) return false;
+  return is_grid_pixel(set_->model, set_->darts, uint32_t(fx), uint32_t(fy));
+}
+
 uint64_t count_spacing_violations(const std::vector<point>& points, uint32_t canvas_width,
                                   uint32_t canvas_height) {
   if (points.empty()) return 0;

@@ -403,10 +403,11 @@ pointset load_pointset(const std::string& path, const load_params& params) {
   read_at(h.points_offset, set.points.data(), h.points_bytes);
   if (crc32c(set.points.data(), h.points_bytes) != h.points_crc) throw fail("points checksum mismatch (file corrupted)");
   uint64_t grid_points = 0;
+  const grid_test on_grid(set);
   for (const point& p : set.points) {
     if (!(p.x >= 0 && p.x < float(h.canvas_width) && p.y >= 0 && p.y < float(h.canvas_height) && p.spacing > 0))
       throw fail("a point lies outside the canvas or has no spacing");
-    grid_points += is_grid_point(set, p);
+    grid_points += on_grid(p);
   }
   if (grid_points != set.stats.grid_points)
     throw fail(fmt::format("{} points on grid pixels, the header says {}", grid_points, set.stats.grid_points));

@@ -157,6 +157,23 @@ bool is_grid_pixel(const spacing_model& model, const dart_params& params, uint32
 // points stand for whole pixels: the tracer casts a full-resolution pixel's rays for them.
 bool is_grid_point(const pointset& set, const point& p);
 
+// The grid's radius: a distance from the canvas centre at which the model's spacing is at
+// most params.grid_spacing, within 1e-9 px of the largest such (bisection; the spacing never
+// shrinks with distance); -1 without a grid, or when even the centre's spacing exceeds it.
+double grid_radius(const spacing_model& model, const dart_params& params);
+
+// is_grid_point for many points (the tracer asks for every traced point): the rim is found
+// once, so only a point within a hair of it evaluates the model. Same answers, tested.
+class grid_test {
+ public:
+  explicit grid_test(const pointset& set);
+  bool operator()(const point& p) const;
+
+ private:
+  const pointset* set_;
+  double inside2_ = -1, outside2_ = -1;  // squared distances: surely inside, surely outside
+};
+
 // 64-bit Morton (Z-order) code of a canvas position, at 1/64-pixel resolution.
 uint64_t morton_code(float x, float y);
 
