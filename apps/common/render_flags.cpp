@@ -52,7 +52,7 @@ void add_render_flags(CLI::App& app, render_params& p, unsigned groups) {
                      "Foveated rays inside each point's disc: random (independent uniform positions, the thesis's) or "
                      "sobol (scrambled Sobol, concentric map: stratified)");
     add_label_option(app, "--reference-sampler", p.reference_sampler, pixel_sampler_labels,
-                     "Full-resolution rays inside each pixel: sobol (Owen-scrambled Sobol: stratified, converges) or "
+                     "Full-resolution rays inside each pixel, and a grid fovea's: sobol (Owen-scrambled Sobol: stratified, converges) or "
                      "random (independent uniform positions)");
   }
   if (groups & flags_method) {

@@ -94,14 +94,20 @@ std::vector<config> all_configs(const bench_options& o, const std::vector<named_
   return all;
 }
 
+// The foveated sets' layout as results.csv and the set's file name say it: darts, grid (the
+// default grid spacing) or grid-S (another, e.g. grid-1.10).
+std::string fovea_text(const bench_options& o) {
+  if (o.fovea != fovea_layout::grid) return label_of(fovea_layout_labels, o.fovea);
+  return o.grid_spacing == dart_params{}.grid_spacing ? "grid" : fmt::format("grid-{:.2f}", o.grid_spacing);
+}
+
 // The set for one scale, generated when missing.
 std::shared_ptr<const pointset> bench_pointset(const bench_options& o, const display_geometry& display, double scale,
                                                const std::function<void(const std::string&)>& say) {
   display_geometry preset;
   const std::string name = display_preset(o.display, preset) ? o.display : fmt::format("{}x{}", display.width, display.height);
-  const bool grid = o.fovea == fovea_layout::grid;
-  const std::string path =
-      (fs::path(o.points_dir) / fmt::format("{}-s{:.2f}{}.fovset", name, scale, grid ? "-grid" : "")).string();
+  const std::string path = (fs::path(o.points_dir) / fmt::format("{}-s{:.2f}{}.fovset", name, scale,
+                                                                  o.fovea == fovea_layout::grid ? "-" + fovea_text(o) : "")).string();
   if (!fs::exists(path)) {
     say(fmt::format("generating {}", path));
     spacing_model model;
@@ -109,13 +115,15 @@ std::shared_ptr<const pointset> bench_pointset(const bench_options& o, const dis
     model.scale = scale;
     dart_params darts;
     darts.fovea = o.fovea;
+    darts.grid_spacing = o.grid_spacing;
     fs::create_directories(o.points_dir);
     save_pointset(path, generate_pointset(model, darts, {}));
   }
   auto set = std::make_shared<const pointset>(load_pointset(path));
-  if (set->darts.fovea != o.fovea)
-    throw std::runtime_error(fmt::format("{}: its fovea is {}, not {}", path, label_of(fovea_layout_labels, set->darts.fovea),
-                                         label_of(fovea_layout_labels, o.fovea)));
+  bench_options made = o;
+  made.fovea = set->darts.fovea, made.grid_spacing = set->darts.grid_spacing;
+  if (fovea_text(made) != fovea_text(o))
+    throw std::runtime_error(fmt::format("{}: its fovea is {}, not {}", path, fovea_text(made), fovea_text(o)));
   if (set->model.display.width != display.width || set->model.display.height != display.height)
     throw std::runtime_error(fmt::format("{}: made for {}x{}, not {}x{}", path, set->model.display.width,
                                          set->model.display.height, display.width, display.height));
@@ -222,6 +230,10 @@ display_geometry check_bench_options(const bench_options& o) {
   if (o.spps.empty() || o.ks.empty() || o.methods.empty() || o.scales.empty() || o.gazes.empty())
     throw usage_error("--scales, --methods, --k, --spp and --gazes each need at least one value");
   if (o.frames < 1 || o.frames > 100) throw usage_error("--frames must lie in 1..100");
+  if (!(o.grid_spacing >= 0.5 && o.grid_spacing <= 4))
+    throw usage_error(fmt::format("--grid-spacing must lie in 0.5..4 pixels (got {})", o.grid_spacing));
+  if (o.fovea != fovea_layout::grid && o.grid_spacing != dart_params{}.grid_spacing)
+    throw usage_error("--grid-spacing needs --fovea grid");
   if (o.reference_spp < 1 || o.reference_spp > max_spp)
     throw usage_error(fmt::format("--reference-spp must lie in 1..{} (got {})", max_spp, o.reference_spp));
   for (uint32_t s : o.spps)
@@ -318,7 +330,7 @@ size_t run_bench(const bench_options& o, const bench_reporter& report) {
   const display_geometry display = check_bench_options(o);
   const std::vector<named_gaze> gazes = parse_gazes(o.gazes, display, o.render.seed);
   const std::string footprint = texture_footprint_name(o.render.footprint);
-  const std::string fovea = label_of(fovea_layout_labels, o.fovea);
+  const std::string fovea = fovea_text(o);
   const std::string settings = render_settings_label(o.render);
   const std::string results_path = (fs::path(o.out) / "results.csv").string();
   std::set<std::string> done;

@@ -56,6 +56,9 @@ int main(int argc, char** argv) {
   app.add_option("--points-dir", o.points_dir, "Where point sets are read, or generated when missing");
   fov::add_label_option(app, "--fovea", o.fovea, fov::fovea_layout_labels,
                         "The foveated sets' fovea (fovgen --fovea): darts (the thesis) or grid (DISPLAY-sS-grid.fovset)");
+  app.add_option("--grid-spacing", o.grid_spacing,
+                 "With --fovea grid: the largest model spacing (px, 0.5..4) with grid points (DISPLAY-sS-grid-P.fovset "
+                 "unless 1)");
   fov::add_render_flags(app, o.render, fov::flags_trace | fov::flags_reconstruct | fov::flags_device | fov::flags_view);
   app.add_option("--frames", o.frames, "Timed repetitions per configuration, interleaved with the full-resolution frame (median, min, max)")
       ->capture_default_str();

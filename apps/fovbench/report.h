@@ -30,8 +30,10 @@ struct bench_options {
   std::vector<std::string> gazes{"centre"};
   std::string out = "out/bench";
   std::string points_dir = "precomputed";
-  // The foveated sets' fovea (fovgen --fovea): one per results.csv, like the footprint.
+  // The foveated sets' fovea (fovgen --fovea, --grid-spacing): one per results.csv, like
+  // the footprint.
   fovea_layout fovea = fovea_layout::darts;
+  double grid_spacing = dart_params{}.grid_spacing;
   // Settings every configuration shares (seed, shadows, texture footprint, RBF kernel and
   // shape, Renka, device, camera); method, k and spp come from the lists above.
   render_params render;

@@ -40,7 +40,7 @@ struct render_params {
   uint64_t seed = 1;  // the ray positions
   bool shadows = true;
   texture_footprint footprint = texture_footprint::disc;
-  pixel_sampler reference_sampler = pixel_sampler::sobol;  // full-resolution frames' ray positions
+  pixel_sampler reference_sampler = pixel_sampler::sobol;  // full-resolution pixels' ray positions (grid points' too)
   pixel_sampler disc_sampler = pixel_sampler::random;      // foveated points' ray positions (the thesis's)
   float exposure_ev = 0;  // every colour times 2^exposure_ev (trace_params::exposure_ev)
   // A directional sun replacing the scene's light when either is set (the other part

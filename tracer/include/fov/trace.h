@@ -65,7 +65,8 @@ struct trace_params {
   bool time_stages = false;  // measure trace_stats::timing
   // Reference only: measure trace_stats::tile_seconds.
   bool tile_costs = false;
-  // Reference only: the positions of a pixel's rays.
+  // The positions of a full-resolution pixel's rays: the reference's, and a foveated grid
+  // point's (fovgen --fovea grid), which casts its pixel's rays.
   pixel_sampler sampler = pixel_sampler::sobol;
   // Foveated only: the positions of a point's rays in its disc (random: the thesis's).
   pixel_sampler disc_sampler = pixel_sampler::random;
@@ -98,7 +99,9 @@ constexpr int reference_tile = 8;
 
 // Traces every point the screen needs for this gaze (traced_point_mask with params.k):
 // each casts params.spp rays through positions in the disc of radius p around it
-// (params.disc_sampler; fixed per point: seeded by params.seed and the point's index).
+// (params.disc_sampler; fixed per point: seeded by params.seed and the point's index), and
+// a grid point (is_grid_point) its screen pixel's rays (params.sampler, seeded by the pixel;
+// mirrored pattern n = mirror_x + 2 mirror_y casts the pixel's samples n spp .. (n+1) spp - 1).
 points_trace trace_points(const scene& s, const camera& cam, const pointset& set, gaze_point gaze,
                           const trace_params& params);
 
