@@ -41,7 +41,7 @@ struct dart_params {
   uint32_t free_area_probes = 1u << 20;
   fovea_layout fovea = fovea_layout::darts;
   // fovea_layout::grid: the largest model spacing (pixels) at which a pixel centre still gets
-  // a grid point; 1 = wherever the model asks for at least a pixel's density. 0.5 .. 4.
+  // a grid point; 1 = wherever the model asks for points at most a pixel apart. 0.5 .. 4.
   double grid_spacing = 1.0;
 };
 
