@@ -65,6 +65,12 @@ grep -q '"spacing_violations": 0,' <<<"$grid_json" || fail "grid set has spacing
 "$fovgen" --width 128 --height 96 -v 10 --scale 4 --saturation 500 --k 8 --fovea grid -o "$dir/g2.fovset" >/dev/null
 cmp -s "$dir/g.fovset" "$dir/g2.fovset" || fail "same grid flags, different bytes"
 
+check "sweep grid"        0 -- "$fovgen" sweep "${small[@]}" --k 4 --scales 1.0 --fovea grid -o "$dir/sweep"
+[[ -s "$dir/sweep/48x40-v1-s1.00-grid.fovset" ]] || fail "a grid sweep did not name its set -grid"
+"$fovgen" info "$dir/sweep/48x40-v1-s1.00.fovset" --json | grep -q '"fovea": "darts",' || fail "a grid sweep replaced the darts set"
+check "sweep grid 1.5"    0 -- "$fovgen" sweep "${small[@]}" --k 4 --scales 1.0 --fovea grid --grid-spacing 1.5 -o "$dir/sweep"
+[[ -s "$dir/sweep/48x40-v1-s1.00-grid-1.50.fovset" ]] || fail "a grid sweep at another spacing did not name its set -grid-1.50"
+
 "$fovgen" "${small[@]}" --k 8 --seed 3 -o "$dir/x.fovset" >/dev/null
 "$fovgen" "${small[@]}" --k 8 --seed 3 -o "$dir/y.fovset" >/dev/null
 cmp -s "$dir/x.fovset" "$dir/y.fovset" || { echo "FAIL same seed, different bytes"; failures=$((failures + 1)); }

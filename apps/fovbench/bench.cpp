@@ -94,11 +94,11 @@ std::vector<config> all_configs(const bench_options& o, const std::vector<named_
   return all;
 }
 
-// The foveated sets' layout as results.csv and the set's file name say it: darts, grid (the
-// default grid spacing) or grid-S (another, e.g. grid-1.10).
+// The foveated sets' layout as results.csv and the set's file name say it (fov::fovea_label).
 std::string fovea_text(const bench_options& o) {
-  if (o.fovea != fovea_layout::grid) return label_of(fovea_layout_labels, o.fovea);
-  return o.grid_spacing == dart_params{}.grid_spacing ? "grid" : fmt::format("grid-{:.2f}", o.grid_spacing);
+  dart_params d;
+  d.fovea = o.fovea, d.grid_spacing = o.grid_spacing;
+  return fovea_label(d);
 }
 
 // The set for one scale, generated when missing.
@@ -120,10 +120,8 @@ std::shared_ptr<const pointset> bench_pointset(const bench_options& o, const dis
     save_pointset(path, generate_pointset(model, darts, {}));
   }
   auto set = std::make_shared<const pointset>(load_pointset(path));
-  bench_options made = o;
-  made.fovea = set->darts.fovea, made.grid_spacing = set->darts.grid_spacing;
-  if (fovea_text(made) != fovea_text(o))
-    throw std::runtime_error(fmt::format("{}: its fovea is {}, not {}", path, fovea_text(made), fovea_text(o)));
+  if (fovea_label(set->darts) != fovea_text(o))
+    throw std::runtime_error(fmt::format("{}: its fovea is {}, not {}", path, fovea_label(set->darts), fovea_text(o)));
   if (set->model.display.width != display.width || set->model.display.height != display.height)
     throw std::runtime_error(fmt::format("{}: made for {}x{}, not {}x{}", path, set->model.display.width,
                                          set->model.display.height, display.width, display.height));

@@ -348,7 +348,10 @@ int main(int argc, char** argv) {
       const auto start = clock_type::now();
       for (size_t i = 0; i < scales.size(); ++i) {
         const double s = scales[i];
-        const std::string path = fmt::format("{}/{}-s{:.2f}.fovset", sweep_dir, prefix, s);
+        fov::dart_params layout;
+        layout.fovea = sweep_gen.fovea, layout.grid_spacing = sweep_gen.grid_spacing;
+        const std::string suffix = layout.fovea == fov::fovea_layout::grid ? "-" + fov::fovea_label(layout) : "";
+        const std::string path = fmt::format("{}/{}-s{:.2f}{}.fovset", sweep_dir, prefix, s, suffix);
         progress(i, scales.size(), std::chrono::duration<double>(clock_type::now() - start).count(),
                  fmt::format("s={:.2f}", s));
         fov::spacing_model m = base;

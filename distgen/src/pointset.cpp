@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <stdexcept>
 
@@ -46,6 +47,14 @@ bool is_grid_point(const pointset& set, const point& p) {
   if (set.darts.fovea != fovea_layout::grid) return false;
   const float fx = std::floor(p.x), fy = std::floor(p.y);
   return p.x - fx == 0.5f && p.y - fy == 0.5f && is_grid_pixel(set.model, set.darts, uint32_t(fx), uint32_t(fy));
+}
+
+std::string fovea_label(const dart_params& params) {
+  if (params.fovea != fovea_layout::grid) return label_of(fovea_layout_labels, params.fovea);
+  if (params.grid_spacing == dart_params{}.grid_spacing) return "grid";
+  char text[32];
+  std::snprintf(text, sizeof text, "grid-%.2f", params.grid_spacing);
+  return text;
 }
 
 double grid_radius(const spacing_model& model, const dart_params& params) {

@@ -157,6 +157,10 @@ bool is_grid_pixel(const spacing_model& model, const dart_params& params, uint32
 // points stand for whole pixels: the tracer casts a full-resolution pixel's rays for them.
 bool is_grid_point(const pointset& set, const point& p);
 
+// The layout in one word, as file names and tables write it: "darts", "grid" (the default
+// grid spacing) or "grid-S" for another spacing S (e.g. "grid-1.10").
+std::string fovea_label(const dart_params& params);
+
 // The grid's radius: a distance from the canvas centre at which the model's spacing is at
 // most params.grid_spacing, within 1e-9 px of the largest such (bisection; the spacing never
 // shrinks with distance); -1 without a grid, or when even the centre's spacing exceeds it.
