@@ -54,7 +54,7 @@ scenes = [s for s in ("builtin", "helmet", "env") if rows("grid", s) and rows("d
 print("# Foveal parity: FLIP (nn / Shepard k=5) and PSNR (Shepard) by band, against the 256-spp reference\n")
 print("| scene | gaze | spp | full < 5° | darts < 5° | grid < 5° | full 5-10° | darts 5-10° | grid 5-10° | grid 1.1 5-10° | "
       "PSNR full < 5° | darts | grid | PSNR full 5-10° | darts | grid | grid 1.1 | Shepard > 30° darts | grid |")
-print("|---|---|---:|" + "---:|" * 17)
+print("|---|---|---:|" + "---:|" * 16)
 for scene in scenes:
     darts, grid = rows("darts", scene), rows("grid", scene)
     for gaze in ("centre", "320_1080"):
