@@ -228,8 +228,9 @@ display_geometry check_bench_options(const bench_options& o) {
   if (o.spps.empty() || o.ks.empty() || o.methods.empty() || o.scales.empty() || o.gazes.empty())
     throw usage_error("--scales, --methods, --k, --spp and --gazes each need at least one value");
   if (o.frames < 1 || o.frames > 100) throw usage_error("--frames must lie in 1..100");
-  if (!(o.grid_spacing >= 0.5 && o.grid_spacing <= 4))
-    throw usage_error(fmt::format("--grid-spacing must lie in 0.5..4 pixels (got {})", o.grid_spacing));
+  if (!valid_grid_spacing(o.grid_spacing))
+    throw usage_error(fmt::format("--grid-spacing must lie in {}..{} pixels (got {})", min_grid_spacing, max_grid_spacing,
+                                  o.grid_spacing));
   if (o.fovea != fovea_layout::grid && o.grid_spacing != dart_params{}.grid_spacing)
     throw usage_error("--grid-spacing needs --fovea grid");
   if (o.reference_spp < 1 || o.reference_spp > max_spp)

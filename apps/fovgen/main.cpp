@@ -81,8 +81,9 @@ fov::spacing_model model_from(const generate_options& o, CLI::App& app) {
   if (o.k < 1 || o.k > fov::max_knn) throw usage_error(fmt::format("--k must lie in 1..{} (got {})", fov::max_knn, o.k));
   if (o.group < 1) throw usage_error("--group must be at least 1");
   if (o.saturation < 1) throw usage_error("--saturation must be at least 1");
-  if (!(o.grid_spacing >= 0.5 && o.grid_spacing <= 4))
-    throw usage_error(fmt::format("--grid-spacing must lie in 0.5..4 pixels (got {})", o.grid_spacing));
+  if (!fov::valid_grid_spacing(o.grid_spacing))
+    throw usage_error(fmt::format("--grid-spacing must lie in {}..{} pixels (got {})", fov::min_grid_spacing,
+                                  fov::max_grid_spacing, o.grid_spacing));
   if (app.count("--grid-spacing") && o.fovea != fov::fovea_layout::grid)
     throw usage_error("--grid-spacing needs --fovea grid");
   fov::table_encoding e;
@@ -366,8 +367,7 @@ int main(int argc, char** argv) {
             // Reuse only a set these exact flags would write again (the file is deterministic).
             reuse = old.model.scale == s && old.darts.seed == sweep_gen.seed &&
                     old.darts.saturation_rejections == sweep_gen.saturation && old.table.k == sweep_gen.k &&
-                    old.darts.fovea == sweep_gen.fovea &&
-                    (sweep_gen.fovea != fov::fovea_layout::grid || old.darts.grid_spacing == sweep_gen.grid_spacing) &&
+                    fov::fovea_label(old.darts) == fov::fovea_label(layout) &&
                     old.table.group == std::clamp<uint32_t>(sweep_gen.group, 1, sweep_gen.k) &&
                     old.model.display.width == m.display.width && old.model.display.height == m.display.height &&
                     old.model.display.viewing_distance == m.display.viewing_distance;

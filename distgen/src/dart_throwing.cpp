@@ -6,6 +6,7 @@
 #include <limits>
 #include <stdexcept>
 
+#include <fmt/format.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
@@ -253,8 +254,8 @@ std::vector<point> throw_darts(const spacing_model& model, const dart_params& pa
   if (params.saturation_rejections == 0) throw std::invalid_argument("saturation_rejections must be positive");
   if (!(params.central_fraction >= 0 && params.central_fraction <= 2))
     throw std::invalid_argument("central_fraction must lie in [0, 2]");
-  if (params.fovea == fovea_layout::grid && !(params.grid_spacing >= 0.5 && params.grid_spacing <= 4))
-    throw std::invalid_argument("grid_spacing must lie in 0.5..4 pixels");
+  if (params.fovea == fovea_layout::grid && !valid_grid_spacing(params.grid_spacing))
+    throw std::invalid_argument(fmt::format("grid_spacing must lie in {}..{} pixels", min_grid_spacing, max_grid_spacing));
   const auto start = std::chrono::steady_clock::now();
   dart_board board(model, params);
   const uint64_t grid = board.place_grid();

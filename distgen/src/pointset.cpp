@@ -43,10 +43,21 @@ bool is_grid_pixel(const spacing_model& model, const dart_params& params, uint32
   return point_spacing_px(model, std::hypot(dx, dy)) <= params.grid_spacing;
 }
 
-bool is_grid_point(const pointset& set, const point& p) {
-  if (set.darts.fovea != fovea_layout::grid) return false;
+namespace {
+
+// True when p lies on the centre of canvas pixel (px, py), which it then sets.
+bool on_pixel_centre(const point& p, uint32_t& px, uint32_t& py) {
   const float fx = std::floor(p.x), fy = std::floor(p.y);
-  return p.x - fx == 0.5f && p.y - fy == 0.5f && is_grid_pixel(set.model, set.darts, uint32_t(fx), uint32_t(fy));
+  if (p.x - fx != 0.5f || p.y - fy != 0.5f) return false;
+  px = uint32_t(fx), py = uint32_t(fy);
+  return true;
+}
+
+}  // namespace
+
+bool is_grid_point(const pointset& set, const point& p) {
+  uint32_t px, py;
+  return set.darts.fovea == fovea_layout::grid && on_pixel_centre(p, px, py) && is_grid_pixel(set.model, set.darts, px, py);
 }
 
 std::string fovea_label(const dart_params& params) {
@@ -77,14 +88,13 @@ grid_test::grid_test(const pointset& set) : set_(&set) {
 }
 
 bool grid_test::operator()(const point& p) const {
-  if (outside2_ < 0) return false;
-  const float fx = std::floor(p.x), fy = std::floor(p.y);
-  if (p.x - fx != 0.5f || p.y - fy != 0.5f) return false;
+  uint32_t px, py;
+  if (outside2_ < 0 || !on_pixel_centre(p, px, py)) return false;
   const double dx = double(p.x) - set_->model.display.width, dy = double(p.y) - set_->model.display.height;
   const double d2 = dx * dx + dy * dy;
   if (d2 < inside2_) return true;
   if (d2 > outside2_) return false;
-  return is_grid_pixel(set_->model, set_->darts, uint32_t(fx), uint32_t(fy));
+  return is_grid_pixel(set_->model, set_->darts, px, py);
 }
 
 uint64_t count_spacing_violations(const std::vector<point>& points, uint32_t canvas_width,

@@ -385,7 +385,8 @@ pointset load_pointset(const std::string& path, const load_params& params) {
   if (h.version == 1 && (h.fovea != 0 || h.grid_spacing != 0 || h.grid_points != 0))
     throw fail("version 1 file with fields of version 2 set (file corrupted)");
   if (h.fovea == uint32_t(fovea_layout::grid)) {
-    if (!(h.grid_spacing >= 0.5 && h.grid_spacing <= 4)) throw fail("grid spacing outside 0.5..4 pixels");
+    if (!valid_grid_spacing(h.grid_spacing))
+      throw fail(fmt::format("grid spacing outside {}..{} pixels", min_grid_spacing, max_grid_spacing));
     set.darts.fovea = fovea_layout::grid;
     set.darts.grid_spacing = h.grid_spacing;
     set.stats.grid_points = h.grid_points;

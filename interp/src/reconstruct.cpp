@@ -207,10 +207,12 @@ frame reconstruct(const pointset& set, const point_samples& samples, const recon
         const uint32_t cx = uint32_t(tx + o.x);
         const double px = cx + 0.5;
         uint32_t hits = 0;
+        int64_t on_point = -1;  // a neighbour on the pixel centre (a grid point): its index
         for (uint32_t j = 0; j < k; ++j) {
           const uint32_t i = t.entries[t.offset(row + tx, j)];
           const point& p = set.points[i];
           dist[j] = std::hypot(double(p.x) - px, double(p.y) - py);
+          if (dist[j] == 0 && on_point < 0) on_point = i;
           const glm::vec3& c = samples.colour[i];
           value[j] = {c.r, c.g, c.b};
           if (std::isfinite(samples.depth[i])) dist_hit[hits] = dist[j], depth[hits++] = samples.depth[i];
@@ -226,13 +228,10 @@ frame reconstruct(const pointset& set, const point_samples& samples, const recon
           c = shepard_weighted(dist, value, k, params.renka);
         }
         out.rgb[at] = glm::vec3(float(c.r), float(c.g), float(c.b));
-        out.depth[at] = hits ? float(shepard_weighted(dist_hit, depth, hits, params.renka)) : infinity;
         // On a point (a grid point): its depth, a miss included, as its colour is its own.
-        for (uint32_t j = 0; j < k; ++j)
-          if (dist[j] == 0) {
-            out.depth[at] = samples.depth[t.entries[t.offset(row + tx, j)]];
-            break;
-          }
+        out.depth[at] = on_point >= 0 ? samples.depth[size_t(on_point)]
+                        : hits        ? float(shepard_weighted(dist_hit, depth, hits, params.renka))
+                                      : infinity;
       }
     }
     if (stats && rbf && !cache) {

@@ -254,7 +254,7 @@ void pixel_rays(int x, int y, int width, const trace_params& params, uint32_t fi
 }
 
 // Calls emit(x, y) with the screen position of each of point i's params.spp rays. A grid
-// point (is_grid_point) stands for the screen pixel it lands on and casts that pixel's rays
+// point (grid_point: is_grid_point, asked once by the caller) stands for the screen pixel it lands on and casts that pixel's rays
 // (pixel_rays), samples [pattern * spp, (pattern + 1) * spp) with pattern = mirror_x +
 // 2 mirror_y: pattern 0 casts exactly the full-resolution frame's rays, and the four
 // mirrored patterns together a 4 spp-sample stratified set for TAA to average. Any other
@@ -265,15 +265,15 @@ void pixel_rays(int x, int y, int width, const trace_params& params, uint32_t fi
 // concentric map, which keeps areas and so the strata). The point gets the same rays every
 // frame. The set is placed at `offset` and mirrored as trace_params says (the disc too).
 template <class Emit>
-void point_rays(const pointset& set, const grid_test& on_grid, uint32_t i, canvas_offset offset,
-                const trace_params& params, Emit&& emit) {
+void point_rays(const pointset& set, bool grid_point, uint32_t i, canvas_offset offset, const trace_params& params,
+                Emit&& emit) {
   const display_geometry& disp = set.model.display;
   const point& p = set.points[i];
   uint64_t random = stream_seed(params.seed, 0x7261797375ull, i);
   float cx = p.x - float(offset.x), cy = p.y - float(offset.y);
   if (params.mirror_x) cx = float(disp.width) - cx;
   if (params.mirror_y) cy = float(disp.height) - cy;
-  if (on_grid(p)) {
+  if (grid_point) {
     const uint32_t pattern = (params.mirror_x ? 1u : 0u) + (params.mirror_y ? 2u : 0u);
     pixel_rays(int(std::floor(cx)), int(std::floor(cy)), disp.width, params, pattern * params.spp, emit);
     return;
@@ -385,9 +385,9 @@ points_trace trace_points(const scene& sc, const camera& cam, const pointset& se
     for (size_t k = r.begin(); k < r.end(); ++k) {
       const uint32_t i = out.traced[k];
       // A grid point's rays are a pixel's: they filter textures as a full-resolution pixel's do.
-      const bool pixel_wide = pixel_footprint || on_grid(set.points[i]);
-      const float radius = (pixel_wide ? 0.5f : set.points[i].spacing) * radius_scale;
-      point_rays(set, on_grid, i, out.offset, params, [&](float x, float y) { rays.push_back({x, y, radius, i}); });
+      const bool grid_point = on_grid(set.points[i]);
+      const float radius = (pixel_footprint || grid_point ? 0.5f : set.points[i].spacing) * radius_scale;
+      point_rays(set, grid_point, i, out.offset, params, [&](float x, float y) { rays.push_back({x, y, radius, i}); });
     }
     trace_rays(d, params.sun ? *params.sun : d.desc.sun, f, rays.data(), rays.size(), params.shadows, timing,
                per_owner_mean(spp, exposure_factor(params), [&](uint32_t i, glm::vec3 c, float depth, uint32_t hits) {
@@ -407,7 +407,7 @@ std::vector<glm::vec2> point_ray_positions(const pointset& set, const point_samp
   trace_params placed = params;  // the placement trace_points used
   placed.mirror_x = samples.mirror_x, placed.mirror_y = samples.mirror_y;
   const grid_test on_grid(set);
-  for (uint32_t i : samples.traced) point_rays(set, on_grid, i, samples.offset, placed, [&](float x, float y) { out.emplace_back(x, y); });
+  for (uint32_t i : samples.traced) point_rays(set, on_grid(set.points[i]), i, samples.offset, placed, [&](float x, float y) { out.emplace_back(x, y); });
   return out;
 }
 

@@ -30,6 +30,10 @@ enum class fovea_layout : uint32_t {
 inline constexpr std::pair<const char*, fovea_layout> fovea_layout_labels[] = {
     {"darts", fovea_layout::darts}, {"grid", fovea_layout::grid}};
 
+// The grid spacings a set may have (dart_params::grid_spacing), pixels.
+inline constexpr double min_grid_spacing = 0.5, max_grid_spacing = 4;
+inline bool valid_grid_spacing(double p) { return p >= min_grid_spacing && p <= max_grid_spacing; }
+
 // How the dart thrower runs and when it calls a region saturated.
 struct dart_params {
   uint64_t seed = 1;
@@ -41,7 +45,8 @@ struct dart_params {
   uint32_t free_area_probes = 1u << 20;
   fovea_layout fovea = fovea_layout::darts;
   // fovea_layout::grid: the largest model spacing (pixels) at which a pixel centre still gets
-  // a grid point; 1 = wherever the model asks for points at most a pixel apart. 0.5 .. 4.
+  // a grid point; 1 = wherever the model asks for points at most a pixel apart.
+  // valid_grid_spacing: 0.5 .. 4.
   double grid_spacing = 1.0;
 };
 
