@@ -1,4 +1,6 @@
 #include <cmath>
+#include <algorithm>
+#include <random>
 #include <set>
 
 #include <gtest/gtest.h>
@@ -191,6 +193,58 @@ TEST(TracedPoints, TheListIsTheMaskInOrder) {
       if (mask[i]) expected.push_back(i);
     EXPECT_EQ(traced_points(set, {gx, gy}, 5), expected);
   }
+}
+
+// The index (make_traced_index) finds the same list as the table scan, for every k, at
+// gazes that put each screen corner and edge in the canvas's dense centre and its sparse
+// border, and at random gazes; on one and two threads.
+TEST(TracedPoints, TheIndexFindsTheSameListAsTheScan) {
+  const int w = 160, h = 120;
+  pointset set;
+  set.model = small_model(w, h, 1.0, 0.8);
+  set.points = throw_darts(set.model, quick_darts());
+  set.table = build_knn_table(set.points, 2 * w, 2 * h, {});
+  std::vector<std::pair<double, double>> gazes = {{80, 60}, {0, 0}, {160, 120}, {0, 120}, {160, 0}, {80, 0}, {0, 60}, {3.5, 117.2}};
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> gx(-10, w + 10), gy(-10, h + 10);
+  for (int i = 0; i < 40; ++i) gazes.emplace_back(gx(rng), gy(rng));
+  for (uint32_t k_used : {1u, 2u, 5u, 20u}) {
+    const traced_index index = make_traced_index(set, k_used);
+    ASSERT_TRUE(index.morton);
+    ASSERT_EQ(index.reaches.size(), set.points.size());
+    EXPECT_GE(float(index.margin), set.table.radius_by_rank[k_used - 1]) << "k_used " << k_used;
+    for (auto [x, y] : gazes) {
+      const std::vector<uint32_t> scanned = traced_points(set, {x, y}, k_used);
+      ASSERT_EQ(traced_points(set, index, {x, y}), scanned) << "k_used " << k_used << ", gaze " << x << ", " << y;
+    }
+  }
+  const traced_index index = make_traced_index(set, 5);
+  tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
+  const traced_index serial = make_traced_index(set, 5);
+  for (size_t i = 0; i < set.points.size(); ++i) {
+    ASSERT_EQ(serial.reaches[i].min_x, index.reaches[i].min_x);
+    ASSERT_EQ(serial.reaches[i].max_y, index.reaches[i].max_y);
+  }
+}
+
+// Points out of Morton order (a hand-made set) still give the right list: the index
+// says so and traced_points falls back to the scan. A k beyond the table's is clamped,
+// as the scan clamps it; an index of another set or k is refused.
+TEST(TracedPoints, TheIndexFallsBackAndRefusesAnotherSet) {
+  const int w = 64, h = 48;
+  pointset set;
+  set.model = small_model(w, h);
+  set.points = throw_darts(set.model, quick_darts());
+  std::reverse(set.points.begin(), set.points.end());
+  set.table = build_knn_table(set.points, 2 * w, 2 * h, {});
+  const traced_index index = make_traced_index(set, 5);
+  EXPECT_FALSE(index.morton);
+  EXPECT_EQ(traced_points(set, index, {10, 40}), traced_points(set, {10, 40}, 5));
+  EXPECT_EQ(make_traced_index(set, 99).k_used, set.table.k);
+  EXPECT_THROW(make_traced_index(set, 0), std::invalid_argument);
+  pointset other = set;
+  other.points.pop_back();
+  EXPECT_THROW(traced_points(other, index, {10, 40}), std::invalid_argument);
 }
 
 TEST(TracedPoints, ASetWithoutItsTableIsRefused) {

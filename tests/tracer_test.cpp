@@ -141,6 +141,12 @@ TEST(Tracer, PointsAreDeterministicAcrossFramesAndThreads) {
     ASSERT_EQ(a.depth[i], b.depth[i]);
     ASSERT_TRUE(std::isfinite(a.colour[i].r + a.colour[i].g + a.colour[i].b));
   }
+  // With the traced-point index (what the renderer uses): the same frame bit for bit.
+  const point_samples indexed = trace_points(*s, cam, set, make_traced_index(set, 20), {30, 40}, with_k(tp, 20)).samples;
+  ASSERT_EQ(indexed.traced, a.traced);
+  for (uint32_t i : a.traced) ASSERT_EQ(indexed.colour[i], a.colour[i]);
+  EXPECT_THROW(trace_points(*s, cam, set, make_traced_index(set, 5), {30, 40}, with_k(tp, 20)), std::invalid_argument)
+      << "an index for another k";
   tp.seed = 2;
   const point_samples c = trace_points(*s, cam, set, {30, 40}, with_k(tp, 20)).samples;
   size_t differ = 0;

@@ -134,6 +134,7 @@ int main(int argc, char** argv) {
         j["warmup_ms"] = w.trace_ms;
         j["device_first_launch_ms"] = w.reconstruct_ms;
         if (p.reconstruct.how == fov::method::rbf) j["rbf_weights_ms"] = w.rbf_weights_ms;
+        j["traced_index_ms"] = w.traced_index_ms;
       }
       // With --taa-frames N: N frames of the same view blended by TAA; the JSON reports the last frame's costs.
       const fov::frame* last = nullptr;  // the renderer's frame, valid until its next call

@@ -1,12 +1,14 @@
 #include <sys/mman.h>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <stdexcept>
 
+#include <fmt/format.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
@@ -229,6 +231,156 @@ std::vector<uint32_t> traced_points(const pointset& set, gaze_point gaze, uint32
     size_t at = start[b];
     for (size_t i = b * block, end = std::min(mask.size(), (b + 1) * block); i < end; ++i)
       if (mask[i]) out[at++] = uint32_t(i);
+  });
+  return out;
+}
+
+namespace {
+
+// A half-open rectangle of canvas pixels.
+struct pixel_rect {
+  int64_t x0, y0, x1, y1;
+  bool meets(const pixel_rect& o) const { return x0 < o.x1 && o.x0 < x1 && y0 < o.y1 && o.y0 < y1; }
+  bool within(const pixel_rect& o) const { return x0 >= o.x0 && x1 <= o.x1 && y0 >= o.y0 && y1 <= o.y1; }
+  bool holds(int64_t x, int64_t y) const { return x >= x0 && x < x1 && y >= y0 && y < y1; }
+};
+
+constexpr uint64_t low32 = 0xFFFFFFFFull;
+
+// Whether any pixel of `screen` reads point i among its first k_used neighbours.
+bool read_on_screen(const pointset& set, const traced_index& index, uint32_t i, const pixel_rect& screen) {
+  const traced_index::reach& r = index.reaches[i];
+  const int64_t min_x = int64_t(r.min_x >> 32), max_x = int64_t(r.max_x >> 32);
+  const int64_t min_y = int64_t(r.min_y >> 32), max_y = int64_t(r.max_y >> 32);
+  if (min_x > max_x) return false;  // no pixel reads it
+  const pixel_rect box{min_x, min_y, max_x + 1, max_y + 1};
+  if (!box.meets(screen)) return false;
+  if (screen.holds(min_x, int64_t(r.min_x & low32)) || screen.holds(max_x, int64_t(r.max_x & low32)) ||
+      screen.holds(int64_t(r.min_y & low32), min_y) || screen.holds(int64_t(r.max_y & low32), max_y))
+    return true;
+  // Near a corner of the screen: read the box's on-screen pixels.
+  const knn_table& t = set.table;
+  for (int64_t y = std::max(box.y0, screen.y0); y < std::min(box.y1, screen.y1); ++y)
+    for (int64_t x = std::max(box.x0, screen.x0); x < std::min(box.x1, screen.x1); ++x)
+      for (uint32_t j = 0; j < index.k_used; ++j)
+        if (t.at(uint32_t(x), uint32_t(y), j) == i) return true;
+  return false;
+}
+
+}  // namespace
+
+traced_index make_traced_index(const pointset& set, uint32_t k_used) {
+  require_table(set);
+  const knn_table& t = set.table;
+  if (k_used < 1) throw std::invalid_argument("k_used must be at least 1");
+  k_used = std::min(k_used, t.k);  // as traced_point_mask reads it
+  traced_index index;
+  index.k_used = k_used;
+  const size_t n = set.points.size();
+  index.morton = true;
+  for (size_t i = 1; i < n && index.morton; ++i)
+    index.morton = morton_code(set.points[i - 1].x, set.points[i - 1].y) <= morton_code(set.points[i].x, set.points[i].y);
+  // Sides packed with their witnesses, so that one atomic min or max keeps both.
+  std::vector<std::atomic<uint64_t>> sides(4 * n);
+  for (size_t i = 0; i < n; ++i) {
+    sides[4 * i].store(UINT64_MAX, std::memory_order_relaxed);
+    sides[4 * i + 1].store(0, std::memory_order_relaxed);
+    sides[4 * i + 2].store(UINT64_MAX, std::memory_order_relaxed);
+    sides[4 * i + 3].store(0, std::memory_order_relaxed);
+  }
+  auto lower = [](std::atomic<uint64_t>& a, uint64_t v) {
+    uint64_t cur = a.load(std::memory_order_relaxed);
+    while (v < cur && !a.compare_exchange_weak(cur, v, std::memory_order_relaxed)) {
+    }
+  };
+  auto raise = [](std::atomic<uint64_t>& a, uint64_t v) {
+    uint64_t cur = a.load(std::memory_order_relaxed);
+    while (v > cur && !a.compare_exchange_weak(cur, v, std::memory_order_relaxed)) {
+    }
+  };
+  tbb::parallel_for(tbb::blocked_range<uint32_t>(0, t.height, 8), [&](const tbb::blocked_range<uint32_t>& rows) {
+    for (uint32_t y = rows.begin(); y < rows.end(); ++y)
+      for (uint32_t j = 0; j < k_used; ++j)
+        for (uint32_t x = 0; x < t.width; ++x) {
+          const uint32_t i = t.entries[t.offset(uint64_t(y) * t.width + x, j)];
+          const uint64_t xy = uint64_t(x) << 32 | y, yx = uint64_t(y) << 32 | x;
+          lower(sides[4 * size_t(i)], xy);
+          raise(sides[4 * size_t(i) + 1], xy);
+          lower(sides[4 * size_t(i) + 2], yx);
+          raise(sides[4 * size_t(i) + 3], yx);
+        }
+  });
+  index.reaches.resize(n);
+  float margin = 0;
+  for (size_t i = 0; i < n; ++i) {
+    traced_index::reach& r = index.reaches[i];
+    r = {sides[4 * i].load(), sides[4 * i + 1].load(), sides[4 * i + 2].load(), sides[4 * i + 3].load()};
+    if (r.min_x > r.max_x) continue;
+    const point& p = set.points[i];
+    margin = std::max({margin, p.x - float(r.min_x >> 32), float((r.max_x >> 32) + 1) - p.x,
+                       p.y - float(r.min_y >> 32), float((r.max_y >> 32) + 1) - p.y});
+  }
+  index.margin = uint32_t(std::ceil(margin)) + 1;
+  return index;
+}
+
+std::vector<uint32_t> traced_points(const pointset& set, const traced_index& index, gaze_point gaze) {
+  require_table(set);
+  if (index.reaches.size() != set.points.size() || index.k_used < 1 || index.k_used > set.table.k)
+    throw std::invalid_argument("the traced-point index was not made for this set");
+  if (!index.morton) return traced_points(set, gaze, index.k_used);
+  const display_geometry& d = set.model.display;
+  const canvas_offset o = offset_for_gaze(d, gaze);
+  const pixel_rect screen{o.x, o.y, int64_t(o.x) + d.width, int64_t(o.y) + d.height};
+  const int64_t m = index.margin;
+  const pixel_rect near{screen.x0 - m, screen.y0 - m, screen.x1 + m, screen.y1 + m};
+  // Runs [first, last) of traced points, ascending: quadtree cells of the canvas are
+  // ranges of the Morton order; a cell on the screen is traced whole, one beyond the
+  // margin not at all, and the points of the cells between are tested one by one.
+  std::vector<std::pair<uint32_t, uint32_t>> runs;
+  auto add = [&](uint32_t first, uint32_t last) {
+    if (!runs.empty() && runs.back().second == first) runs.back().second = last;
+    else runs.emplace_back(first, last);
+  };
+  const point* points = set.points.data();
+  auto visit = [&](auto&& self, int64_t x0, int64_t y0, int64_t size, uint32_t a, uint32_t b) -> void {
+    if (a == b) return;
+    const pixel_rect cell{x0, y0, x0 + size, y0 + size};
+    if (cell.within(screen)) return add(a, b);
+    if (!cell.meets(near)) return;
+    if (size <= 8 || b - a <= 16) {
+      for (uint32_t i = a; i < b; ++i)
+        if (on_screen(points[i], d, o) || read_on_screen(set, index, i, screen)) add(i, i + 1);
+      return;
+    }
+    const int64_t h = size / 2;
+    const int64_t cx[4] = {x0, x0 + h, x0, x0 + h}, cy[4] = {y0, y0, y0 + h, y0 + h};
+    uint32_t start = a;
+    for (int q = 0; q < 4; ++q) {
+      uint32_t end = b;
+      if (q < 3) {
+        const uint64_t next = morton_code(float(cx[q + 1]), float(cy[q + 1]));
+        end = uint32_t(std::partition_point(points + start, points + b, [&](const point& p) {
+                         return morton_code(p.x, p.y) < next;
+                       }) - points);
+      }
+      self(self, cx[q], cy[q], h, start, end);
+      start = end;
+    }
+  };
+  int64_t root = 1;
+  while (root < int64_t(std::max(set.canvas_width(), set.canvas_height()))) root *= 2;
+  visit(visit, 0, 0, root, 0, uint32_t(set.points.size()));
+  // The runs written out in parallel, by blocks of the output.
+  std::vector<size_t> starts(runs.size() + 1, 0);
+  for (size_t r = 0; r < runs.size(); ++r) starts[r + 1] = starts[r] + (runs[r].second - runs[r].first);
+  std::vector<uint32_t> out(starts.back());
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, out.size(), 32768), [&](const tbb::blocked_range<size_t>& block) {
+    size_t r = size_t(std::upper_bound(starts.begin(), starts.end(), block.begin()) - starts.begin()) - 1;
+    for (size_t at = block.begin(); at < block.end(); ++r) {
+      const size_t end = std::min(block.end(), starts[r + 1]);
+      for (uint32_t i = runs[r].first + uint32_t(at - starts[r]); at < end; ++at, ++i) out[at] = i;
+    }
   });
   return out;
 }

@@ -87,6 +87,7 @@ void renderer::use_pointset(std::shared_ptr<const pointset> set) {
   pending_.reset();
   device_.reset();  // holds a reference to the old set
   set_ = std::move(set);
+  index_.reset();
   const auto t0 = clock_type::now();
   device_ = std::make_unique<cl_reconstructor>(*set_, device_kind_);
   device_setup_ms_ = ms_since(t0);
@@ -114,11 +115,18 @@ std::string renderer::device_warning() const {
   return problem.empty() ? "" : "warning: " + problem + "; using the C++ path";
 }
 
+std::shared_ptr<const traced_index> renderer::index_for(const trace_params& tp) {
+  const uint32_t k = std::min(tp.k, set_->table.k);
+  if (!index_ || index_->k_used != k) index_ = std::make_shared<const traced_index>(make_traced_index(*set_, k));
+  return index_;
+}
+
 points_trace renderer::trace(gaze_point gaze, const render_params& p, frame_timing& t) {
   require_set();
   const trace_params tp = frame_trace_params(p, frames_traced_++);
+  const std::shared_ptr<const traced_index> index = index_for(tp);
   const auto t0 = clock_type::now();
-  points_trace out = trace_points(*scene_, cam_, *set_, gaze, tp);
+  points_trace out = trace_points(*scene_, cam_, *set_, *index, gaze, tp);
   t.trace_ms = ms_since(t0);
   t.traced_ahead = false;
   t.trace_wait_ms = 0;
@@ -157,9 +165,9 @@ void renderer::begin_trace(gaze_point gaze, const camera& view, const render_par
   require_set();
   pending_.reset();  // waits for one still running
   const trace_params tp = frame_trace_params(p, frames_traced_++);
-  auto job = [scn = scene_, set = set_, view, gaze, tp] {
+  auto job = [scn = scene_, set = set_, index = index_for(tp), view, gaze, tp] {
     const auto t0 = clock_type::now();
-    points_trace out = trace_points(*scn, view, *set, gaze, tp);
+    points_trace out = trace_points(*scn, view, *set, *index, gaze, tp);
     return std::make_pair(std::move(out), ms_since(t0));
   };
   pending_ = pending_trace{gaze, view, p, set_, std::async(std::launch::async, std::move(job))};
@@ -205,11 +213,16 @@ reference_trace renderer::reference(int width, int height, const render_params& 
 
 warm_up_report renderer::warm_up(gaze_point gaze, const render_params& p) {
   require_set();
+  const trace_params tp = frame_trace_params(p, 0);
+  const auto t_index = clock_type::now();
+  const std::shared_ptr<const traced_index> index = index_for(tp);
+  const double index_ms = ms_since(t_index);
   const auto t0 = clock_type::now();
-  const points_trace traced = trace_points(*scene_, cam_, *set_, gaze, frame_trace_params(p, 0));
+  const points_trace traced = trace_points(*scene_, cam_, *set_, *index, gaze, tp);
   const double trace_ms = ms_since(t0);
   warm_up_report r = prepare(traced.samples, p);
   r.trace_ms = trace_ms;
+  r.traced_index_ms = index_ms;
   return r;
 }
 

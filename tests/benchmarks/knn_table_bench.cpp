@@ -5,6 +5,7 @@
 //  - on-disk size and load time of each table encoding, and of two rejected ones.
 // Set FOV_BENCH_SET to a .fovset (default: precomputed/fove-s1.00.fovset, generated
 // in memory with `fovgen --display fove` defaults when missing).
+#include <optional>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
@@ -115,7 +116,7 @@ void BM_CopyTableBytes(benchmark::State& state) {
 }
 BENCHMARK(BM_CopyTableBytes)->ArgName("k")->Arg(5)->Arg(20)->Unit(benchmark::kMillisecond)->UseRealTime();
 
-// Choosing the points to trace for a centred gaze (every frame of trace_points).
+// The mask of points to trace for a centred gaze (traced_point_mask: the table scan).
 void BM_TracedPointMask(benchmark::State& state) {
   const fov::pointset& set = bench_set();
   for (auto _ : state)
@@ -124,6 +125,41 @@ void BM_TracedPointMask(benchmark::State& state) {
   state.counters["band_radius_px"] = set.table.radius_by_rank[size_t(state.range(0) - 1)];
 }
 BENCHMARK(BM_TracedPointMask)->ArgName("k_used")->Arg(5)->Arg(20)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// Choosing the points to trace for a gaze (every frame of trace_points): the table scan of
+// the screen's border (traced_points) against the index (make_traced_index, once per set
+// and k; what the renderer uses). args: k_used, index (0 scan, 1 index), gaze (0 centre,
+// 1 bottom-right corner).
+void BM_TracedPoints(benchmark::State& state) {
+  const fov::pointset& set = bench_set();
+  const auto k_used = uint32_t(state.range(0));
+  const fov::display_geometry& d = set.model.display;
+  const fov::gaze_point gaze = state.range(2) ? fov::gaze_point{double(d.width), double(d.height)}
+                                              : fov::gaze_point{0.5 * d.width, 0.5 * d.height};
+  const std::optional<fov::traced_index> index =
+      state.range(1) ? std::optional<fov::traced_index>(fov::make_traced_index(set, k_used)) : std::nullopt;
+  size_t traced = 0;
+  for (auto _ : state) {
+    const std::vector<uint32_t> v = index ? fov::traced_points(set, *index, gaze) : fov::traced_points(set, gaze, k_used);
+    traced = v.size();
+    benchmark::DoNotOptimize(v.data());
+  }
+  state.counters["traced"] = double(traced);
+  state.counters["band_radius_px"] = set.table.radius_by_rank[size_t(k_used - 1)];
+  if (index) state.counters["index_margin_px"] = index->margin;
+}
+BENCHMARK(BM_TracedPoints)
+    ->ArgNames({"k_used", "index", "gaze"})
+    ->ArgsProduct({{5, 20}, {0, 1}, {0, 1}})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+
+// Building the index (once per set and k).
+void BM_MakeTracedIndex(benchmark::State& state) {
+  const fov::pointset& set = bench_set();
+  for (auto _ : state) benchmark::DoNotOptimize(fov::make_traced_index(set, uint32_t(state.range(0))).reaches.data());
+}
+BENCHMARK(BM_MakeTracedIndex)->ArgName("k_used")->Arg(5)->Arg(20)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 // Load time (read, verify, decode) of the whole set in each stored encoding.
 void BM_LoadSet(benchmark::State& state) {

@@ -10,6 +10,7 @@
 #include <fmt/format.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_invoke.h>
 
 #include "fov/random.h"
 #include "scene_impl.h"
@@ -352,8 +353,11 @@ glm::vec2 owen_sobol_2d(uint32_t s, uint32_t sx, uint32_t sy) {
   return {float(owen_scramble(x, sx) >> 8) * 0x1.0p-24f, float(owen_scramble(y, sy) >> 8) * 0x1.0p-24f};
 }
 
-points_trace trace_points(const scene& sc, const camera& cam, const pointset& set, gaze_point gaze,
-                          const trace_params& params) {
+namespace {
+
+// trace_points, its traced points found with `index` where there is one.
+points_trace trace_selected(const scene& sc, const camera& cam, const pointset& set, const traced_index* index,
+                            gaze_point gaze, const trace_params& params) {
   const display_geometry& disp = set.model.display;
   check(params, disp.width, disp.height);
   const scene::impl& d = sc.internals();
@@ -367,11 +371,16 @@ points_trace trace_points(const scene& sc, const camera& cam, const pointset& se
   const gaze_point placed{mx ? disp.width - gaze.x : gaze.x, my ? disp.height - gaze.y : gaze.y};
   out.offset = offset_for_gaze(disp, placed);
   out.mirror_x = mx, out.mirror_y = my;
-  out.traced = traced_points(set, placed, params.k);
+  // Choosing the points and clearing the per-point arrays, side by side: on a short frame
+  // (1 spp, a sparse set) these serial steps are a visible share of its time.
   const size_t n = set.points.size();
-  out.colour.assign(n, glm::vec3(0));
-  out.depth.assign(n, infinity);
-  out.hits.assign(n, 0);
+  tbb::parallel_invoke(
+      [&] { out.traced = index ? traced_points(set, *index, placed) : traced_points(set, placed, params.k); },
+      [&] { out.colour.assign(n, glm::vec3(0)); },
+      [&] {
+        out.depth.assign(n, infinity);
+        out.hits.assign(n, 0);
+      });
   if (timing_total) choose.mark(timing_total->setup);
   const uint32_t spp = params.spp;
   const float radius_scale = 1.0f / std::sqrt(float(spp));
@@ -398,6 +407,22 @@ points_trace trace_points(const scene& sc, const camera& cam, const pointset& se
   });
   out.rays = uint64_t(out.traced.size()) * spp;
   return result;
+}
+
+}  // namespace
+
+points_trace trace_points(const scene& sc, const camera& cam, const pointset& set, gaze_point gaze,
+                          const trace_params& params) {
+  return trace_selected(sc, cam, set, nullptr, gaze, params);
+}
+
+points_trace trace_points(const scene& sc, const camera& cam, const pointset& set, const traced_index& index,
+                          gaze_point gaze, const trace_params& params) {
+  require_table(set);
+  if (index.k_used != std::min(params.k, set.table.k))
+    throw std::invalid_argument(fmt::format("the traced-point index is for k = {}, the trace reads k = {}", index.k_used,
+                                            std::min(params.k, set.table.k)));
+  return trace_selected(sc, cam, set, &index, gaze, params);
 }
 
 std::vector<glm::vec2> point_ray_positions(const pointset& set, const point_samples& samples, const trace_params& params) {

@@ -214,4 +214,29 @@ std::vector<uint8_t> traced_point_mask(const pointset& set, gaze_point gaze, uin
 // The marked points' indices in ascending (Morton) order: what trace_points traces.
 std::vector<uint32_t> traced_points(const pointset& set, gaze_point gaze, uint32_t k_used);
 
+// What finds a gaze's traced points without reading the k-NN table every frame: for each
+// point, the bounding box of the canvas pixels that read it among their first k_used
+// neighbours, and on each side of the box one such pixel (a witness). An off-screen point
+// is traced when its box meets the screen and a witness lies on it; only near the screen's
+// corners, where no witness does, are the box's on-screen pixels read. Built once per set
+// and k_used (one pass over the table's first k_used ranks); 32 bytes per point.
+struct traced_index {
+  uint32_t k_used = 0;
+  // Sides of a point's box, each packed with its witness's other coordinate: min_x and
+  // max_x are (x << 32 | y), min_y and max_y (y << 32 | x), of canvas pixels. A point no
+  // pixel reads has min_x > max_x.
+  struct reach {
+    uint64_t min_x, max_x, min_y, max_y;
+  };
+  std::vector<reach> reaches;  // one per point
+  uint32_t margin = 0;  // the farthest any pixel that reads a point lies from it, in whole pixels
+  bool morton = false;  // the points are in Morton order (else traced_points scans the table)
+};
+traced_index make_traced_index(const pointset& set, uint32_t k_used);  // k_used above the table's k reads k
+
+// The same list as traced_points(set, gaze, index.k_used), found with the index: the points'
+// Morton order gives the on-screen points as ranges, and only points within the index's
+// margin of the screen are tested one by one. `index` must be make_traced_index(set, k).
+std::vector<uint32_t> traced_points(const pointset& set, const traced_index& index, gaze_point gaze);
+
 }  // namespace fov

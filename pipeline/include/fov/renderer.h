@@ -86,6 +86,7 @@ struct warm_up_report {
   double trace_ms = 0;        // textures read and MIP-mapped on first use
   double reconstruct_ms = 0;  // the first launch: kernel compilation for its shape, RBF weights
   double rbf_weights_ms = 0;  // the RBF weights alone (their one-time solve)
+  double traced_index_ms = 0;  // make_traced_index for the set and k (0 when already made)
 };
 
 class renderer {
@@ -153,6 +154,9 @@ class renderer {
   camera cam_;
   reconstruct_device device_kind_;
   std::shared_ptr<const pointset> set_;
+  // Finds each frame's traced points (make_traced_index), for set_ and the last k traced.
+  std::shared_ptr<const traced_index> index_;
+  std::shared_ptr<const traced_index> index_for(const trace_params& tp);
   std::unique_ptr<cl_reconstructor> device_;
   double device_setup_ms_ = 0;
   taa_state taa_;

@@ -104,6 +104,10 @@ constexpr int reference_tile = 8;
 // mirrored pattern n = mirror_x + 2 mirror_y casts the pixel's samples n spp .. (n+1) spp - 1).
 points_trace trace_points(const scene& s, const camera& cam, const pointset& set, gaze_point gaze,
                           const trace_params& params);
+// The same frame, its traced points found with `index` (make_traced_index(set, params.k),
+// built once per set and k) instead of a scan of the table's screen border each frame.
+points_trace trace_points(const scene& s, const camera& cam, const pointset& set, const traced_index& index,
+                          gaze_point gaze, const trace_params& params);
 
 // The screen positions (pixels) of the rays trace_points cast for `samples` (its traced
 // points, placement and mirroring), in the order it cast them: params.spp per point.
