@@ -20,6 +20,19 @@ check "missing protocol"    1 -- "$fovstair" run --protocol "$dir/none.json" --s
 printf '{\n  "fovstair_protocol": 1,\n  "conditions": [{"name": "A", "k": 99}]\n}\n' > "$dir/bad.json"
 err=$("$fovstair" validate "$dir/bad.json" 2>&1)
 [[ "$err" == "fovstair: $dir/bad.json:3: conditions[0].k: must lie in 1..32" ]] || fail "protocol error: $err"
+# Hostile protocol files: nesting 100,000 deep (the line map recursed per level and
+# crashed), a FIFO (its open blocked forever), a directory, a file over the size bound.
+python3 -c "print('{\"fovstair_protocol\":1,\"x\":'+'['*100000+']'*100000+'}')" > "$dir/deep.json"
+err=$("$fovstair" validate "$dir/deep.json" 2>&1)
+[[ $? -eq 1 && "$err" == "fovstair: $dir/deep.json:1: nested deeper than 32 levels" ]] || fail "deep protocol: $err"
+mkfifo "$dir/fifo.json"
+err=$(timeout 20 "$fovstair" validate "$dir/fifo.json" 2>&1)
+[[ $? -eq 1 && "$err" == *"fifo.json: not a regular file"* ]] || fail "FIFO protocol: $err"
+err=$("$fovstair" validate "$dir" 2>&1)
+[[ $? -eq 1 && "$err" == *"is a directory"* ]] || fail "directory as protocol: $err"
+head -c 2000000 /dev/zero | tr '\0' ' ' > "$dir/big.json"
+err=$("$fovstair" validate "$dir/big.json" 2>&1)
+[[ $? -eq 1 && "$err" == *"at most 1048576"* ]] || fail "oversized protocol: $err"
 check "resume nothing"      1 -- "$fovstair" run --subject S1 --resume --out "$dir/empty" --observer "$observer"
 
 # An uninterrupted session, and the same session killed after 7 trials (with half a line

@@ -1,3 +1,4 @@
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cstring>
@@ -207,6 +208,75 @@ TEST_F(PointsetFile, GridSetsRoundTripAndVersionOneFilesStillLoad) {
   reseal(bytes, set_.points.size());
   write(path("v1grid.fovset"), bytes);
   EXPECT_NE(load_error(path("v1grid.fovset")).find("version 1"), std::string::npos) << load_error(path("v1grid.fovset"));
+}
+
+// Hostile headers: sizes are checked against the file (without sums that wrap) and the
+// machine's memory before anything is allocated; points out of Morton order are refused.
+TEST_F(PointsetFile, HeaderSizesAreBoundedByTheFileBeforeAnyAllocation) {
+  save_pointset(path("a.fovset"), set_);
+  const std::vector<char> good = read(path("a.fovset"));
+  auto reseal_header = [](std::vector<char>& b) {
+    const uint32_t header_crc = crc32c(b.data(), 508);
+    std::memcpy(&b[508], &header_crc, 4);
+  };
+  auto patched = [&](const std::string& name, auto&& patch) {
+    std::vector<char> b = good;
+    patch(b);
+    reseal_header(b);
+    write(path(name), b);
+    return load_error(path(name));
+  };
+  // A points section whose end wraps past 2^64 back inside the file.
+  std::string e = patched("wrap.fovset", [](std::vector<char>& b) {
+    const uint64_t offset = ~uint64_t(0) - 100;
+    std::memcpy(&b[168], &offset, 8);
+  });
+  EXPECT_NE(e.find("inconsistent"), std::string::npos) << e;
+  e = patched("wrap-table.fovset", [](std::vector<char>& b) {
+    uint64_t offset = 0;
+    std::memcpy(&offset, &b[184], 8);
+    const uint64_t bytes = ~uint64_t(0) - offset + 10;
+    std::memcpy(&b[192], &bytes, 8);
+  });
+  EXPECT_NE(e.find("inconsistent"), std::string::npos) << e;
+  // 2^31 points claimed by a small file: refused by size, not by a failed allocation.
+  e = patched("many.fovset", [](std::vector<char>& b) {
+    const uint64_t n = uint64_t(1) << 31, bytes = n * 12;
+    std::memcpy(&b[136], &n, 8);
+    std::memcpy(&b[176], &bytes, 8);
+  });
+  EXPECT_NE(e.find("inconsistent"), std::string::npos) << e;
+  // A 65536 x 65536 screen (its canvas's table 2.2 TB at k = 12): refused naming the memory.
+  e = patched("huge.fovset", [](std::vector<char>& b) {
+    const uint32_t w = 65536, cw = 2 * w;
+    std::memcpy(&b[16], &w, 4);
+    std::memcpy(&b[20], &w, 4);
+    std::memcpy(&b[144], &cw, 4);
+    std::memcpy(&b[148], &cw, 4);
+  });
+  EXPECT_NE(e.find("GB, more than this machine's"), std::string::npos) << e;
+  EXPECT_EQ(e.find('\n'), std::string::npos) << "one line";
+  // Two points swapped (checksum re-sealed): out of Morton order.
+  e = patched("order.fovset", [&](std::vector<char>& b) {
+    std::vector<char> first(&b[512], &b[524]);
+    std::memmove(&b[512], &b[524], 12);
+    std::memcpy(&b[524], first.data(), 12);
+    const uint32_t crc = crc32c(&b[512], set_.points.size() * 12);
+    std::memcpy(&b[200], &crc, 4);
+  });
+  EXPECT_NE(e.find("Morton order"), std::string::npos) << e;
+}
+
+// Special files are refused before they are opened: a FIFO would block the open forever.
+TEST_F(PointsetFile, FifosAndDirectoriesAreRefusedWithoutBlocking) {
+  ASSERT_EQ(mkfifo(path("pipe.fovset").c_str(), 0600), 0);
+  std::string e = load_error(path("pipe.fovset"));
+  EXPECT_NE(e.find("not a regular file"), std::string::npos) << e;
+  EXPECT_NE(e.find("pipe.fovset"), std::string::npos) << e;
+  fs::create_directories(path("dir.fovset"));
+  e = load_error(path("dir.fovset"));
+  EXPECT_NE(e.find("is a directory"), std::string::npos) << e;
+  EXPECT_NE(load_error(path("absent.fovset")).find("No such file"), std::string::npos);
 }
 
 TEST_F(PointsetFile, FailedWritesLeaveNothingBehind) {

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <set>
@@ -11,6 +12,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "fov/files.h"
 #include "fov/knn_table.h"
 
 namespace fov {
@@ -152,6 +154,26 @@ class reader {
 }  // namespace
 
 stair_protocol parse_protocol(const std::string& text, const std::string& file) {
+  // Nesting is bounded before anything walks the text: the line map recurses per level.
+  {
+    int depth = 0, line = 1;
+    bool in_string = false;
+    for (size_t i = 0; i < text.size(); ++i) {
+      const char c = text[i];
+      if (c == '\n') ++line;
+      if (in_string) {
+        if (c == '\\') ++i;
+        else if (c == '"') in_string = false;
+      } else if (c == '"') {
+        in_string = true;
+      } else if (c == '{' || c == '[') {
+        if (++depth > max_protocol_depth)
+          throw protocol_error(fmt::format("{}:{}: nested deeper than {} levels", file, line, max_protocol_depth));
+      } else if (c == '}' || c == ']') {
+        --depth;
+      }
+    }
+  }
   json j;
   try {
     j = json::parse(text);
@@ -271,6 +293,9 @@ stair_protocol parse_protocol(const std::string& text, const std::string& file) 
 }
 
 stair_protocol load_protocol(const std::string& path) {
+  if (const std::string why = input_file_problem(path); !why.empty()) throw protocol_error(fmt::format("{}: {}", path, why));
+  if (const uintmax_t bytes = std::filesystem::file_size(path); bytes > max_protocol_bytes)
+    throw protocol_error(fmt::format("{}: {} bytes; a protocol file may hold at most {}", path, bytes, max_protocol_bytes));
   std::ifstream in(path, std::ios::binary);
   if (!in) throw protocol_error(fmt::format("{}: cannot open the protocol file", path));
   std::stringstream text;

@@ -62,6 +62,11 @@ struct protocol_error : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// The deepest nesting of arrays and objects a protocol may have (the schema needs 3), and
+// the largest protocol file.
+constexpr int max_protocol_depth = 32;
+constexpr uintmax_t max_protocol_bytes = 1u << 20;
+
 // Parses and validates; every error names the file and the line of the offending value.
 stair_protocol load_protocol(const std::string& path);
 stair_protocol parse_protocol(const std::string& text, const std::string& name_for_errors);

@@ -17,6 +17,7 @@
 #include <zstd.h>
 
 #include "fov/checksum.h"
+#include "fov/files.h"
 #include "fov/knn_table.h"
 
 namespace fov {
@@ -343,6 +344,7 @@ void save_pointset(const std::string& path, const pointset& set, const save_para
 
 pointset load_pointset(const std::string& path, const load_params& params) {
   auto fail = [&](const std::string& why) { return file_error(fmt::format("{}: {}", path, why)); };
+  if (const std::string why = input_file_problem(path); !why.empty()) throw fail(why);
   std::ifstream in(path, std::ios::binary);
   if (!in) throw fail(fmt::format("cannot open: {}", std::strerror(errno)));
   in.seekg(0, std::ios::end);
@@ -396,18 +398,27 @@ pointset load_pointset(const std::string& path, const load_params& params) {
 
   const uint64_t pixels = uint64_t(h.canvas_width) * h.canvas_height;
   if (h.points_bytes != h.point_count * sizeof(point)) throw fail("points section has the wrong size");
-  if (h.points_offset < pointset_header_bytes || h.points_offset + h.points_bytes > file_size ||
-      h.table_offset < h.points_offset + h.points_bytes || h.table_offset + h.table_bytes > file_size)
-    throw fail(fmt::format("truncated: {} bytes, sections need {}", file_size, h.table_offset + h.table_bytes));
+  // Sections inside the file, compared without sums that could wrap past 2^64: nothing
+  // is allocated for a section before its size is known to fit in the file.
+  if (h.points_offset < pointset_header_bytes || h.points_offset > file_size ||
+      h.points_bytes > file_size - h.points_offset || h.table_offset < h.points_offset + h.points_bytes ||
+      h.table_offset > file_size || h.table_bytes > file_size - h.table_offset)
+    throw fail(fmt::format("truncated or inconsistent: {} bytes, the header places its sections at {} (+{}) and {} (+{})",
+                           file_size, h.points_offset, h.points_bytes, h.table_offset, h.table_bytes));
 
   set.points.resize(h.point_count);
   read_at(h.points_offset, set.points.data(), h.points_bytes);
   if (crc32c(set.points.data(), h.points_bytes) != h.points_crc) throw fail("points checksum mismatch (file corrupted)");
   uint64_t grid_points = 0;
   const grid_test on_grid(set);
+  uint64_t previous_code = 0;
   for (const point& p : set.points) {
-    if (!(p.x >= 0 && p.x < float(h.canvas_width) && p.y >= 0 && p.y < float(h.canvas_height) && p.spacing > 0))
-      throw fail("a point lies outside the canvas or has no spacing");
+    if (!(p.x >= 0 && p.x < float(h.canvas_width) && p.y >= 0 && p.y < float(h.canvas_height) && p.spacing > 0 &&
+          std::isfinite(p.spacing)))
+      throw fail("a point lies outside the canvas or has no finite spacing");
+    const uint64_t code = morton_code(p.x, p.y);
+    if (code < previous_code) throw fail(fmt::format("point {} is out of Morton order", &p - set.points.data()));
+    previous_code = code;
     grid_points += on_grid(p);
   }
   if (grid_points != set.stats.grid_points)
@@ -419,8 +430,13 @@ pointset load_pointset(const std::string& path, const load_params& params) {
   t.group = h.group;
   if (!params.table) return set;
 
+  const uint64_t table_entry_bytes = pixels * h.k * 4;
+  if (const std::string why = memory_problem(table_entry_bytes, fmt::format("the k-NN table ({} x {} pixels, k = {})",
+                                                                            h.canvas_width, h.canvas_height, h.k));
+      !why.empty())
+    throw fail(why);
   if (h.encoding == uint32_t(table_encoding::raw)) {
-    if (h.table_bytes != pixels * h.k * 4) throw fail("table section has the wrong size");
+    if (h.table_bytes != table_entry_bytes) throw fail("table section has the wrong size");
     t.entries.resize(pixels * h.k);
     read_at(h.table_offset, t.entries.data(), h.table_bytes);
     if (crc32c(t.entries.data(), h.table_bytes) != h.table_crc) throw fail("table checksum mismatch (file corrupted)");
@@ -439,6 +455,20 @@ pointset load_pointset(const std::string& path, const load_params& params) {
     if (count != chunks) throw fail("table directory is inconsistent");
     std::vector<chunk_entry> directory(chunks);
     std::memcpy(directory.data(), section.data() + 8, chunks * sizeof(chunk_entry));
+    // Every chunk inside the section, intact, and declaring (in its own zstd frame) the size
+    // the directory gives, before the table is allocated.
+    for (uint32_t c = 0; c < chunks; ++c) {
+      const chunk_entry& e = directory[c];
+      const uint32_t y0 = c * h.chunk_rows, y1 = std::min(h.canvas_height, y0 + h.chunk_rows);
+      const uint64_t max_symbols = uint64_t(y1 - y0) * h.canvas_width * h.k * 6;
+      if (e.offset < directory_bytes || e.offset > section.size() || e.bytes > section.size() - e.offset ||
+          e.symbols > max_symbols)
+        throw fail(fmt::format("table chunk {} lies outside its section", c));
+      if (crc32c(section.data() + e.offset, e.bytes) != e.crc)
+        throw fail(fmt::format("table chunk {} checksum mismatch (file corrupted)", c));
+      if (ZSTD_getFrameContentSize(section.data() + e.offset, e.bytes) != e.symbols)
+        throw fail(fmt::format("table chunk {} does not decompress to the size its directory gives", c));
+    }
     t.group = params.group ? std::min(params.group, t.k) : std::min<uint32_t>(h.group, t.k);
     t.entries.resize(pixels * h.k);
     std::vector<std::string> errors(chunks);
@@ -448,15 +478,6 @@ pointset load_pointset(const std::string& path, const load_params& params) {
       for (uint32_t c = r.begin(); c < r.end(); ++c) {
         const chunk_entry& e = directory[c];
         const uint32_t y0 = c * h.chunk_rows, y1 = std::min(h.canvas_height, y0 + h.chunk_rows);
-        const uint64_t max_symbols = uint64_t(y1 - y0) * h.canvas_width * h.k * 6;
-        if (e.offset > section.size() || e.bytes > section.size() - e.offset || e.symbols > max_symbols) {
-          errors[c] = "table chunk outside its section";
-          continue;
-        }
-        if (crc32c(section.data() + e.offset, e.bytes) != e.crc) {
-          errors[c] = fmt::format("table chunk {} checksum mismatch (file corrupted)", c);
-          continue;
-        }
         symbols.resize(e.symbols);
         const size_t n = ZSTD_decompress(symbols.data(), symbols.size(), section.data() + e.offset, e.bytes);
         if (ZSTD_isError(n) || n != e.symbols) {
