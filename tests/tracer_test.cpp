@@ -1,9 +1,11 @@
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <limits>
 
 #include <gtest/gtest.h>
 #include <OpenImageIO/imageio.h>
@@ -555,6 +557,84 @@ TEST(Tracer, MissingTexturesWarnOnceAndFallBack) {
   EXPECT_GT(f.rgb[12].b, f.rgb[12].r) << "falls back to Kd (0.2, 0.4, 0.6)";
   fs::remove_all(dir);
   EXPECT_THROW(load_scene((dir / "nothing.gltf").string()), std::runtime_error);
+}
+
+// Textures that exist but cannot be read warn once each, naming the file and the reason,
+// and fall back to the material's factors: an empty file (a failed download), a directory,
+// a FIFO (whose open would block), a file that is not an image.
+TEST(Tracer, UnreadableTexturesWarnWithTheirReason) {
+  const fs::path dir = fs::temp_directory_path() / ("fovray-tex-" + std::to_string(getpid()));
+  fs::create_directories(dir / "dir.png");
+  std::ofstream(dir / "empty.png").close();
+  std::ofstream(dir / "text.png") << "not an image\n";
+  ASSERT_EQ(mkfifo((dir / "fifo.png").c_str(), 0600), 0);
+  std::ofstream(dir / "quad.mtl") << "newmtl a\nKd 0.2 0.4 0.6\nmap_Kd empty.png\nmap_Ke dir.png\nmap_bump fifo.png\n"
+                                     "newmtl b\nKd 1 1 1\nmap_Kd text.png\n";
+  std::ofstream(dir / "quad.obj") << "mtllib quad.mtl\nv -1 -1 -3\nv 1 -1 -3\nv 1 1 -3\nv -1 1 -3\n"
+                                     "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
+                                     "usemtl a\nf 1/1 2/2 3/3\nusemtl b\nf 1/1 3/3 4/4\n";
+  const auto s = load_scene((dir / "quad.obj").string());
+  auto warned = [&](const std::string& file, const std::string& why) {
+    int n = 0;
+    for (const std::string& w : s->warnings()) n += w.find(file) != std::string::npos && w.find(why) != std::string::npos;
+    return n;
+  };
+  EXPECT_EQ(warned("empty.png", "is empty (0 bytes)"), 1);
+  EXPECT_EQ(warned("dir.png", "is a directory"), 1);
+  EXPECT_EQ(warned("fifo.png", "not a regular file"), 1);
+  EXPECT_EQ(warned("text.png", "cannot be read"), 1);
+  for (const std::string& w : s->warnings()) EXPECT_EQ(w.find('\n'), std::string::npos) << "one line: " << w;
+  trace_params tp;
+  tp.spp = 1;
+  const frame f = trace_reference(*s, look_at({0, 0, 0}, {0, 0, -1}, 60), 5, 5, tp).image;
+  EXPECT_GT(f.rgb[12].b, f.rgb[12].r) << "falls back to Kd (0.2, 0.4, 0.6)";
+  fs::remove_all(dir);
+}
+
+// env: images: special files are refused up front (/dev/zero read forever), too large an
+// image is refused with its size, and NaN or infinite texels are reported and read as 0.
+TEST(Tracer, EnvironmentImagesAreCheckedBeforeUse) {
+  const fs::path dir = fs::temp_directory_path() / ("fovray-envcheck-" + std::to_string(getpid()));
+  fs::create_directories(dir);
+  auto message = [](const std::string& spec) {
+    try {
+      load_scene(spec);
+      return std::string();
+    } catch (const std::runtime_error& e) {
+      return std::string(e.what());
+    }
+  };
+  EXPECT_NE(message("env:/dev/zero").find("not a regular file"), std::string::npos) << message("env:/dev/zero");
+  EXPECT_NE(message("env:" + dir.string()).find("is a directory"), std::string::npos);
+  ASSERT_EQ(mkfifo((dir / "fifo.exr").c_str(), 0600), 0);
+  EXPECT_NE(message((dir / "fifo.exr").string()).find("not a regular file"), std::string::npos) << "a scene file too";
+  const int w = 64, h = 32;
+  std::vector<float> px(size_t(w) * h * 3, 0.5f);
+  px[7] = std::numeric_limits<float>::quiet_NaN();
+  px[100] = std::numeric_limits<float>::infinity();
+  const std::string path = (dir / "nan.exr").string();
+  auto out = OIIO::ImageOutput::create(path);
+  out->open(path, OIIO::ImageSpec(w, h, 3, OIIO::TypeDesc::FLOAT));
+  out->write_image(OIIO::TypeDesc::FLOAT, px.data());
+  out->close();
+  const auto s = load_scene("env:" + path);
+  ASSERT_EQ(s->warnings().size(), 1u);
+  EXPECT_NE(s->warnings()[0].find("2 texel values are NaN or infinite; read as 0"), std::string::npos) << s->warnings()[0];
+  trace_params tp;
+  tp.spp = 4;
+  const frame f = trace_reference(*s, s->default_camera(90), 32, 16, tp).image;
+  for (const glm::vec3& c : f.rgb) ASSERT_TRUE(std::isfinite(c.r + c.g + c.b));
+  // Two columns past the documented cap (8192 x 4096): refused from its header, before
+  // its pixels are read.
+  const std::string big = (dir / "big.png").string();
+  auto wide = OIIO::ImageOutput::create(big);
+  const int bw = 2 * max_env_height + 2, bh = max_env_height;
+  wide->open(big, OIIO::ImageSpec(bw, bh, 1, OIIO::TypeDesc::UINT8));
+  std::vector<uint8_t> row(size_t(bw), 0);
+  for (int y = 0; y < bh; ++y) wide->write_scanline(y, 0, OIIO::TypeDesc::UINT8, row.data());
+  wide->close();
+  EXPECT_NE(message("env:" + big).find("larger than an environment image may be"), std::string::npos) << message("env:" + big);
+  fs::remove_all(dir);
 }
 
 TEST(Tracer, FlightHelmetReportsItsThreeMissingTextures) {

@@ -202,7 +202,8 @@ env_pyramid load_env_pyramid(const std::string& file) {
     current.get_pixels(OIIO::ROI(0, cs.width, 0, cs.height, 0, 1, 0, cs.nchannels), OIIO::TypeDesc::FLOAT, px.data());
     for (size_t i = 0; i < l.texels.size(); ++i)
       for (int c = 0; c < 3; ++c) {
-        const float v = px[i * size_t(cs.nchannels) + size_t(std::min(c, cs.nchannels - 1))];
+        float v = px[i * size_t(cs.nchannels) + size_t(std::min(c, cs.nchannels - 1))];
+        if (out.levels.empty() && !std::isfinite(v)) v = 0, ++out.non_finite;
         l.texels[i][c] = srgb && out.levels.empty() ? srgb_decode(v) : v;
       }
     if (srgb && out.levels.empty()) {  // filter the decoded (linear) values from here on
@@ -275,7 +276,12 @@ scene::scene(scene_description description) : impl_(std::make_unique<impl>()) {
   };
   for (const material& m : d.desc.materials)
     d.handles.push_back({resolve(m.base_texture), resolve(m.emissive_texture), resolve(m.normal_texture)});
-  if (!d.desc.env.latlong_file.empty()) d.env_map = load_env_pyramid(d.desc.env.latlong_file);
+  if (!d.desc.env.latlong_file.empty()) {
+    d.env_map = load_env_pyramid(d.desc.env.latlong_file);
+    if (d.env_map.non_finite)
+      d.desc.warnings.push_back(fmt::format("{}: {} texel values are NaN or infinite; read as 0", d.desc.env.latlong_file,
+                                            d.env_map.non_finite));
+  }
   d.top = rtcNewScene(d.device);
   rtcSetSceneBuildQuality(d.top, RTC_BUILD_QUALITY_HIGH);
 

@@ -46,6 +46,7 @@ struct env_pyramid {
     std::vector<glm::vec3> texels;  // linear RGB, row-major, row 0 at the top (+y)
   };
   std::vector<level> levels;
+  uint64_t non_finite = 0;  // texel values of the image that were NaN or infinite (read as 0)
   // Filtered value at (s, t) in [0, 1] (s periodic, t clamped) over a footprint of ds x dt.
   glm::vec3 lookup(float s, float t, float ds, float dt) const;
 };

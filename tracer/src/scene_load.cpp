@@ -11,6 +11,7 @@
 #include <fmt/format.h>
 #include <OpenImageIO/imageio.h>
 
+#include "fov/files.h"
 #include "fov/scene.h"
 
 namespace fov {
@@ -18,6 +19,13 @@ namespace fov {
 namespace fs = std::filesystem;
 
 namespace {
+
+// The first line of a library's message (OpenImageIO's may run to several, with debug lines).
+std::string first_line(const std::string& message) {
+  const size_t end = message.find('\n');
+  return end == std::string::npos ? message : message.substr(0, end);
+}
+
 
 std::string lowercase(std::string s) {
   for (char& c : s) c = char(std::tolower(static_cast<unsigned char>(c)));
@@ -71,6 +79,19 @@ class texture_resolver {
       warn_once(name, fmt::format("texture {} is missing; using the material's factors", file.string()));
       return {};
     }
+    // Whatever keeps a texture from being read is said once, naming the file: a directory
+    // or special file (a FIFO or /dev/zero would block or never end), an empty file (what
+    // a failed download leaves), or an image its reader refuses.
+    std::string why = input_file_problem(file.string());
+    if (why.empty() && fs::file_size(file) == 0) why = "is empty (0 bytes)";
+    if (why.empty()) {
+      if (auto in = OIIO::ImageInput::open(file.string())) in->close();
+      else why = fmt::format("cannot be read: {}", first_line(OIIO::geterror()));
+    }
+    if (!why.empty()) {
+      warn_once(name, fmt::format("texture {} {}; using the material's factors", file.string(), why));
+      return {};
+    }
     return {file.string(), srgb};
   }
 
@@ -113,6 +134,7 @@ material convert_material(const aiMaterial* m, texture_resolver& textures) {
 
 scene_description load_file(const std::string& path) {
   if (!fs::exists(path)) throw std::runtime_error(fmt::format("{}: no such file", path));
+  if (const std::string why = input_file_problem(path); !why.empty()) throw std::runtime_error(fmt::format("{}: {}", path, why));
   Assimp::Importer importer;
   const unsigned flags = aiProcess_Triangulate | aiProcess_JoinIdenticalVertices | aiProcess_GenSmoothNormals |
                          aiProcess_CalcTangentSpace | aiProcess_FlipUVs | aiProcess_SortByPType;
@@ -223,10 +245,15 @@ std::unique_ptr<scene> load_scene(const std::string& spec) {
   if (spec == "builtin") return std::make_unique<scene>(builtin_scene());
   if (spec.rfind("env:", 0) == 0) {
     const std::string file = spec.substr(4);
+    if (const std::string why = input_file_problem(file); !why.empty()) throw std::runtime_error(fmt::format("{}: {}", file, why));
     auto in = OIIO::ImageInput::open(file);
-    if (!in) throw std::runtime_error(fmt::format("{}: cannot read environment image: {}", file, OIIO::geterror()));
+    if (!in)
+      throw std::runtime_error(fmt::format("{}: cannot read environment image: {}", file, first_line(OIIO::geterror())));
     const OIIO::ImageSpec& s = in->spec();
     if (s.width < 2 || s.height < 1) throw std::runtime_error(fmt::format("{}: image too small", file));
+    if (uint64_t(s.width) * uint64_t(s.height) > max_env_pixels)
+      throw std::runtime_error(fmt::format("{}: {}x{} is larger than an environment image may be ({} pixels, e.g. {}x{})",
+                                           file, s.width, s.height, max_env_pixels, 2 * max_env_height, max_env_height));
     scene_description d;
     d.env.latlong_file = file;
     d.env.colour = glm::vec3(0);

@@ -2,6 +2,7 @@
 // one light, and an environment. Only what the scenes in use need (docs/tracer.md).
 #pragma once
 
+#include <cstdint>
 #include <memory>
 #include <optional>
 #include <string>
@@ -119,6 +120,11 @@ camera setup_camera(const scene& s, const camera_overrides& o = {});
 // file (through Assimp). Missing textures and degenerate triangles are warned about
 // once each and skipped; an unreadable file throws std::runtime_error naming it.
 std::unique_ptr<scene> load_scene(const std::string& spec);
+
+// The largest env: image (width x height; 8192 x 4096): its float MIP pyramid takes about
+// 0.5 GB. Larger images are refused with the size in the message.
+constexpr int max_env_height = 4096;
+constexpr uint64_t max_env_pixels = uint64_t(2 * max_env_height) * max_env_height;
 
 // The built-in procedural scene (no files): see docs/tracer.md.
 scene_description builtin_scene();
