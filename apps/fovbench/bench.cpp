@@ -15,6 +15,7 @@
 
 #include "../common/cli.h"
 #include "../common/image_io.h"
+#include "fov/files.h"
 #include "fov/flicker.h"
 #include "fov/flip.h"
 #include "fov/knn_table.h"
@@ -255,8 +256,9 @@ display_geometry check_bench_options(const bench_options& o) {
   parse_gazes(o.gazes, display, o.render.seed);
   for (const std::string& scene : o.scenes) {  // fail before any output, not an hour in
     const std::string file = scene.rfind("env:", 0) == 0 ? scene.substr(4) : scene;
-    if (scene != "builtin" && !fs::is_regular_file(file))
-      throw std::runtime_error(fmt::format("--scene {}: no such file", scene));
+    if (scene == "builtin") continue;
+    if (const std::string why = input_file_problem(file); !why.empty())
+      throw std::runtime_error(fmt::format("--scene {}: {}", scene, why));
   }
   return display;
 }
