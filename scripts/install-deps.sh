@@ -25,6 +25,7 @@ packages=(
   libzstd-dev                # k-NN table compression on disk (see README, Dependencies)
   blender-data               # CC0 HDR environment maps: the env: stimulus of fovstair's thesis protocol
   xvfb xauth                 # tests: fovview and fovstair windows run headless under xvfb-run
+  clang libclang-rt-dev      # scripts/fuzz.sh: libFuzzer and the sanitizers' runtimes for clang
 )
 
 missing=()

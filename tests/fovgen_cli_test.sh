@@ -76,5 +76,38 @@ check "sweep grid 1.5"    0 -- "$fovgen" sweep "${small[@]}" --k 4 --scales 1.0 
 cmp -s "$dir/x.fovset" "$dir/y.fovset" || { echo "FAIL same seed, different bytes"; failures=$((failures + 1)); }
 ls "$dir" | grep -q 'tmp-' && { echo "FAIL temporary files left: $(ls "$dir")"; failures=$((failures + 1)); }
 
+# info and plot check the whole file, the neighbour table too: a table index flipped past
+# the point count (checksums made right again) is refused as fovrender refuses it.
+cp "$dir/a.fovset" "$dir/flipped.fovset"
+python3 - "$dir/flipped.fovset" <<'PY'
+import struct, sys
+b = bytearray(open(sys.argv[1], "rb").read())
+b[-8:] = b"\xff" * 8  # the last table chunk's bytes (its checksum then fails)
+open(sys.argv[1], "wb").write(b)
+PY
+check "info bad table"    1 -- "$fovgen" info "$dir/flipped.fovset"
+check "plot bad table"    1 -- "$fovgen" plot "$dir/flipped.fovset" -o "$dir/flipped.png"
+[[ ! -e "$dir/flipped.png" ]] || fail "plot wrote a PNG of a corrupt set"
+check "info k zero"       2 -- "$fovgen" info "$dir/a.fovset" --gaze centre --k 0
+check "info k above"      2 -- "$fovgen" info "$dir/a.fovset" --gaze centre --k 9
+check "plot k above"      2 -- "$fovgen" plot "$dir/a.fovset" --gaze centre --k 9 -o "$dir/k.png"
+
+# Outputs: the input itself, a link, a device, a directory are refused before any work,
+# and nothing is replaced; a temporary file a killed fovgen left is removed by the next run.
+cp "$dir/a.fovset" "$dir/keep.fovset"
+check "plot over its input" 2 -- "$fovgen" plot "$dir/keep.fovset" -o "$dir/keep.fovset"
+cmp -s "$dir/a.fovset" "$dir/keep.fovset" || fail "plot -o its input changed the input"
+ln -s "$dir/keep.fovset" "$dir/link.fovset"
+check "output a symlink"  2 -- "$fovgen" "${small[@]}" -o "$dir/link.fovset"
+[[ -L "$dir/link.fovset" ]] || fail "a symlink output was replaced"
+check "output a device"   2 -- "$fovgen" "${small[@]}" -o /dev/null
+[[ -c /dev/null ]] || fail "/dev/null is no longer a device"
+check "output a directory" 2 -- "$fovgen" "${small[@]}" -o "$dir"
+( sleep 0 ) & dead=$!; wait $dead
+echo "left by kill -9" > "$dir/b.fovset.tmp-$dead-Xy12Zw"
+"$fovgen" "${small[@]}" -o "$dir/b.fovset" >/dev/null 2>"$dir/b.err" || fail "generate beside a stale temp: $(cat "$dir/b.err")"
+[[ ! -e "$dir/b.fovset.tmp-$dead-Xy12Zw" ]] || fail "a stale temporary file was not removed"
+grep -q "removed .*b.fovset.tmp-$dead-Xy12Zw" "$dir/b.err" || fail "the stale temporary file's removal was not reported"
+
 echo "fovgen CLI: $passes passed, $failures failed"
 [[ $failures -eq 0 ]]

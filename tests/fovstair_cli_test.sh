@@ -63,6 +63,83 @@ check "analyze two files"   0 -- "$fovstair" analyze "$dir/whole/S3-1.jsonl" "$d
 echo "not json" > "$dir/junk.jsonl"
 check "analyze junk"        1 -- "$fovstair" analyze "$dir/junk.jsonl"
 
+# Corrupt sessions, refused by analyze and --resume alike with the file and line: trials
+# duplicated, after the end record, or spliced from a 2AFC session; records that are not
+# objects or have fields of the wrong type; a header without its protocol.
+"$fovstair" run --protocol "$src/apps/fovstair/protocols/2afc-1up3down.json" --subject S6 --observer "$observer" \
+  --out "$dir/two" >/dev/null || fail "2AFC session"
+base=$dir/whole/S3-1.jsonl
+mkdir -p "$dir/bad"
+corrupt() {  # NAME PYTHON-EXPRESSION over `lines` (the base session's lines): writes $dir/bad/NAME.jsonl
+  python3 - "$base" "$dir/two/S6-1.jsonl" "$dir/bad/$1.jsonl" "$2" <<'PY'
+import json, sys
+lines = open(sys.argv[1]).read().splitlines(keepends=True)
+two = open(sys.argv[2]).read().splitlines(keepends=True)
+out = eval(sys.argv[4])
+open(sys.argv[3], "w").write("".join(out))
+PY
+}
+corrupt duplicated  'lines[:3] + lines[2:]'
+corrupt after-end   'lines + [lines[2]]'
+corrupt spliced     'lines[:2] + [two[1]] + lines[2:]'
+corrupt dropped     'lines[:2] + lines[3:]'
+corrupt array       'lines[:2] + ["[1,2]\n"] + lines[2:]'
+corrupt number      'lines[:2] + ["5\n"] + lines[2:]'
+corrupt string      'lines[:2] + ["\"x\"\n"] + lines[2:]'
+corrupt null-type   'lines[:2] + ["{\"type\": null}\n"] + lines[2:]'
+corrupt number-type 'lines[:2] + ["{\"type\": 7}\n"] + lines[2:]'
+corrupt text-scale  '[lines[0], lines[1].replace("\"scale\":1.0", "\"scale\":\"1.0\"")] + lines[2:]'
+corrupt no-protocol '[json.dumps({k: v for k, v in json.loads(lines[0]).items() if k != "protocol_text"}) + "\n"] + lines[1:]'
+corrupt end-early   'lines[:5] + [lines[-1]]'
+for f in "$dir"/bad/*.jsonl; do
+  check "analyze $(basename "$f")" 1 -- "$fovstair" analyze "$f"
+done
+err=$("$fovstair" analyze "$dir/bad/duplicated.jsonl" 2>&1)
+[[ "$err" == "fovstair: $dir/bad/duplicated.jsonl:4: trial index 1, the plan's next is 2" ]] || fail "duplicated trial: $err"
+err=$("$fovstair" analyze "$dir/bad/spliced.jsonl" 2>&1)
+[[ "$err" == *"spliced.jsonl:3: "* ]] || fail "spliced trial: $err"
+err=$("$fovstair" analyze "$dir/bad/after-end.jsonl" 2>&1)
+[[ "$err" == *"a record after the end record"* ]] || fail "trial after the end: $err"
+# --resume reads a session the same way, and a torn header is refused without touching the file.
+for name in duplicated array no-protocol; do
+  mkdir -p "$dir/resume-$name" && head -n -1 "$dir/bad/$name.jsonl" > "$dir/resume-$name/S3-1.jsonl"
+  check "resume $name" 1 -- "$fovstair" run --subject S3 --resume --out "$dir/resume-$name"
+done
+mkdir -p "$dir/torn" && head -c 300 "$base" > "$dir/torn/S3-1.jsonl"
+before=$(md5sum < "$dir/torn/S3-1.jsonl")
+check "resume torn header"  1 -- "$fovstair" run --subject S3 --resume --out "$dir/torn"
+[[ $(md5sum < "$dir/torn/S3-1.jsonl") == "$before" ]] || fail "--resume changed a session whose header is torn"
+
+# Protocol values beyond their bounds, and integers that would wrap, refused by validate
+# with the line and the bound.
+protocol_case() {  # NAME EXPECTED-MESSAGE-PART JSON-FRAGMENT (keys added to a valid protocol)
+  printf '{"fovstair_protocol": 1, "conditions": [{"name": "A", "method": "nn", "k": 1}],\n %s}\n' "$3" > "$dir/p-$1.json"
+  local err
+  err=$("$fovstair" validate "$dir/p-$1.json" 2>&1)
+  [[ $? -eq 1 && "$err" == "fovstair: $dir/p-$1.json:"*"$2"* && $(printf '%s' "$err" | grep -c '') -eq 1 ]] \
+    || fail "protocol $1: $err"
+}
+protocol_case catch-overflow "beyond the range of a double" '"catch_rate": 1e400'
+protocol_case catch-high "must lie in [0, 0.5]" '"catch_rate": 0.9'
+protocol_case scale-huge "scales.max: must be at most 10" '"scales": {"min": 1, "max": 1e15}'
+protocol_case thresholds-float "must be an integer" '"rule": {"thresholds": 1e9, "max_trials": 1e9}'
+protocol_case thresholds-big "rule.thresholds: must lie in 1..100" '"rule": {"thresholds": 1000000000, "max_trials": 1000000000}'
+protocol_case trials-big "rule.max_trials: must lie in thresholds..1000" '"rule": {"max_trials": 5000}'
+protocol_case up-wrap "rule.up: must be an integer in 0..4294967295" '"rule": {"up": 4294967297}'
+protocol_case step-huge "rule.initial_step: must be at most 10" '"rule": {"initial_step": 1e300}'
+protocol_case interval "interval_ms: must lie in (0, 60000]" '"interval_ms": 1e12'
+printf '{"fovstair_protocol": 1, "conditions": [{"name": "A", "k": 4294967301}]}\n' > "$dir/p-k-wrap.json"
+err=$("$fovstair" validate "$dir/p-k-wrap.json" 2>&1)
+[[ "$err" == *"conditions[0].k: must be an integer in 0..4294967295"* ]] || fail "k that wraps: $err"
+printf '{"fovstair_protocol": 1, "conditions": [{"name": "A", "spp": 1000000000}]}\n' > "$dir/p-spp.json"
+err=$("$fovstair" validate "$dir/p-spp.json" 2>&1)
+[[ "$err" == *"conditions[0].spp: must lie in 1..1024"* ]] || fail "condition spp: $err"
+python3 -c "import json; print(json.dumps({'fovstair_protocol': 1, 'conditions': [{'name': 'c%d' % i} for i in range(65)]}))" \
+  > "$dir/p-many.json"
+err=$("$fovstair" validate "$dir/p-many.json" 2>&1)
+[[ "$err" == *"65 conditions; a protocol may have at most 64"* ]] || fail "65 conditions: $err"
+check "simulate too many runs" 2 -- "$fovstair" simulate --protocol "$protocol" --observer logistic:threshold=1.7 --runs 100000
+
 # Thesis Table 5 re-analysed: the thesis's F(2, 48) = 0.403, p = 0.670.
 "$fovstair" analyze --thresholds "$src/tests/data/thesis-table5.csv" --json > "$dir/a.json" || fail "analyze --thresholds"
 python3 - "$dir/a.json" <<'PY' || fail "Table 5 statistics"
@@ -73,6 +150,15 @@ assert j["anova"]["df1"] == 2 and j["anova"]["df2"] == 48
 assert j["conditions"]["NN"]["n"] == 17 and abs(j["conditions"]["RBF"]["mean"] - 1.675) < 5e-4
 assert abs(j["conditions"]["MSM"]["sd"] - 0.362) < 5e-4
 PY
+
+# No spread within conditions: F is inf (p = 0) when the conditions differ, 0 (p = 1) when
+# they do not; 0/0 printed "F(1, 2) = -nan".
+printf 'subject,condition,threshold\nS1,A,1.5\nS2,A,1.5\nS1,B,2\nS2,B,2\n' > "$dir/flat.csv"
+out=$("$fovstair" analyze --thresholds "$dir/flat.csv" 2>&1)
+[[ "$out" == *"F(1, 2) = inf, p = 0.000"* && "$out" != *nan* ]] || fail "zero-variance ANOVA: $out"
+printf 'subject,condition,threshold\nS1,A,2\nS2,A,2\nS1,B,2\nS2,B,2\n' > "$dir/same.csv"
+out=$("$fovstair" analyze --thresholds "$dir/same.csv" 2>&1)
+[[ "$out" == *"F(1, 2) = 0.000, p = 1.000"* && "$out" != *nan* ]] || fail "identical conditions: $out"
 
 "$fovstair" simulate --protocol "$protocol" --observer logistic:threshold=1.7,slope=8 --runs 200 --json > "$dir/s.json" \
   || fail "simulate"
@@ -99,6 +185,8 @@ else
 JSON
   check "live without display" 1 -- env -u DISPLAY -u WAYLAND_DISPLAY "$fovstair" run --protocol "$dir/live.json" \
     --subject L2 --out "$dir/live"
+  check "live, unreachable display" 1 -- env -u WAYLAND_DISPLAY DISPLAY=:987 timeout 20 "$fovstair" run \
+    --protocol "$dir/live.json" --subject L2 --out "$dir/live"
   [[ ! -e "$dir/live/L2-1.jsonl" ]] || fail "a run that could not start left a session file"
   xvfb-run -a -s "-screen 0 800x600x24" "$fovstair" run --protocol "$dir/live.json" --subject L1 --out "$dir/live" \
     --script-keys nnyn >/dev/null 2>"$dir/live.err" || fail "live session: $(cat "$dir/live.err")"

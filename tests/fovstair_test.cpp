@@ -215,26 +215,37 @@ TEST(Analysis, CsvErrorsNameTheLine) {
 TEST(SessionFile, NeverOverwritesAndResumeCutsATornLine) {
   const std::string path = ::testing::TempDir() + "/S1-1.jsonl";
   std::filesystem::remove(path);
+  // A session read back is checked against its stored protocol: real records, as run writes them.
+  const std::string text = R"({"fovstair_protocol": 1, "conditions": [{"name": "A"}],
+    "rule": {"thresholds": 1, "discard_reversals": 0, "max_trials": 4}, "catch_rate": 0})";
+  const stair_protocol p = parse_protocol(text, "p.json");
+  stair_session plan(p, "S1");
+  auto next_record = [&](bool detected) {
+    const trial_plan t = plan.next();
+    return trial_record(p, t, detected, plan.record(t, detected));
+  };
+  const nlohmann::json header = {{"type", "session"}, {"subject", "S1"}, {"session", "1"}, {"protocol_text", text}};
   {
-    session_file f = session_file::create(path, {{"type", "session"}, {"subject", "S1"}});
-    f.append({{"type", "trial"}, {"index", 0}});
+    session_file f = session_file::create(path, header);
+    f.append(next_record(false));
   }
   EXPECT_THROW(session_file::create(path, {{"type", "session"}}), std::runtime_error);
   std::ofstream(path, std::ios::app) << "{\"type\": \"trial\", \"ind";  // a crash mid-write
-  nlohmann::json header;
+  nlohmann::json read_header;
   std::vector<nlohmann::json> trials;
   {
-    session_file f = session_file::resume(path, header, trials);
-    EXPECT_EQ(header["subject"], "S1");
+    session_file f = session_file::resume(path, read_header, trials);
+    EXPECT_EQ(read_header["subject"], "S1");
     ASSERT_EQ(trials.size(), 1u);
-    f.append({{"type", "trial"}, {"index", 1}});
+    f.append(next_record(true));  // a reversal: the series' one threshold, and the end
+    ASSERT_TRUE(plan.finished());
     f.append({{"type", "end"}});
   }
   const session_data d = read_session(path);
   ASSERT_EQ(d.trials.size(), 2u);
   EXPECT_EQ(d.trials[1]["index"], 1);
   EXPECT_TRUE(d.ended);
-  EXPECT_THROW(session_file::resume(path, header, trials), std::runtime_error);  // finished
+  EXPECT_THROW(session_file::resume(path, read_header, trials), std::runtime_error);  // finished
 }
 
 TEST(SessionPlan, IsDeterministicAndSkipsCatchTrialsInTheStaircase) {

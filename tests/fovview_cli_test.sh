@@ -27,6 +27,10 @@ check "missing set"        1 -- "$fovview" --points "$dir/none.fovset"
 check "backwards trace"    1 -- "$fovview" "${set[@]}" --gaze-trace "$dir/backwards.csv"
 check "empty points dir"   1 -- "$fovview" --points-dir "$dir/none"
 check "no display"         1 -- env -u DISPLAY -u WAYLAND_DISPLAY "$fovview" "${set[@]}" --frames 1 --exit
+# DISPLAY set but nothing there: Qt aborted (exit 134, six lines); now one line, before Qt starts.
+check "unreachable display" 1 -- env -u WAYLAND_DISPLAY DISPLAY=:987 timeout 20 "$fovview" "${set[@]}" --frames 1 --exit
+check "malformed display"  1 -- env -u WAYLAND_DISPLAY DISPLAY=nonsense timeout 20 "$fovview" "${set[@]}" --frames 1 --exit
+check "remote display"     1 -- env -u WAYLAND_DISPLAY DISPLAY=127.0.0.1:987 timeout 20 "$fovview" "${set[@]}" --frames 1 --exit
 
 if ! command -v xvfb-run >/dev/null; then
   echo "SKIP the windowed run: xvfb-run is not installed (scripts/install-deps.sh installs it)"

@@ -227,6 +227,45 @@ TEST(TracedPoints, TheIndexFindsTheSameListAsTheScan) {
   }
 }
 
+// A table whose ranks are not nearest first (a hand-made or imported set; the fuzzer made
+// one: a far point at rank 0) still gives every point an on-screen pixel reads: the scan's border comes from the
+// radii over the first k ranks, not the k-th alone. Checked against reading every pixel.
+TEST(TracedPoints, ATableOutOfNearestFirstOrderStillGivesEveryPointRead) {
+  const int w = 64, h = 48;
+  pointset set;
+  set.model = small_model(w, h);
+  set.points = throw_darts(set.model, quick_darts());
+  set.table = build_knn_table(set.points, 2 * w, 2 * h, {});
+  knn_table& t = set.table;
+  for (uint32_t y = 0; y < t.height; ++y)  // farthest first
+    for (uint32_t x = 0; x < t.width; ++x)
+      for (uint32_t j = 0; j < t.k / 2; ++j) {
+        const uint64_t pixel = uint64_t(y) * t.width + x;
+        std::swap(t.entries[t.offset(pixel, j)], t.entries[t.offset(pixel, t.k - 1 - j)]);
+      }
+  // ... and a pixel in the middle of the canvas whose nearest rank is the point farthest from it.
+  uint32_t far = 0;
+  for (uint32_t i = 0; i < set.points.size(); ++i)
+    if (set.points[i].x + set.points[i].y < set.points[far].x + set.points[far].y) far = i;
+  t.entries[t.offset(uint64_t(h) * t.width + w, 0)] = far;
+  set_knn_radii(t, set.points);
+  for (uint32_t k_used : {1u, 3u, t.k}) {
+    const traced_index index = make_traced_index(set, k_used);
+    for (auto [gx, gy] : std::vector<std::pair<double, double>>{{32, 24}, {0, 0}, {64, 48}, {5, 40}}) {
+      const canvas_offset o = offset_for_gaze(set.model.display, {gx, gy});
+      std::set<uint32_t> read;
+      for (uint32_t i = 0; i < set.points.size(); ++i)
+        if (on_screen(set.points[i], set.model.display, o)) read.insert(i);
+      for (int y = o.y; y < o.y + h; ++y)
+        for (int x = o.x; x < o.x + w; ++x)
+          for (uint32_t j = 0; j < k_used; ++j) read.insert(t.at(uint32_t(x), uint32_t(y), j));
+      const std::vector<uint32_t> every(read.begin(), read.end());
+      ASSERT_EQ(traced_points(set, {gx, gy}, k_used), every) << "scan, k_used " << k_used << ", gaze " << gx << ", " << gy;
+      ASSERT_EQ(traced_points(set, index, {gx, gy}), every) << "index, k_used " << k_used << ", gaze " << gx << ", " << gy;
+    }
+  }
+}
+
 // Points out of Morton order (a hand-made set) still give the right list: the index
 // says so and traced_points falls back to the scan. A k beyond the table's is clamped,
 // as the scan clamps it; an index of another set or k is refused.

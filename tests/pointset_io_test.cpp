@@ -1,5 +1,8 @@
 #include <sys/stat.h>
+#include <sys/wait.h>
 #include <unistd.h>
+
+#include <csignal>
 
 #include <cstring>
 #include <filesystem>
@@ -290,6 +293,59 @@ TEST_F(PointsetFile, FailedWritesLeaveNothingBehind) {
                std::runtime_error);
   EXPECT_FALSE(fs::exists(path("half.fovset")));
   EXPECT_TRUE(fs::is_empty(dir_));
+}
+
+// Outputs that are links, devices, directories or inputs are refused before anything is
+// written; nothing is replaced.
+TEST_F(PointsetFile, OutputsThatAreNotPlainNewFilesAreRefused) {
+  save_pointset(path("a.fovset"), set_);
+  const auto before = fs::file_size(path("a.fovset"));
+  fs::create_symlink(path("a.fovset"), path("link.fovset"));
+  EXPECT_NE(output_file_problem(path("link.fovset")).find("symbolic link"), std::string::npos);
+  EXPECT_THROW(save_pointset(path("link.fovset"), set_), file_error);
+  EXPECT_TRUE(fs::is_symlink(path("link.fovset")));
+  EXPECT_NE(output_file_problem("/dev/null").find("not a regular file"), std::string::npos);
+  EXPECT_THROW(write_file_atomic("/dev/null", "x", 1), file_error);
+  EXPECT_TRUE(fs::is_character_file("/dev/null"));
+  EXPECT_NE(output_file_problem(dir_.string()).find("directory"), std::string::npos);
+  ASSERT_EQ(mkfifo(path("fifo").c_str(), 0600), 0);
+  EXPECT_THROW(check_writable(path("fifo")), file_error);
+  EXPECT_NE(output_file_problem(path("a.fovset"), {path("x"), path("a.fovset")}).find("is also an input"), std::string::npos);
+  fs::create_hard_link(path("a.fovset"), path("hard.fovset"));
+  EXPECT_THROW(check_writable(path("hard.fovset"), {path("a.fovset")}), file_error);  // the same file by another name
+  EXPECT_EQ(output_file_problem(path("new.fovset"), {path("a.fovset")}), "");
+  EXPECT_EQ(fs::file_size(path("a.fovset")), before);
+}
+
+// A temporary file is removed when the process is stopped by SIGTERM or SIGINT, and one a
+// killed process left behind (kill -9) is removed by the next writer of that file.
+TEST_F(PointsetFile, TemporaryFilesDoNotOutliveTheirProcess) {
+  for (int sig : {SIGTERM, SIGINT}) {
+    const pid_t child = fork();
+    ASSERT_GE(child, 0);
+    if (child == 0) {
+      temp_output out(path("stopped.png"), ".png");
+      out.write_at(0, "half", 4);
+      ::raise(sig);
+      _exit(0);  // not reached
+    }
+    int status = 0;
+    ASSERT_EQ(waitpid(child, &status, 0), child);
+    EXPECT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == sig) << "signal " << sig;
+    EXPECT_TRUE(fs::is_empty(dir_)) << "signal " << sig << " left " << fs::directory_iterator(dir_)->path();
+  }
+  const pid_t dead = fork();  // a process that has ended: its temporary file is stale
+  ASSERT_GE(dead, 0);
+  if (dead == 0) _exit(0);
+  ASSERT_EQ(waitpid(dead, nullptr, 0), dead);
+  const std::string stale = path("out.fovset") + ".tmp-" + std::to_string(dead) + "-Ab12Cd";
+  const std::string alive = path("out.fovset") + ".tmp-" + std::to_string(getppid()) + "-Ab12Cd";  // a live process's
+  std::ofstream(stale) << "left by kill -9";
+  std::ofstream(alive) << "still being written";
+  save_pointset(path("out.fovset"), set_);
+  EXPECT_FALSE(fs::exists(stale));
+  EXPECT_TRUE(fs::exists(alive));
+  EXPECT_NO_THROW(load_pointset(path("out.fovset")));
 }
 
 TEST(Checksum, Crc32cKnownAnswer) {

@@ -562,6 +562,28 @@ TEST(Tracer, MissingTexturesWarnOnceAndFallBack) {
 // Textures that exist but cannot be read warn once each, naming the file and the reason,
 // and fall back to the material's factors: an empty file (a failed download), a directory,
 // a FIFO (whose open would block), a file that is not an image.
+// glTF indices past the vertex count: Assimp drops such faces with only a log line (the
+// image changed without a word); the loader refuses the file instead, naming it.
+TEST(Tracer, OutOfRangeGltfIndicesAreRefused) {
+  const fs::path dir = fs::temp_directory_path() / ("fovray-idx-" + std::to_string(getpid()));
+  fs::create_directories(dir);
+  // Four vertices, triangles (0 1 2) and (0 2 60000): the second one's last index is out of range.
+  const std::string bad = R"({"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}], "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1}]}], "buffers": [{"byteLength": 60, "uri": "data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAACAPwAAgD8AAAAAAAAAAAAAgD8AAAAAAAABAAIAAAACAGDq"}], "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 48}, {"buffer": 0, "byteOffset": 48, "byteLength": 12}], "accessors": [{"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 0]}, {"bufferView": 1, "componentType": 5123, "count": 6, "type": "SCALAR"}]})";
+  std::ofstream(dir / "bad.gltf") << bad;
+  try {
+    load_scene((dir / "bad.gltf").string());
+    ADD_FAILURE() << "out-of-range indices were accepted";
+  } catch (const std::runtime_error& e) {
+    EXPECT_EQ(std::string(e.what()).rfind((dir / "bad.gltf").string() + ": faces with vertex indices out of range", 0), 0u)
+        << e.what();
+  }
+  std::string good = bad;
+  good.replace(good.find("AAIAAAACAGDq"), 12, "AAIAAAACAAMA");  // the last index 60000 -> 3
+  std::ofstream(dir / "good.gltf") << good;
+  EXPECT_EQ(load_scene((dir / "good.gltf").string())->description().meshes.at(0).triangles.size(), 2u);
+  fs::remove_all(dir);
+}
+
 TEST(Tracer, UnreadableTexturesWarnWithTheirReason) {
   const fs::path dir = fs::temp_directory_path() / ("fovray-tex-" + std::to_string(getpid()));
   fs::create_directories(dir / "dir.png");

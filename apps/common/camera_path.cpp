@@ -20,7 +20,11 @@ camera_path load_camera_path(const std::string& path) {
     const std::vector<double>& v = csv.rows[i];
     if (!out.keys.empty() && v[0] < out.keys.back().t)
       throw std::runtime_error(fmt::format("{}:{}: time goes backwards", path, csv.lines[i]));
-    if (v[1] == v[4] && v[2] == v[5] && v[3] == v[6])
+    for (int c = 1; c <= 6; ++c)
+      if (!(std::fabs(v[c]) <= max_camera_coordinate))
+        throw std::runtime_error(fmt::format("{}:{}: coordinates must lie within +-{:g} (world units, kept as floats)", path,
+                                             csv.lines[i], max_camera_coordinate));
+    if (float(v[1]) == float(v[4]) && float(v[2]) == float(v[5]) && float(v[3]) == float(v[6]))
       throw std::runtime_error(fmt::format("{}:{}: the eye is on its target", path, csv.lines[i]));
     out.keys.push_back({v[0], {v[1], v[2], v[3]}, {v[4], v[5], v[6]}});
   }
@@ -41,7 +45,15 @@ camera camera_path::at(double t, const camera& base) const {
   }
   camera c = base;  // its field of view and up
   c.position = eye;
-  c.forward = glm::normalize(target - eye);
+  // Between two keys the eye may pass through the target: there the view keeps the nearer
+  // key's direction (each key's eye is off its target).
+  const glm::vec3 to = target - eye;
+  if (glm::dot(to, to) > 0 && std::isfinite(glm::dot(to, to))) {
+    c.forward = glm::normalize(to);
+  } else {
+    const key& k = f < 0.5 ? a : b;
+    c.forward = glm::normalize(glm::vec3(float(k.target[0] - k.eye[0]), float(k.target[1] - k.eye[1]), float(k.target[2] - k.eye[2])));
+  }
   return c;
 }
 

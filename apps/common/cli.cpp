@@ -1,12 +1,19 @@
 #include "cli.h"
 
+#include <unistd.h>
+
+#include <cerrno>
 #include <cmath>
+#include <cstring>
+#include <filesystem>
 #include <cstdlib>
 
 #include <iostream>
 #include <sstream>
 
 #include <fmt/format.h>
+
+#include "fov/files.h"
 
 namespace fov {
 
@@ -61,6 +68,27 @@ display_geometry parse_display(const std::string& text) {
   if (!(in >> w >> x >> h) || x != 'x' || (in >> extra) || w < 8 || h < 8 || w > 8192 || h > 8192)
     throw usage_error(fmt::format("--display: '{}' is not fove, vive, desktop1080 or WxH (8..8192)", text));
   return {w, h, 1.0};
+}
+
+void require_output(const std::string& flag, const std::string& path, const std::vector<std::string>& inputs) {
+  if (path.empty()) return;
+  try {
+    check_writable(path, inputs);
+  } catch (const file_error& e) {
+    throw usage_error(fmt::format("{} {}", flag, e.what()));
+  }
+}
+
+void require_output_dir(const std::string& flag, const std::string& dir) {
+  namespace fs = std::filesystem;
+  // The directory, or the nearest part of its path that exists (the rest is made later,
+  // when the tool first writes): it must be a directory this process can write in.
+  fs::path at = fs::absolute(dir);
+  while (!fs::exists(at) && at.has_parent_path() && at.parent_path() != at) at = at.parent_path();
+  if (!fs::is_directory(at))
+    throw usage_error(fmt::format("{} {}: {} is not a directory", flag, dir, at == fs::absolute(dir) ? "it" : at.string()));
+  if (::access(at.c_str(), W_OK | X_OK) != 0)
+    throw usage_error(fmt::format("{} {}: cannot write in {}: {}", flag, dir, at.string(), std::strerror(errno)));
 }
 
 }  // namespace fov

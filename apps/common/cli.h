@@ -5,6 +5,7 @@
 #include <stdexcept>
 #include <string>
 #include <type_traits>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 
@@ -28,6 +29,16 @@ display_geometry parse_display(const std::string& text);
 
 // parse_gaze, or a usage_error naming `flag` when the text is malformed or off screen.
 gaze_point require_gaze(const std::string& flag, const std::string& text, const display_geometry& display);
+
+// Checks an output file before any work (fov::check_writable: not a directory, link,
+// device or one of `inputs`; its directory writable); a usage_error naming `flag` if not.
+// Empty paths (an output not asked for) pass.
+void require_output(const std::string& flag, const std::string& path, const std::vector<std::string>& inputs = {});
+
+// An output directory, checked before any work and without making it: a usage_error naming
+// `flag` unless it (or, when missing, the nearest part of its path that exists) is a
+// directory this process can write in.
+void require_output_dir(const std::string& flag, const std::string& dir);
 
 // An option whose values are an enum's labels (its label table): CLI11 maps the text to
 // the value and rejects any other with one line; the choices (and, unless show_default

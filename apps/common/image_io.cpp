@@ -21,7 +21,7 @@ void write_frame(const frame& f, const std::string& path) {
   const bool linear = ext == ".exr" || ext == ".EXR" || ext == ".hdr";
   auto out = OIIO::ImageOutput::create(ext.substr(1));
   if (!out) throw file_error(fmt::format("{}: unsupported image format '{}'", path, ext));
-  const std::string tmp = fmt::format("{}.tmp-{}{}", path, getpid(), ext);
+  temp_output tmp(path, ext);  // OpenImageIO picks the format by the name's extension
   // An EXR keeps the depth too, as channel Z (+inf where no ray hit), when the frame has it.
   const bool depth = (ext == ".exr" || ext == ".EXR") && f.depth.size() == f.rgb.size();
   const int channels = depth ? 4 : 3;
@@ -33,24 +33,28 @@ void write_frame(const frame& f, const std::string& path) {
     if (depth) px[channels * i + 3] = f.depth[i];
   }
   if (!linear) spec.attribute("oiio:ColorSpace", "sRGB");
-  const bool ok = out->open(tmp, spec) && out->write_image(OIIO::TypeDesc::FLOAT, px.data()) && out->close();
-  if (!ok || std::rename(tmp.c_str(), path.c_str()) != 0) {
-    std::remove(tmp.c_str());
-    throw file_error(fmt::format("{}: cannot write: {}", path, ok ? std::strerror(errno) : out->geterror()));
-  }
+  if (!(out->open(tmp.temp_path(), spec) && out->write_image(OIIO::TypeDesc::FLOAT, px.data()) && out->close()))
+    throw file_error(fmt::format("{}: cannot write: {}", path, first_line(out->geterror())));
+  tmp.commit();
 }
 
 frame read_frame(const std::string& path) {
+  if (const std::string why = input_file_problem(path); !why.empty()) throw file_error(fmt::format("{}: {}", path, why));
+  const stderr_silenced quiet;  // libpng prints its own line for what OpenImageIO reports below
   auto in = OIIO::ImageInput::open(path);
-  if (!in) throw file_error(fmt::format("{}: cannot read image: {}", path, OIIO::geterror()));
+  if (!in) throw file_error(fmt::format("{}: cannot read image: {}", path, first_line(OIIO::geterror())));
   const OIIO::ImageSpec& spec = in->spec();
   if (spec.nchannels < 3) throw file_error(fmt::format("{}: need an RGB image, got {} channels", path, spec.nchannels));
+  // The size the header declares, against memory, before anything is allocated for it.
+  const uint64_t bytes = uint64_t(spec.width) * uint64_t(spec.height) * uint64_t(spec.nchannels) * 4 * 2;
+  if (const std::string why = memory_problem(bytes, fmt::format("a {} x {} image", spec.width, spec.height)); !why.empty())
+    throw file_error(fmt::format("{}: {}", path, why));
   frame f;
   f.width = spec.width;
   f.height = spec.height;
   std::vector<float> px(size_t(spec.width) * spec.height * spec.nchannels);
   if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, px.data()))
-    throw file_error(fmt::format("{}: cannot read image: {}", path, in->geterror()));
+    throw file_error(fmt::format("{}: cannot read image: {}", path, first_line(in->geterror())));
   const bool encoded = spec.format.basetype == OIIO::TypeDesc::UINT8 || spec.format.basetype == OIIO::TypeDesc::UINT16;
   f.rgb.resize(size_t(f.width) * f.height);
   for (size_t i = 0; i < f.rgb.size(); ++i)

@@ -1,8 +1,20 @@
 #include "window.h"
 
+#include <netdb.h>
+#include <poll.h>
+#include <sys/socket.h>
+#include <sys/un.h>
+#include <unistd.h>
+
 #include <algorithm>
+#include <cerrno>
+#include <cstddef>
+#include <cstdlib>
+#include <cstring>
 #include <stdexcept>
 #include <vector>
+
+#include <fmt/format.h>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -11,6 +23,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "fov/colour.h"
+#include "fov/files.h"
 
 namespace fov {
 
@@ -34,9 +47,63 @@ cv::Mat display_image(const frame& f) {
   return out;
 }
 
+std::string display_problem() {
+  const char* display = std::getenv("DISPLAY");
+  if (!display || !*display) {
+    if (const char* w = std::getenv("WAYLAND_DISPLAY"); w && *w) return "";  // Qt reaches it, or says why
+    return "no display: DISPLAY is not set (run under X11, or xvfb-run for tests)";
+  }
+  // DISPLAY is [host]:N[.S]. Qt aborts the process (exit 134, several lines) when it cannot
+  // reach the server, so the server is tried here first: a local one through its socket,
+  // a remote one through TCP port 6000 + N, each within two seconds.
+  const std::string text = display;
+  const size_t colon = text.rfind(':');
+  char* end = nullptr;
+  const long number = colon == std::string::npos ? -1 : std::strtol(text.c_str() + colon + 1, &end, 10);
+  if (number < 0 || number > 65535 - 6000 || end == text.c_str() + colon + 1)
+    return fmt::format("DISPLAY={}: not a display name ([host]:N)", printable(text));
+  const std::string host = text.substr(0, colon);
+  int fd = -1;
+  bool reached = false;
+  if (host.empty() || host == "unix" || host.rfind('/', 0) == 0) {
+    sockaddr_un a{};
+    a.sun_family = AF_UNIX;
+    const std::string path = host.rfind('/', 0) == 0 ? host : fmt::format("/tmp/.X11-unix/X{}", number);
+    for (bool abstract : {true, false}) {  // Linux X servers listen on an abstract socket too
+      fd = ::socket(AF_UNIX, SOCK_STREAM, 0);
+      std::memset(a.sun_path, 0, sizeof(a.sun_path));
+      std::strncpy(a.sun_path + (abstract ? 1 : 0), path.c_str(), sizeof(a.sun_path) - 2);
+      const socklen_t len = socklen_t(offsetof(sockaddr_un, sun_path) + (abstract ? 1 : 0) + path.size() + (abstract ? 0 : 1));
+      reached = fd >= 0 && ::connect(fd, reinterpret_cast<const sockaddr*>(&a), len) == 0;
+      if (fd >= 0) ::close(fd);
+      if (reached) break;
+    }
+  } else {
+    addrinfo hints{}, *found = nullptr;
+    hints.ai_socktype = SOCK_STREAM;
+    if (::getaddrinfo(host.c_str(), std::to_string(6000 + number).c_str(), &hints, &found) == 0) {
+      for (addrinfo* ai = found; ai && !reached; ai = ai->ai_next) {
+        fd = ::socket(ai->ai_family, ai->ai_socktype | SOCK_NONBLOCK, ai->ai_protocol);
+        if (fd < 0) continue;
+        if (::connect(fd, ai->ai_addr, ai->ai_addrlen) == 0) {
+          reached = true;
+        } else if (errno == EINPROGRESS) {
+          pollfd p{fd, POLLOUT, 0};
+          int error = 0;
+          socklen_t n = sizeof(error);
+          reached = ::poll(&p, 1, 2000) == 1 && ::getsockopt(fd, SOL_SOCKET, SO_ERROR, &error, &n) == 0 && error == 0;
+        }
+        ::close(fd);
+      }
+      ::freeaddrinfo(found);
+    }
+  }
+  if (!reached) return fmt::format("DISPLAY={}: no X server answers there (is it running? xvfb-run for tests)", printable(text));
+  return "";
+}
+
 view_window::view_window(const std::string& title, int width, int height) : title_(title) {
-  if (!std::getenv("DISPLAY") && !std::getenv("WAYLAND_DISPLAY"))
-    throw std::runtime_error("no display: DISPLAY is not set (run under X11, or xvfb-run for tests)");
+  if (const std::string why = display_problem(); !why.empty()) throw std::runtime_error(why);
   cv::namedWindow(title_, cv::WINDOW_AUTOSIZE | cv::WINDOW_GUI_NORMAL);
   cv::resizeWindow(title_, width, height);
   cv::setMouseCallback(title_, &view_window::on_mouse, this);

@@ -14,6 +14,11 @@ namespace fov {
 // A frame as a display shows it: clamped, sRGB-encoded, 8-bit BGR.
 cv::Mat display_image(const frame& f);
 
+// Why no window can open, or "": DISPLAY unset (and no WAYLAND_DISPLAY), malformed, or no
+// X server answering at it (tried directly, within two seconds, before the GUI toolkit
+// starts: Qt aborts the process when it cannot connect). view_window checks it first.
+std::string display_problem();
+
 class view_window {
  public:
   // Throws std::runtime_error when no display can be opened (no X server).

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <memory>
 #include <set>
 #include <sstream>
@@ -117,6 +118,7 @@ std::shared_ptr<const pointset> bench_pointset(const bench_options& o, const dis
     dart_params darts;
     darts.fovea = o.fovea;
     darts.grid_spacing = o.grid_spacing;
+    require_output_dir("--points-dir", o.points_dir);
     fs::create_directories(o.points_dir);
     save_pointset(path, generate_pointset(model, darts, {}));
   }
@@ -329,6 +331,7 @@ void put_timing(result_row& row, const paired_timing& t, double spread_limit) {
 
 size_t run_bench(const bench_options& o, const bench_reporter& report) {
   const display_geometry display = check_bench_options(o);
+  require_output_dir("-o", o.out);
   const std::vector<named_gaze> gazes = parse_gazes(o.gazes, display, o.render.seed);
   const std::string footprint = texture_footprint_name(o.render.footprint);
   const std::string fovea = fovea_text(o);
@@ -379,7 +382,7 @@ size_t run_bench(const bench_options& o, const bench_reporter& report) {
   // Only now is anything written.
   report.line(fmt::format("{} configurations, {} already in {}, {} to measure", all.size(), all.size() - todo, results_path, todo));
   fs::create_directories(fs::path(o.out) / "references");
-  results_writer writer(results_path);
+  std::optional<results_writer> writer;  // made with the first row: a run that fails before leaves no results.csv
   const auto [seed_a, seed_b] = converged_seeds(o.render.seed);
   uint32_t widest_k = 1;
   for (uint32_t k : o.ks) widest_k = std::max(widest_k, k);
@@ -414,7 +417,8 @@ size_t run_bench(const bench_options& o, const bench_reporter& report) {
       return row;
     };
     auto finish = [&](const config& c, result_row& row) {
-      writer.append(row);
+      if (!writer) writer.emplace(results_path);
+      writer->append(row);
       done.insert(c.key);
       ++measured_rows;
     };

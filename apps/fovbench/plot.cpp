@@ -10,6 +10,8 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "fov/files.h"
+
 namespace fov {
 
 namespace {
@@ -152,9 +154,9 @@ void write_plot(const std::vector<plot_panel>& panels, const std::string& path) 
   const int W = 720, H = 480;
   cv::Mat img(H, W * std::max<int>(1, int(panels.size())), CV_8UC3, cv::Scalar(255, 255, 255));
   for (size_t i = 0; i < panels.size(); ++i) draw_panel(img, panels[i], int(i) * W);
-  const std::string temp = path + ".tmp.png";
-  if (!cv::imwrite(temp, img)) throw std::runtime_error(fmt::format("{}: cannot write the plot", path));
-  std::filesystem::rename(temp, path);
+  temp_output temp(path, ".png");  // OpenCV picks the format by the name's extension
+  if (!cv::imwrite(temp.temp_path(), img)) throw file_error(fmt::format("{}: cannot write the plot", path));
+  temp.commit();
 }
 
 }  // namespace fov

@@ -1,14 +1,17 @@
 #include "sweep.h"
 
-
 #include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <limits>
+#include <map>
 #include <numeric>
+#include <set>
 #include <stdexcept>
 
 #include <fmt/format.h>
+
+#include "fov/files.h"
 
 namespace fov {
 
@@ -84,22 +87,46 @@ std::vector<std::string> split_csv(const std::string& line) {
 }  // namespace
 
 std::vector<result_row> read_results(const std::string& path) {
+  if (const std::string why = input_file_problem(path); !why.empty()) throw std::runtime_error(fmt::format("{}: {}", path, why));
   std::ifstream in(path, std::ios::binary);
   if (!in) throw std::runtime_error(fmt::format("{}: cannot open", path));
+  auto chomp = [](std::string& s) {  // a file saved with CRLF line ends reads the same
+    if (!s.empty() && s.back() == '\r') s.pop_back();
+  };
   std::string line;
   if (!std::getline(in, line) || in.eof()) throw std::runtime_error(fmt::format("{}: no header", path));
+  chomp(line);
   const std::vector<std::string> header = split_csv(line);
   if (header != result_columns())
     throw std::runtime_error(fmt::format("{}:1: not a results.csv of this fovbench (columns differ); use another -o", path));
+  static const std::set<std::string> text_columns = {"scene",  "gaze",         "kind",   "method",         "texture_footprint",
+                                                     "fovea",  "timing_flag",  "device", "render_settings", "error_profile"};
   std::vector<result_row> rows;
+  std::map<std::string, int> first_line;  // by key
   for (int number = 2; std::getline(in, line); ++number) {
     if (in.eof()) break;  // a torn last line
+    chomp(line);
     if (line.empty()) continue;
     const std::vector<std::string> cells = split_csv(line);
     if (cells.size() != header.size())
       throw std::runtime_error(fmt::format("{}:{}: {} cells, expected {}", path, number, cells.size(), header.size()));
     result_row r;
-    for (size_t i = 0; i < cells.size(); ++i) r.cells[header[i]] = cells[i];
+    for (size_t i = 0; i < cells.size(); ++i) {
+      const std::string& c = cells[i];
+      // A number as fovbench writes it: finite, or inf (a PSNR of identical images); empty
+      // where it does not apply. nan is never written (an empty cell is).
+      if (!c.empty() && !text_columns.count(header[i])) {
+        char* end = nullptr;
+        const double v = std::strtod(c.c_str(), &end);
+        if (*end || std::isnan(v) || (std::isinf(v) && c != "inf" && c != "-inf"))
+          throw std::runtime_error(
+              fmt::format("{}:{}: {} '{}' is not a number fovbench writes", path, number, header[i], printable(c)));
+      }
+      r.cells[header[i]] = c;
+    }
+    if (const auto [it, added] = first_line.emplace(r.key(), number); !added)
+      throw std::runtime_error(fmt::format("{}:{}: the same configuration as line {} (a results.csv holds each once)", path,
+                                           number, it->second));
     rows.push_back(std::move(r));
   }
   return rows;

@@ -24,8 +24,10 @@ struct result_row {
 const std::vector<std::string>& result_columns();
 
 // Reads results.csv; throws std::runtime_error "FILE:LINE: reason" when the header is not
-// result_columns() or a row has the wrong number of cells. A torn last line (no newline:
-// an interrupted write) is ignored.
+// result_columns(), a row has the wrong number of cells, a numeric cell is not a number
+// fovbench writes (finite, inf, or empty; never nan), or a row repeats an earlier row's
+// configuration (key()). A torn last line (no newline: an interrupted write) is ignored;
+// CRLF line ends read as LF.
 std::vector<result_row> read_results(const std::string& path);
 
 // Appends rows to results.csv, creating it with the header when missing. Each row is

@@ -226,11 +226,7 @@ void progress(size_t done, size_t total, double elapsed, const std::string& labe
 int run_generate(CLI::App& app, const generate_options& o, const std::string& output) {
   if (output.empty()) throw usage_error("-o: an output file is required");
   const fov::spacing_model model = model_from(o, app);
-  try {
-    fov::check_writable(output);  // fail before minutes of work, as a usage error
-  } catch (const fov::file_error& e) {
-    throw usage_error(e.what());
-  }
+  fov::require_output("-o", output);  // fail before minutes of work, as a usage error
   const fov::pointset set = generate_file(model, o, output);
   json j = summary(set, output);
   add_timings(j, set);
@@ -248,9 +244,8 @@ int run_generate(CLI::App& app, const generate_options& o, const std::string& ou
 }
 
 int run_info(const std::string& file, const std::string& gaze_text, uint32_t k_used, bool as_json) {
-  fov::load_params lp;
-  lp.table = !gaze_text.empty();
-  const fov::pointset set = fov::load_pointset(file, lp);
+  const fov::pointset set = fov::load_pointset(file);  // the whole file, table too: info vouches for it
+  if (k_used > set.table.k) throw usage_error(fmt::format("--k {}: {} stores {} neighbours per pixel", k_used, file, set.table.k));
   json j = summary(set, file);
   read_timings(j, file);
   j["spacing_violations"] = fov::count_spacing_violations(set.points, set.canvas_width(), set.canvas_height());
@@ -298,7 +293,7 @@ int main(int argc, char** argv) {
   bool info_json = false;
   info->add_option("file", info_file, "Point-set file")->required();
   info->add_option("--gaze", info_gaze, "X,Y in screen pixels (or centre, corner): count the points to trace");
-  info->add_option("--k", info_k, "Neighbours the renderer reads (default: all stored)");
+  info->add_option("--k", info_k, "Neighbours the renderer reads (default: all stored)")->check(CLI::Range(1u, fov::max_knn));
   info->add_flag("--json", info_json, "Print JSON");
 
   CLI::App* plot = app.add_subcommand("plot", "Draw every point of a set (thesis Fig. 12)");
@@ -307,7 +302,7 @@ int main(int argc, char** argv) {
   plot->add_option("file", plot_file, "Point-set file")->required();
   plot->add_option("-o,--output", plot_out, "Output PNG")->required();
   plot->add_option("--gaze", plot_gaze, "Outline the screen for this gaze and colour the traced points");
-  plot->add_option("--k", plot_k, "Neighbours the renderer reads (default: all stored)");
+  plot->add_option("--k", plot_k, "Neighbours the renderer reads (default: all stored)")->check(CLI::Range(1u, fov::max_knn));
 
   CLI::App* sweep = app.add_subcommand("sweep", "Generate a family of sets over scales (the staircase)");
   generate_options sweep_gen;
@@ -321,16 +316,12 @@ int main(int argc, char** argv) {
   return fov::run_tool("fovgen", app, argc, argv, [&] {
     if (*info) return run_info(info_file, info_gaze, info_k, info_json);
     if (*plot) {
-      fov::load_params lp;
-      lp.table = !plot_gaze.empty();
-      const fov::pointset set = fov::load_pointset(plot_file, lp);
+      const fov::pointset set = fov::load_pointset(plot_file);  // checked whole, as info does
+      if (plot_k > set.table.k)
+        throw usage_error(fmt::format("--k {}: {} stores {} neighbours per pixel", plot_k, plot_file, set.table.k));
       std::optional<fov::gaze_point> gaze;
       if (!plot_gaze.empty()) gaze = fov::require_gaze("--gaze", plot_gaze, set.model.display);
-      try {
-        fov::check_writable(plot_out);
-      } catch (const fov::file_error& e) {
-        throw usage_error(e.what());
-      }
+      fov::require_output("-o", plot_out, {plot_file});
       fov::plot_points(set, plot_out, gaze, plot_k ? plot_k : set.table.k);
       return 0;
     }

@@ -94,6 +94,13 @@ int main(int argc, char** argv) {
     o.debug_asked = debug->count() > 0;
     check_options(o, p);
     p.taa = o.taa_frames > 0;
+    // Every output before anything is read, rendered or written: not a directory, link or
+    // device, and none of the inputs (--compare ref.png -o ref.png would overwrite it).
+    const std::vector<std::string> inputs = {o.compare, o.points, o.scene.rfind("env:", 0) == 0 ? o.scene.substr(4) : o.scene};
+    for (const std::string& out : o.outputs) fov::require_output("-o", out, inputs);
+    fov::require_output("--debug-output", o.debug_output, inputs);
+    fov::require_output("--flip-map", o.flip_map, inputs);
+    fov::require_output("--foveated-flip-map", o.foveated_flip_map, inputs);
 
     fov::require_valid(p);  // what does not depend on the set, before loading it
     std::shared_ptr<const fov::pointset> set;

@@ -10,9 +10,12 @@
 
 #include <fmt/format.h>
 
+#include "fov/files.h"
+
 namespace fov {
 
 std::vector<threshold_value> read_thresholds_csv(const std::string& path) {
+  if (const std::string why = input_file_problem(path); !why.empty()) throw std::runtime_error(fmt::format("{}: {}", path, why));
   std::ifstream in(path);
   if (!in) throw std::runtime_error(fmt::format("{}: cannot open", path));
   std::string line;
@@ -46,15 +49,9 @@ std::vector<threshold_value> read_thresholds_csv(const std::string& path) {
 }
 
 void write_thresholds_csv(const std::vector<threshold_value>& values, const std::string& path) {
-  const std::string temp = path + ".tmp";
-  {
-    std::ofstream out(temp);
-    if (!out) throw std::runtime_error(fmt::format("{}: cannot write", path));
-    out << "subject,condition,threshold\n";
-    for (const auto& v : values) out << v.subject << ',' << v.condition << ',' << fmt::format("{}", v.threshold) << '\n';
-    if (!out.flush()) throw std::runtime_error(fmt::format("{}: cannot write", path));
-  }
-  std::filesystem::rename(temp, path);
+  std::string text = "subject,condition,threshold\n";
+  for (const auto& v : values) text += fmt::format("{},{},{}\n", v.subject, v.condition, v.threshold);
+  write_file_atomic(path, text.data(), text.size());
 }
 
 std::vector<threshold_value> thresholds_from_sessions(const std::vector<session_data>& sessions) {
@@ -164,16 +161,29 @@ threshold_analysis analyze_thresholds(const std::vector<threshold_value>& values
   out.df2 = double(total - logs.size());
   if (out.df2 < 1) throw std::runtime_error("the ANOVA needs more subject means than conditions");
   const double error = within / out.df2;
-  out.F = (between / out.df1) / error;
-  out.p = f_upper_tail(out.F, out.df1, out.df2);
+  // No spread within conditions (every subject mean equal in each): any difference between
+  // conditions is certain (F = inf, p = 0), and none is none (F = 0, p = 1); 0/0 printed -nan.
+  const bool no_within = !(error > 1e-24);
+  const double ratio = [](double d, double e, bool none) {
+    if (!none) return d / e;
+    return d > 1e-24 ? std::numeric_limits<double>::infinity() : 0.0;
+  }(between / out.df1, error, no_within);
+  out.F = ratio;
+  out.p = std::isinf(out.F) ? 0.0 : f_upper_tail(out.F, out.df1, out.df2);
   const double comparisons = double(names.size() * (names.size() - 1) / 2);
   for (size_t a = 0; a < names.size(); ++a)
     for (size_t b = a + 1; b < names.size(); ++b) {
       pair_comparison pc;
       pc.a = names[a], pc.b = names[b];
       pc.df = out.df2;
-      pc.t = (group_mean[a] - group_mean[b]) / std::sqrt(error * (1.0 / logs[a].size() + 1.0 / logs[b].size()));
-      pc.p = t_two_sided(pc.t, pc.df);
+      const double difference = group_mean[a] - group_mean[b];
+      if (!no_within) {
+        pc.t = difference / std::sqrt(error * (1.0 / logs[a].size() + 1.0 / logs[b].size()));
+        pc.p = t_two_sided(pc.t, pc.df);
+      } else {  // as for F above
+        pc.t = std::fabs(difference) > 1e-12 ? std::copysign(std::numeric_limits<double>::infinity(), difference) : 0.0;
+        pc.p = std::isinf(pc.t) ? 0.0 : 1.0;
+      }
       pc.p_bonferroni = std::min(1.0, pc.p * comparisons);
       std::vector<double> d;
       for (const auto& [subject, v] : by_subject[a])

@@ -53,23 +53,6 @@ std::string read_text(const std::string& path) {
   return s.str();
 }
 
-// The trial record a session file holds (answer fields filled by the caller).
-json trial_record(const stair_protocol& p, const trial_plan& t, bool detected, const staircase::step& step) {
-  json j = {{"type", "trial"},
-            {"index", t.index},
-            {"condition", p.conditions[t.condition].name},
-            {"series_trial", t.series_trial},
-            {"scale", t.scale},
-            {"catch", t.is_catch},
-            {"fixation", {t.fixation_x, t.fixation_y}},
-            {"detected", detected},
-            {"reversal", step.reversal},
-            {"recorded", step.recorded},
-            {"threshold", step.recorded ? json(step.threshold) : json(nullptr)}};
-  if (p.mode == stair_mode::two_afc) j["foveated_interval"] = t.foveated_interval + 1;
-  return j;
-}
-
 }  // namespace
 
 int run_session(const run_options& o) {
@@ -118,8 +101,9 @@ int run_session(const run_options& o) {
   if (resume) {
     if (!protocol_path.empty()) std::cerr << "fovstair: note: --resume uses the protocol stored in the session, not --protocol\n";
     file.emplace(session_file::resume(path, header, done));
-    protocol_text = header.at("protocol_text").get<std::string>();
-    if (header.value("subject", "") != subject) throw std::runtime_error(fmt::format("{}: belongs to subject {}", path, header.value("subject", "?")));
+    protocol_text = header.at("protocol_text").get<std::string>();  // read_session checked the header's fields
+    if (header.at("subject") != subject)
+      throw std::runtime_error(fmt::format("{}: belongs to subject {}", path, header.at("subject").get<std::string>()));
     if (header.contains("observer") && header["observer"].is_string() && !observer)
       observer = parse_observer(header["observer"].get<std::string>());
   } else {
@@ -128,14 +112,8 @@ int run_session(const run_options& o) {
   }
   const stair_protocol p = parse_protocol(protocol_text, resume ? path + " (stored protocol)" : protocol_path);
   stair_session state(p, subject);
-  // Replay: the plan must come out as recorded, or the data and the protocol disagree.
-  for (const json& t : done) {
-    const trial_plan plan = state.next();
-    if (t.value("index", uint64_t(-1)) != plan.index || t.value("condition", "") != p.conditions[plan.condition].name ||
-        std::fabs(t.value("scale", -1.0) - plan.scale) > 1e-9 || t.value("catch", false) != plan.is_catch)
-      throw std::runtime_error(fmt::format("{}: trial {} does not match the protocol's plan; not resuming", path, plan.index));
-    state.record(plan, t.value("detected", false));
-  }
+  // Replay the answers (read_session checked each trial against the protocol's plan).
+  for (const json& t : done) state.record(state.next(), t.at("detected").get<bool>());
   // A person: the window, the scene and the point sets.
   std::unique_ptr<view_window> window;
   std::unique_ptr<fov::renderer> stimulus;
@@ -240,18 +218,22 @@ int simulate(const simulate_options& so) {
   const rule_overrides& o = so.overrides;
   if (protocol_path.empty()) throw usage_error("simulate: --protocol is required");
   if (observer_spec.empty()) throw usage_error("simulate: --observer is required");
-  if (runs < 1) throw usage_error("--runs must be at least 1");
+  if (runs < 1 || runs > max_simulation_runs) throw usage_error(fmt::format("--runs must lie in 1..{}", max_simulation_runs));
   stair_protocol base = load_protocol(protocol_path);
   if (o.step >= 0) base.rule.step = o.step;
   if (o.initial_step >= 0) base.rule.initial_step = o.initial_step;
   if (o.start >= 0) base.scale_start = o.start;
   if (o.thresholds >= 0) base.rule.thresholds = uint32_t(o.thresholds);
   if (o.discard >= 0) base.rule.discard_reversals = uint32_t(o.discard);
-  if (!(base.rule.step >= 0.01) || base.rule.initial_step < base.rule.step)
-    throw usage_error("--step must be at least 0.01 and --initial-step at least --step");
+  if (!(base.rule.step >= 0.01) || base.rule.initial_step < base.rule.step || base.rule.initial_step > max_protocol_scale)
+    throw usage_error(fmt::format("--step must be at least 0.01, --initial-step at least --step and at most {}", max_protocol_scale));
   if (!(base.scale_start >= base.scale_min && base.scale_start <= base.scale_max))
     throw usage_error(fmt::format("--start must lie in the protocol's scales {}..{}", base.scale_min, base.scale_max));
-  if (base.rule.thresholds < 1 || base.rule.thresholds > base.rule.max_trials) throw usage_error("--thresholds out of range");
+  if (base.rule.thresholds < 1 || base.rule.thresholds > std::min(base.rule.max_trials, max_protocol_thresholds))
+    throw usage_error(fmt::format("--thresholds must lie in 1..{} (the protocol's max_trials, at most {})", base.rule.max_trials,
+                                  max_protocol_thresholds));
+  if (base.rule.discard_reversals > max_protocol_thresholds)
+    throw usage_error(fmt::format("--discard must lie in 0..{}", max_protocol_thresholds));
   observer_model m;
   try {
     m = parse_observer(observer_spec);
@@ -315,7 +297,7 @@ int analyze(const analyze_options& o) {
     if (plots_dir.empty()) plots_dir = (fs::path(inputs.front()).parent_path() / "plots").string();
     fs::create_directories(plots_dir);
     for (const session_data& s : sessions) {
-      const stair_protocol p = parse_protocol(s.header.at("protocol_text").get<std::string>(), "stored protocol");
+      const stair_protocol p = parse_protocol(s.header.at("protocol_text").get<std::string>(), "stored protocol");  // checked
       for (const stair_condition& c : p.conditions) {
         std::vector<json> series;
         for (const json& t : s.trials)

@@ -6,6 +6,8 @@
 
 #include <fmt/format.h>
 
+#include "fov/files.h"
+
 #include "fov/random.h"
 
 namespace fov {
@@ -13,14 +15,14 @@ namespace fov {
 observer_model parse_observer(const std::string& text) {
   const std::string prefix = "logistic:";
   if (text.rfind(prefix, 0) != 0)
-    throw std::invalid_argument(fmt::format("'{}': expected logistic:threshold=T,slope=S[,lapse=L][,false_alarm=F]", text));
+    throw std::invalid_argument(fmt::format("'{}': expected logistic:threshold=T,slope=S[,lapse=L][,false_alarm=F]", printable(text)));
   observer_model m;
   bool has_threshold = false;
   std::stringstream in(text.substr(prefix.size()));
   std::string part;
   while (std::getline(in, part, ',')) {
     const size_t eq = part.find('=');
-    if (eq == std::string::npos) throw std::invalid_argument(fmt::format("'{}': expected name=value", part));
+    if (eq == std::string::npos) throw std::invalid_argument(fmt::format("'{}': expected name=value", printable(part)));
     const std::string name = part.substr(0, eq), value = part.substr(eq + 1);
     double v = 0;
     try {
@@ -28,15 +30,15 @@ observer_model parse_observer(const std::string& text) {
       v = std::stod(value, &used);
       if (used != value.size() || !std::isfinite(v)) throw std::invalid_argument("");
     } catch (const std::exception&) {
-      throw std::invalid_argument(fmt::format("'{}': '{}' is not a number", part, value));
+      throw std::invalid_argument(fmt::format("'{}': '{}' is not a number", printable(part), printable(value)));
     }
     if (name == "threshold" && v > 0) m.threshold = v, has_threshold = true;
     else if (name == "slope" && v > 0) m.slope = v;
     else if (name == "lapse" && v >= 0 && v < 1) m.lapse = v;
     else if (name == "false_alarm" && v >= 0 && v <= 1) m.false_alarm = v;
-    else throw std::invalid_argument(fmt::format("'{}': unknown name or value out of range", part));
+    else throw std::invalid_argument(fmt::format("'{}': unknown name or value out of range", printable(part)));
   }
-  if (!has_threshold) throw std::invalid_argument(fmt::format("'{}': needs threshold=T", text));
+  if (!has_threshold) throw std::invalid_argument(fmt::format("'{}': needs threshold=T", printable(text)));
   return m;
 }
 

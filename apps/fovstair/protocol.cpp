@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <limits>
 #include <fstream>
 #include <map>
 #include <set>
@@ -102,7 +103,7 @@ class reader {
     if (!j_.is_object()) fail(pointer_, "must be an object");
   }
   [[noreturn]] void fail(const std::string& pointer, const std::string& why) const {
-    throw protocol_error(fmt::format("{}:{}: {}: {}", file_, lines_.line(pointer), where(pointer), why));
+    throw protocol_error(fmt::format("{}:{}: {}: {}", file_, lines_.line(pointer), printable(where(pointer), 80), why));
   }
   std::string at(const std::string& key) const { return pointer_ + "/" + key; }
   bool has(const std::string& key) { known_.insert(key); return j_.contains(key); }
@@ -119,7 +120,9 @@ class reader {
       if (!v.is_string()) fail(at(key), "must be a string");
       out = v.get<std::string>();
     } else if constexpr (std::is_integral_v<T>) {
-      if (!v.is_number_integer() || v.get<int64_t>() < 0) fail(at(key), "must be a non-negative integer");
+      // Read whole, not cast: 4294967301 must not become 5.
+      if (!v.is_number_unsigned() || v.get<uint64_t>() > std::numeric_limits<T>::max())
+        fail(at(key), fmt::format("must be an integer in 0..{}", std::numeric_limits<T>::max()));
       out = T(v.get<uint64_t>());
     } else {
       if (!v.is_number() || !std::isfinite(v.get<double>())) fail(at(key), "must be a number");
@@ -150,6 +153,28 @@ class reader {
     return out.empty() ? "protocol" : out;
   }
 };
+
+// The line of the first number outside strings that overflows a double (1 if none does).
+int overflow_line(const std::string& text) {
+  int line = 1;
+  bool in_string = false;
+  for (size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (c == '\n') ++line;
+    if (in_string) {
+      if (c == '\\') ++i;
+      else if (c == '"') in_string = false;
+    } else if (c == '"') {
+      in_string = true;
+    } else if (c == '-' || std::isdigit(static_cast<unsigned char>(c))) {
+      size_t j = i;
+      while (j < text.size() && std::strchr("+-.0123456789eE", text[j])) ++j;
+      if (std::isinf(std::strtod(text.substr(i, j - i).c_str(), nullptr))) return line;
+      i = j - 1;
+    }
+  }
+  return 1;
+}
 
 }  // namespace
 
@@ -183,6 +208,8 @@ stair_protocol parse_protocol(const std::string& text, const std::string& file) 
     std::string why = e.what();
     if (const size_t colon = why.rfind(": "); colon != std::string::npos) why = why.substr(colon + 2);
     throw protocol_error(fmt::format("{}:{}: not valid JSON: {}", file, line, why));
+  } catch (const json::exception&) {  // a number beyond double's range (1e400): no position given
+    throw protocol_error(fmt::format("{}:{}: a number beyond the range of a double", file, overflow_line(text)));
   }
   const line_map lines(text);
   reader top(j, "", lines, file);
@@ -209,15 +236,19 @@ stair_protocol parse_protocol(const std::string& text, const std::string& file) 
   else if (mode == "2afc") p.mode = stair_mode::two_afc;
   else top.fail("/mode", "must be yes-no or 2afc");
   top.get("catch_rate", p.catch_rate);
-  if (!(p.catch_rate >= 0 && p.catch_rate < 1)) top.fail("/catch_rate", "must lie in [0, 1)");
+  if (!(p.catch_rate >= 0 && p.catch_rate <= max_protocol_catch_rate))
+    top.fail("/catch_rate", fmt::format("must lie in [0, {}]", max_protocol_catch_rate));
   top.get("interval_ms", p.interval_ms);
-  if (!(p.interval_ms > 0)) top.fail("/interval_ms", "must be positive");
+  if (!(p.interval_ms > 0 && p.interval_ms <= max_protocol_interval_ms))
+    top.fail("/interval_ms", fmt::format("must lie in (0, {}] milliseconds", max_protocol_interval_ms));
   top.get("break_every", p.break_every);
   top.get("seed", p.seed);
 
   if (!top.has("conditions")) top.fail("", "needs \"conditions\": a list of {name, method, k}");
   const json& conditions = top.raw("conditions");
   if (!conditions.is_array() || conditions.empty()) top.fail("/conditions", "must be a non-empty list");
+  if (conditions.size() > max_protocol_conditions)
+    top.fail("/conditions", fmt::format("{} conditions; a protocol may have at most {}", conditions.size(), max_protocol_conditions));
   std::set<std::string> names;
   for (size_t i = 0; i < conditions.size(); ++i) {
     const std::string at = "/conditions/" + std::to_string(i);
@@ -240,6 +271,7 @@ stair_protocol parse_protocol(const std::string& text, const std::string& file) 
     r.get("rbf_shape", c.reconstruct.shape);
     if (!(c.reconstruct.shape > 0)) r.fail(at + "/rbf_shape", "must be positive");
     r.get("spp", c.spp);
+    if (c.spp > 1024) r.fail(at + "/spp", "must lie in 1..1024, or 0 for the protocol's");
     r.no_unknown_keys();
     p.conditions.push_back(c);
   }
@@ -252,6 +284,7 @@ stair_protocol parse_protocol(const std::string& text, const std::string& file) 
     r.get("start", p.scale_start);
     r.no_unknown_keys();
     if (!(p.scale_min >= 0.5 && p.scale_min < p.scale_max)) r.fail("/scales/min", "must be >= 0.5 and below max");
+    if (!(p.scale_max <= max_protocol_scale)) r.fail("/scales/max", fmt::format("must be at most {}", max_protocol_scale));
     if (!(p.scale_start >= p.scale_min && p.scale_start <= p.scale_max)) r.fail("/scales/start", "must lie in [min, max]");
   }
   if (top.has("rule")) {
@@ -269,8 +302,14 @@ stair_protocol parse_protocol(const std::string& text, const std::string& file) 
     if (s.down < 1 || s.down > 4) r.fail("/rule/down", "must lie in 1..4");
     if (!(s.step >= 0.01)) r.fail("/rule/step", "must be at least 0.01");
     if (!(s.initial_step >= s.step)) r.fail("/rule/initial_step", "must be at least step");
-    if (s.thresholds < 1) r.fail("/rule/thresholds", "must be at least 1");
-    if (s.max_trials < s.thresholds) r.fail("/rule/max_trials", "must be at least thresholds");
+    if (!(s.initial_step <= max_protocol_scale))
+      r.fail("/rule/initial_step", fmt::format("must be at most {}", max_protocol_scale));
+    if (s.thresholds < 1 || s.thresholds > max_protocol_thresholds)
+      r.fail("/rule/thresholds", fmt::format("must lie in 1..{}", max_protocol_thresholds));
+    if (s.discard_reversals > max_protocol_thresholds)
+      r.fail("/rule/discard_reversals", fmt::format("must lie in 0..{}", max_protocol_thresholds));
+    if (s.max_trials < s.thresholds || s.max_trials > max_protocol_series_trials)
+      r.fail("/rule/max_trials", fmt::format("must lie in thresholds..{}", max_protocol_series_trials));
   }
   auto on_grid = [](double v, double unit) { return std::fabs(v / unit - std::round(v / unit)) < 1e-6; };
   if (!on_grid(p.rule.step, 0.01) || !on_grid(p.rule.initial_step, 0.01))

@@ -67,6 +67,18 @@ struct protocol_error : std::runtime_error {
 constexpr int max_protocol_depth = 32;
 constexpr uintmax_t max_protocol_bytes = 1u << 20;
 
+// What a protocol's values may be, beyond their own rules (docs/fovstair.md): wide enough for
+// any experiment a person can sit through, small enough that validate, simulate and run
+// stay quick and small. Each error names its bound.
+constexpr size_t max_protocol_conditions = 64;
+constexpr double max_protocol_scale = 10;          // scales.max; scales.min is at least 0.5
+constexpr uint32_t max_protocol_thresholds = 100;  // rule.thresholds and rule.discard_reversals
+constexpr uint32_t max_protocol_series_trials = 1000;  // rule.max_trials
+constexpr double max_protocol_catch_rate = 0.5;    // catch trials come on top of a series' trials
+constexpr double max_protocol_interval_ms = 60000;
+// The most staircase trials a session can plan (catch trials come on top).
+constexpr uint64_t max_protocol_trials = uint64_t(max_protocol_conditions) * max_protocol_series_trials;
+
 // Parses and validates; every error names the file and the line of the offending value.
 stair_protocol load_protocol(const std::string& path);
 stair_protocol parse_protocol(const std::string& text, const std::string& name_for_errors);

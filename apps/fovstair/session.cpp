@@ -1,14 +1,18 @@
 #include "session.h"
 
-
 #include <algorithm>
+#include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <numeric>
+#include <optional>
 #include <stdexcept>
 
 #include <fmt/format.h>
 
+#include "fov/files.h"
 #include "fov/random.h"
+#include "observer.h"
 
 namespace fov {
 
@@ -89,27 +93,146 @@ session_file session_file::create(const std::string& path, const nlohmann::json&
   }
 }
 
+nlohmann::json trial_record(const stair_protocol& p, const trial_plan& t, bool detected, const staircase::step& step) {
+  nlohmann::json j = {{"type", "trial"},
+                      {"index", t.index},
+                      {"condition", p.conditions[t.condition].name},
+                      {"series_trial", t.series_trial},
+                      {"scale", t.scale},
+                      {"catch", t.is_catch},
+                      {"fixation", {t.fixation_x, t.fixation_y}},
+                      {"detected", detected},
+                      {"reversal", step.reversal},
+                      {"recorded", step.recorded},
+                      {"threshold", step.recorded ? nlohmann::json(step.threshold) : nlohmann::json(nullptr)}};
+  if (p.mode == stair_mode::two_afc) j["foveated_interval"] = t.foveated_interval + 1;
+  return j;
+}
+
+namespace {
+
+using json = nlohmann::json;
+
+// Checks one record's fields against what trial_record and run_session write.
+class record_check {
+ public:
+  record_check(const json& j, const std::string& path, int line) : j_(j), path_(path), line_(line) {}
+  [[noreturn]] void fail(const std::string& why) const { throw std::runtime_error(fmt::format("{}:{}: {}", path_, line_, why)); }
+  const json& field(const char* key) const {
+    const auto it = j_.find(key);
+    if (it == j_.end()) fail(fmt::format("no \"{}\"", key));
+    return *it;
+  }
+  std::string text(const char* key) const {
+    const json& v = field(key);
+    if (!v.is_string()) fail(fmt::format("\"{}\" must be a string", key));
+    return v.get<std::string>();
+  }
+  bool flag(const char* key) const {
+    const json& v = field(key);
+    if (!v.is_boolean()) fail(fmt::format("\"{}\" must be true or false", key));
+    return v.get<bool>();
+  }
+  uint64_t count(const char* key) const {
+    const json& v = field(key);
+    if (!v.is_number_unsigned()) fail(fmt::format("\"{}\" must be a non-negative integer", key));
+    return v.get<uint64_t>();
+  }
+  double number(const char* key) const {
+    const json& v = field(key);
+    if (!v.is_number() || !std::isfinite(v.get<double>())) fail(fmt::format("\"{}\" must be a number", key));
+    return v.get<double>();
+  }
+
+ private:
+  const json& j_;
+  const std::string& path_;
+  int line_;
+};
+
+}  // namespace
+
 session_data read_session(const std::string& path) {
+  if (const std::string why = input_file_problem(path); !why.empty()) throw std::runtime_error(fmt::format("{}: {}", path, why));
+  if (const uintmax_t bytes = std::filesystem::file_size(path); bytes > max_session_bytes)
+    throw std::runtime_error(fmt::format("{}: {} bytes; a session file may hold at most {}", path, bytes, max_session_bytes));
   std::ifstream in(path, std::ios::binary);
   if (!in) throw std::runtime_error(fmt::format("{}: cannot open the session file", path));
   session_data out;
   std::string line;
   int number = 0;
+  std::optional<stair_protocol> protocol;
+  std::optional<stair_session> state;
+  int end_line = 0;
   while (std::getline(in, line)) {
     ++number;
-    if (in.eof()) break;  // no newline: a torn last line, never a complete record
-    nlohmann::json j;
+    if (in.eof()) {  // no newline: a torn last line, never a complete record
+      if (number == 1) throw std::runtime_error(fmt::format("{}:1: the header line is incomplete (a torn write); not a session", path));
+      break;
+    }
+    json j;
     try {
-      j = nlohmann::json::parse(line);
-    } catch (const nlohmann::json::exception&) {
+      j = json::parse(line);
+    } catch (const json::exception&) {
       throw std::runtime_error(fmt::format("{}:{}: not a JSON record", path, number));
     }
-    const std::string type = j.value("type", "");
-    if (number == 1 && type != "session") throw std::runtime_error(fmt::format("{}:1: not a fovstair session (no header)", path));
-    if (type == "session" && number == 1) out.header = j;
-    else if (type == "trial") out.trials.push_back(j);
-    else if (type == "end") out.ended = true;
-    else throw std::runtime_error(fmt::format("{}:{}: unknown record type '{}'", path, number, type));
+    const record_check r(j, path, number);
+    if (!j.is_object()) r.fail("not a JSON object (a record is {\"type\": ...})");
+    const auto type_it = j.find("type");
+    if (type_it == j.end() || !type_it->is_string()) {
+      if (number == 1) r.fail("not a fovstair session (no header)");
+      r.fail("a record needs \"type\": a string");
+    }
+    const std::string type = type_it->get<std::string>();
+    if (number == 1) {
+      if (type != "session") r.fail("not a fovstair session (no header)");
+      const std::string subject = r.text("subject");
+      r.text("session");
+      if (j.contains("observer") && !j["observer"].is_null()) {
+        try {
+          parse_observer(r.text("observer"));
+        } catch (const std::invalid_argument& e) {
+          r.fail(fmt::format("observer {}", e.what()));
+        }
+      }
+      protocol.emplace(parse_protocol(r.text("protocol_text"), path + " (stored protocol)"));
+      state.emplace(*protocol, subject);
+      out.header = std::move(j);
+      continue;
+    }
+    if (end_line) r.fail(fmt::format("a record after the end record (line {})", end_line));
+    if (type == "end") {
+      if (!state->finished())
+        r.fail(fmt::format("the end record comes after {} trials; the protocol's plan has more", state->trials()));
+      end_line = number, out.ended = true;
+      continue;
+    }
+    if (type != "trial") r.fail(fmt::format("unknown record type '{}'", printable(type)));
+    // The trial must be the one the stored protocol plans next, and record what the rule
+    // did with its answer: a duplicated, missing or spliced trial is refused here.
+    if (state->finished()) r.fail("a trial after the protocol's last");
+    const trial_plan plan = state->next();
+    const stair_protocol& p = *protocol;
+    if (r.count("index") != plan.index) r.fail(fmt::format("trial index {}, the plan's next is {}", r.count("index"), plan.index));
+    if (r.text("condition") != p.conditions[plan.condition].name)
+      r.fail(fmt::format("condition '{}', the plan's next is '{}'", printable(r.text("condition")),
+                         printable(p.conditions[plan.condition].name)));
+    if (std::fabs(r.number("scale") - plan.scale) > 1e-9 || r.flag("catch") != plan.is_catch ||
+        r.count("series_trial") != plan.series_trial)
+      r.fail(fmt::format("trial {} does not match the protocol's plan (scale {}, catch {})", plan.index, plan.scale,
+                         plan.is_catch));
+    const bool two_afc = p.mode == stair_mode::two_afc;
+    if (two_afc != j.contains("foveated_interval") ||
+        (two_afc && (!j["foveated_interval"].is_number_unsigned() ||
+                     j["foveated_interval"].get<uint64_t>() != plan.foveated_interval + 1)))
+      r.fail(fmt::format("foveated_interval does not match a {} protocol's plan", two_afc ? "2afc" : "yes-no"));
+    const staircase::step step = state->record(plan, r.flag("detected"));
+    const json& threshold = r.field("threshold");
+    if (r.flag("reversal") != step.reversal || r.flag("recorded") != step.recorded ||
+        (step.recorded ? !threshold.is_number() || std::fabs(threshold.get<double>() - step.threshold) > 1e-9
+                       : !threshold.is_null()))
+      r.fail(fmt::format("trial {}: reversal, recorded and threshold are not what the rule gives", plan.index));
+    out.trials.push_back(std::move(j));
   }
   if (number == 0) throw std::runtime_error(fmt::format("{}: empty session file", path));
   return out;

@@ -74,7 +74,21 @@ class session_file {
   line_log log_;
 };
 
-// Reads every line of a session file (for analysis): header, trials, and whether it ended.
+// The trial record a session file holds for `t`, answered `detected` with the rule's `step`
+// (run_session adds the response, timing and gaze fields).
+nlohmann::json trial_record(const stair_protocol& p, const trial_plan& t, bool detected, const staircase::step& step);
+
+// The largest session file: far above what any protocol's trials write (a record is a few
+// hundred bytes and a protocol plans at most max_protocol_trials).
+constexpr uintmax_t max_session_bytes = uintmax_t(1) << 30;
+
+// Reads every line of a session file (for analysis and --resume): header, trials, and
+// whether it ended. Checks every record against the protocol stored in the header: each
+// trial must be the one that protocol plans next for the subject, carry the fields
+// trial_record writes and record what the rule did with its answer; a duplicated,
+// missing or spliced trial, a trial after the plan's last, or a record after the end
+// record is refused. A torn last line (a crash while writing) is ignored, but a torn
+// header is refused. Throws std::runtime_error "FILE:LINE: reason".
 struct session_data {
   nlohmann::json header;
   std::vector<nlohmann::json> trials;

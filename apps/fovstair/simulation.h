@@ -28,6 +28,9 @@ struct simulation_result {
   double target_probability = 0, target_scale = 0;  // where the rule converges for this observer
 };
 
+// The most sessions one simulate call runs (each plans at most max_protocol_trials).
+constexpr uint32_t max_simulation_runs = 10000;
+
 // `runs` sessions of the protocol answered by the observer, seeded seed + run.
 simulation_result simulate_rule(const stair_protocol& base, const observer_model& m, uint32_t runs);
 

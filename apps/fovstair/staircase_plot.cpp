@@ -8,6 +8,8 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "fov/files.h"
+
 namespace fov {
 
 void write_staircase_plot(const std::vector<nlohmann::json>& trials, const std::string& title, double lo, double hi,
@@ -69,9 +71,9 @@ void write_staircase_plot(const std::vector<nlohmann::json>& trials, const std::
   cv::putText(img, "recorded reversal", {W - 285, ly}, font, 0.45, black, 1, cv::LINE_AA);
   cv::drawMarker(img, {W - 120, ly - 5}, grey, cv::MARKER_TRIANGLE_UP, 8, 1);
   cv::putText(img, "catch", {W - 110, ly}, font, 0.45, black, 1, cv::LINE_AA);
-  const std::string temp = path + ".tmp.png";
-  if (!cv::imwrite(temp, img)) throw std::runtime_error(fmt::format("{}: cannot write the plot", path));
-  std::filesystem::rename(temp, path);
+  temp_output temp(path, ".png");  // OpenCV picks the format by the name's extension
+  if (!cv::imwrite(temp.temp_path(), img)) throw file_error(fmt::format("{}: cannot write the plot", path));
+  temp.commit();
 }
 
 }  // namespace fov

@@ -151,6 +151,10 @@ void set_knn_radii(knn_table& t, const std::vector<point>& points) {
           const point& p = points[t.at(x, y, j)];
           r[j] = std::max(r[j], std::hypot(p.x - (float(x) + 0.5f), p.y - (float(y) + 0.5f)));
         }
+    // Over the first j + 1 ranks, not rank j alone: the same for a table in nearest-first
+    // order, and still a bound on what a reader of j + 1 ranks reaches in one that is not
+    // (a hand-made or imported set), which the traced-point scan relies on.
+    for (uint32_t j = 1; j < t.k; ++j) r[j] = std::max(r[j], r[j - 1]);
   });
   t.radius_by_rank.assign(t.k, 0.0f);
   for (size_t i = 0; i < t.radius_by_tile.size(); ++i)

@@ -7,6 +7,7 @@
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imagebufalgo.h>
 
+#include "fov/files.h"
 #include "fov/scene.h"
 #include "fov/usage_error.h"
 #include "scene_impl.h"
@@ -187,7 +188,7 @@ glm::vec3 env_pyramid::lookup(float s, float t, float ds, float dt) const {
 env_pyramid load_env_pyramid(const std::string& file) {
   OIIO::ImageBuf image(file);
   if (!image.read(0, 0, true, OIIO::TypeDesc::FLOAT))
-    throw std::runtime_error(fmt::format("{}: cannot read environment image: {}", file, image.geterror()));
+    throw std::runtime_error(fmt::format("{}: cannot read environment image: {}", file, first_line(image.geterror())));
   const OIIO::ImageSpec& spec = image.spec();
   const bool srgb = !(spec.format == OIIO::TypeDesc::FLOAT || spec.format == OIIO::TypeDesc::HALF ||
                       spec.format == OIIO::TypeDesc::DOUBLE);
@@ -215,7 +216,7 @@ env_pyramid load_env_pyramid(const std::string& file) {
     if (cs.width == 1 && cs.height == 1) break;
     const int w2 = std::max(1, cs.width / 2), h2 = std::max(1, cs.height / 2);
     current = OIIO::ImageBufAlgo::resize(current, "box", 2.0f, OIIO::ROI(0, w2, 0, h2, 0, 1, 0, current.nchannels()));
-    if (current.has_error()) throw std::runtime_error(fmt::format("{}: cannot filter: {}", file, current.geterror()));
+    if (current.has_error()) throw std::runtime_error(fmt::format("{}: cannot filter: {}", file, first_line(current.geterror())));
   }
   return out;
 }
@@ -256,12 +257,25 @@ void scene::impl::surface_at(unsigned inst, unsigned prim, float u, float v, sur
   s.m = &m;
 }
 
+namespace {
+
+// One Embree device for the process, as OpenImageIO's texture system below: a device holds
+// thread pools and allocators, and a process that makes scene after scene (a sweep, a fuzz
+// run) failed to make one after a few thousand. Each scene holds a reference.
+RTCDevice shared_device() {
+  static const RTCDevice device = rtcNewDevice(nullptr);
+  if (!device) throw std::runtime_error(fmt::format("Embree device: error {}", int(rtcGetDeviceError(nullptr))));
+  rtcRetainDevice(device);
+  return device;
+}
+
+}  // namespace
+
 scene::scene(scene_description description) : impl_(std::make_unique<impl>()) {
   impl& d = *impl_;
   d.desc = std::move(description);
   if (d.desc.materials.empty()) d.desc.materials.push_back({});
-  d.device = rtcNewDevice(nullptr);
-  if (!d.device) throw std::runtime_error(fmt::format("Embree device: error {}", int(rtcGetDeviceError(nullptr))));
+  d.device = shared_device();
   // OpenImageIO's shared texture system: 2.4's TextureSystem::destroy() skips the
   // implementation's destructor (a leak and a new/delete size mismatch under ASan), so
   // per-scene systems are not used. Files this scene names are re-read, not taken stale.

@@ -1,10 +1,14 @@
 // Scene files: glTF 2.0 and OBJ through Assimp; env:FILE image scenes; the built-in scene.
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <mutex>
 #include <set>
 #include <stdexcept>
 
+#include <assimp/DefaultLogger.hpp>
 #include <assimp/GltfMaterial.h>
+#include <assimp/LogStream.hpp>
 #include <assimp/Importer.hpp>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
@@ -19,12 +23,6 @@ namespace fov {
 namespace fs = std::filesystem;
 
 namespace {
-
-// The first line of a library's message (OpenImageIO's may run to several, with debug lines).
-std::string first_line(const std::string& message) {
-  const size_t end = message.find('\n');
-  return end == std::string::npos ? message : message.substr(0, end);
-}
 
 
 std::string lowercase(std::string s) {
@@ -132,15 +130,49 @@ material convert_material(const aiMaterial* m, texture_resolver& textures) {
   return out;
 }
 
+// Assimp's warnings and errors while one file loads. Assimp drops faces whose vertex
+// indices are out of range with nothing but a log line (a changed image, silently), so the
+// loader listens to its log. Assimp's logger is process-wide: one import at a time.
+class assimp_log : public Assimp::LogStream {
+ public:
+  assimp_log() {
+    Assimp::DefaultLogger::create(nullptr, Assimp::Logger::NORMAL, 0);
+    Assimp::DefaultLogger::get()->attachStream(this, severities);
+  }
+  ~assimp_log() override {
+    Assimp::DefaultLogger::get()->detachStream(this, severities);
+    Assimp::DefaultLogger::kill();
+  }
+  void write(const char* message) override { messages.emplace_back(first_line(message)); }
+  std::vector<std::string> messages;
+
+ private:
+  static constexpr unsigned severities = Assimp::Logger::Warn | Assimp::Logger::Err;
+};
+
+std::mutex& assimp_mutex() {
+  static std::mutex m;
+  return m;
+}
+
 scene_description load_file(const std::string& path) {
   if (!fs::exists(path)) throw std::runtime_error(fmt::format("{}: no such file", path));
   if (const std::string why = input_file_problem(path); !why.empty()) throw std::runtime_error(fmt::format("{}: {}", path, why));
   Assimp::Importer importer;
   const unsigned flags = aiProcess_Triangulate | aiProcess_JoinIdenticalVertices | aiProcess_GenSmoothNormals |
                          aiProcess_CalcTangentSpace | aiProcess_FlipUVs | aiProcess_SortByPType;
-  const aiScene* ai = importer.ReadFile(path, flags);
+  const aiScene* ai = nullptr;
+  {
+    const std::lock_guard<std::mutex> one_import(assimp_mutex());
+    const assimp_log log;
+    ai = importer.ReadFile(path, flags);
+    for (const std::string& m : log.messages)
+      if (m.find("out-of-range ind") != std::string::npos)
+        throw std::runtime_error(fmt::format("{}: faces with vertex indices out of range (refused; Assimp: {})", path,
+                                             m.substr(m.find(':') == std::string::npos ? 0 : m.find(':') + 2)));
+  }
   if (!ai || !ai->mRootNode)
-    throw std::runtime_error(fmt::format("{}: cannot load scene: {}", path, importer.GetErrorString()));
+    throw std::runtime_error(fmt::format("{}: cannot load scene: {}", path, first_line(importer.GetErrorString())));
 
   scene_description d;
   texture_resolver textures(fs::path(path).parent_path(), d.warnings);
@@ -169,6 +201,9 @@ scene_description load_file(const std::string& path) {
       const aiFace& face = am->mFaces[f];
       if (face.mNumIndices != 3) continue;  // points and lines
       const glm::uvec3 t(face.mIndices[0], face.mIndices[1], face.mIndices[2]);
+      if (std::max({t.x, t.y, t.z}) >= m.positions.size())
+        throw std::runtime_error(fmt::format("{}: mesh '{}': a face's vertex index is out of range ({} vertices)", path,
+                                             printable(am->mName.C_Str()), m.positions.size()));
       const glm::vec3 n = glm::cross(m.positions[t.y] - m.positions[t.x], m.positions[t.z] - m.positions[t.x]);
       if (!(glm::dot(n, n) > 0) || !std::isfinite(n.x + n.y + n.z)) {
         ++degenerate;

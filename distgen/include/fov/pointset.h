@@ -102,9 +102,9 @@ struct knn_table {
   // Largest distance from a pixel centre to its k-th neighbour (derived, not stored in
   // files): a pixel farther than this from the screen edge reads only on-screen points.
   float max_radius = 0;
-  // The same per rank: radius_by_rank[j] is the largest distance from a pixel centre to its
-  // (j+1)-th neighbour (derived; empty when not computed). A reader of k' < k ranks needs
-  // only radius_by_rank[k' - 1] of border.
+  // The same per rank: radius_by_rank[j] is the largest distance from a pixel centre to any
+  // of its first j+1 neighbours (its (j+1)-th in a nearest-first table; derived; empty when
+  // not computed). A reader of k' < k ranks needs only radius_by_rank[k' - 1] of border.
   std::vector<float> radius_by_rank;
   // The same per square tile of radius_tile x radius_tile canvas pixels (derived; empty
   // when not computed): radius_by_tile[(tile_y * tiles_x + tile_x) * k + j]. Near the

@@ -5,6 +5,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "fov/files.h"
 #include "fov/pointset.h"
 
 namespace fov {
@@ -32,12 +33,6 @@ struct load_params {
   uint32_t group = 0;  // layout wanted in memory; 0 = as stored (ref_left_zstd: 4)
 };
 
-// Any problem with a file: the message names the file and the reason.
-class file_error : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
-
 // Fills rows [y0, y1) of the table pixel-major, k ranks per pixel (see knn_builder::rows).
 using table_row_source = std::function<void(uint32_t y0, uint32_t y1, uint32_t* out)>;
 
@@ -58,10 +53,5 @@ void save_pointset(const std::string& path, const pointset& set, const save_para
 // point coordinates and every table index. Throws file_error.
 pointset load_pointset(const std::string& path, const load_params& params = {});
 
-// Writes bytes to a temporary file beside `path`, then renames it into place.
-void write_file_atomic(const std::string& path, const void* data, size_t bytes);
-
-// Fails early with file_error when `path` cannot be written (directory missing, no permission).
-void check_writable(const std::string& path);
 
 }  // namespace fov

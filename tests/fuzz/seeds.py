@@ -1,0 +1,114 @@
+#!/usr/bin/env python3
+"""Writes the hand-made seeds of the scene, env_image, gaze and camera targets into
+corpus/ (the others are real files: see docs/fuzzing.md). Run from anywhere."""
+import base64, json, os, struct, zlib
+
+here = os.path.join(os.path.dirname(os.path.abspath(__file__)), "corpus")
+
+
+def put(target, name, data):
+    os.makedirs(os.path.join(here, target), exist_ok=True)
+    with open(os.path.join(here, target, name), "wb") as f:
+        f.write(data if isinstance(data, bytes) else data.encode())
+
+
+# Scenes: a textured triangle pair as glTF (data-URI buffer), GLB, and OBJ. Byte 0 picks
+# the format in scene_fuzz.cpp: 0 glTF, 1 GLB, 2 OBJ.
+positions = struct.pack("<12f", 0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0)
+uvs = struct.pack("<8f", 0, 0, 1, 0, 1, 1, 0, 1)
+indices = struct.pack("<6H", 0, 1, 2, 0, 2, 3) + b"\0\0"
+blob = positions + uvs + indices
+
+
+def gltf(uri):
+    g = {
+        "asset": {"version": "2.0"},
+        "scene": 0, "scenes": [{"nodes": [0]}],
+        "nodes": [{"mesh": 0, "translation": [0, 0, -2]}],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "TEXCOORD_0": 1}, "indices": 2, "material": 0}]}],
+        "materials": [{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}, "alphaMode": "MASK"}],
+        "textures": [{"source": 0}], "images": [{"uri": "tex.png"}],
+        "buffers": [{"byteLength": len(blob)} | ({"uri": uri} if uri else {})],
+        "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 48},
+                        {"buffer": 0, "byteOffset": 48, "byteLength": 32},
+                        {"buffer": 0, "byteOffset": 80, "byteLength": 12}],
+        "accessors": [{"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3",
+                       "min": [0, 0, 0], "max": [1, 1, 0]},
+                      {"bufferView": 1, "componentType": 5126, "count": 4, "type": "VEC2"},
+                      {"bufferView": 2, "componentType": 5123, "count": 6, "type": "SCALAR"}],
+        "cameras": [{"type": "perspective", "perspective": {"yfov": 0.8, "znear": 0.1}}],
+    }
+    return json.dumps(g, indent=1)
+
+
+put("scene", "quad.gltf", b"\0" + gltf("data:application/octet-stream;base64," + base64.b64encode(blob).decode()).encode())
+js = gltf(None).encode()
+js += b" " * (-len(js) % 4)
+glb = struct.pack("<III", 0x46546C67, 2, 12 + 8 + len(js) + 8 + len(blob))
+glb += struct.pack("<II", len(js), 0x4E4F534A) + js + struct.pack("<II", len(blob), 0x004E4942) + blob
+put("scene", "quad.glb", b"\1" + glb)
+put("scene", "quad.obj", b"\2" + b"v 0 0 -2\nv 1 0 -2\nv 1 1 -2\nv 0 1 -2\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
+    b"vn 0 0 1\nf 1/1/1 2/2/1 3/3/1\nf 1/1/1 3/3/1 4/4/1\n")
+
+# env: images, 8 x 4 pixels. Byte 0 picks the format in env_image_fuzz.cpp: 0 HDR, 1 EXR, 2 PNG.
+w, h = 8, 4
+texels = [(0.2 + x / w, 0.3 + y / h, 0.5) for y in range(h) for x in range(w)]
+
+
+def rgbe(r, g, b):
+    import math
+    v = max(r, g, b)
+    m, e = math.frexp(v)
+    s = m * 256 / v
+    return bytes((int(r * s), int(g * s), int(b * s), e + 128))
+
+
+hdr = b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y %d +X %d\n" % (h, w) + b"".join(rgbe(*t) for t in texels)
+put("env_image", "sky.hdr", b"\0" + hdr)
+
+
+def exr():
+    def attr(name, kind, value):
+        return name.encode() + b"\0" + kind.encode() + b"\0" + struct.pack("<i", len(value)) + value
+    chans = b"".join(c + b"\0" + struct.pack("<iBBBBii", 2, 0, 0, 0, 0, 1, 1) for c in (b"B", b"G", b"R")) + b"\0"
+    head = struct.pack("<ii", 20000630, 2)
+    head += attr("channels", "chlist", chans)
+    head += attr("compression", "compression", b"\0")
+    head += attr("dataWindow", "box2i", struct.pack("<4i", 0, 0, w - 1, h - 1))
+    head += attr("displayWindow", "box2i", struct.pack("<4i", 0, 0, w - 1, h - 1))
+    head += attr("lineOrder", "lineOrder", b"\0")
+    head += attr("pixelAspectRatio", "float", struct.pack("<f", 1))
+    head += attr("screenWindowCenter", "v2f", struct.pack("<2f", 0, 0))
+    head += attr("screenWindowWidth", "float", struct.pack("<f", 1)) + b"\0"
+    lines = []
+    for y in range(h):
+        row = texels[y * w:(y + 1) * w]
+        data = b"".join(struct.pack("<f", t[c]) for c in (2, 1, 0) for t in row)
+        lines.append(struct.pack("<ii", y, len(data)) + data)
+    table, at = b"", len(head) + 8 * h
+    for line in lines:
+        table += struct.pack("<Q", at)
+        at += len(line)
+    return head + table + b"".join(lines)
+
+
+put("env_image", "sky.exr", b"\1" + exr())
+
+
+def png():
+    raw = b"".join(b"\0" + b"".join(bytes(min(255, int(255 * c)) for c in t) for t in texels[y * w:(y + 1) * w]) for y in range(h))
+    def chunk(kind, data):
+        return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data))
+    return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", w, h, 8, 2, 0, 0, 0))
+            + chunk(b"IDAT", zlib.compress(raw)) + chunk(b"IEND", b""))
+
+
+put("env_image", "sky.png", b"\2" + png())
+
+# Gaze traces, camera paths and datagrams, as recorders and the docs write them.
+put("gaze_trace", "pixels.csv", "t_ms,x,y\n0,32,24\n16.7,33.5,24.2\n33.3,40,20\n50,64,48\n")
+put("gaze_trace", "normalised.csv", "t_ms,x_norm,y_norm\n0,0.5,0.5\n10,0.25,0.75\n10,0.3,0.7\n\n500,1,0\n")
+put("camera_path", "orbit.csv", "t_ms,x,y,z,tx,ty,tz\n0,0,1,4,0,0,0\n500,2,1,3,0,0,0\n1000,4,1,0,0,0.5,0\n")
+put("gaze_datagram", "centre", "0.5 0.5")
+put("gaze_datagram", "corner", "1 0\n")
+put("gaze_datagram", "exponent", "5e-1 2.5E-1")
