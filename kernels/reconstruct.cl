@@ -33,7 +33,7 @@ __kernel void reconstruct_nn(__global const uint* table, uint canvas_width, uint
 // +inf when none did. A pixel on a point (a grid point) takes its depth, a miss included.
 inline float shepard_depth(const float* h, const uint* idx, uint k, uint renka, __global const float* depth) {
   for (uint j = 0; j < k; ++j)
-    if (h[j] == 0.0f) return depth[idx[j]];
+    if (h[j] < FOV_ON_POINT) return depth[idx[j]];
   float r_hit = -1.0f;
   uint hits = 0;
   for (uint j = 0; j < k; ++j)
@@ -77,10 +77,10 @@ __kernel void reconstruct_shepard(__global const uint* table, uint canvas_width,
   int exact = -1;
   const float r = h[k - 1];
   for (uint j = 0; j < k && exact < 0; ++j) {
-    if (h[j] == 0.0f) { exact = (int)j; break; }
+    if (h[j] < FOV_ON_POINT) { exact = (int)j; break; }
     float w = (r - h[j]) / (r * h[j]);
     if (renka) w *= w;
-    acc += w * colour[idx[j]];
+    if (w != 0.0f) acc += w * colour[idx[j]];  // no weight, no term: a NaN there adds nothing (as in C++)
     wsum += w;
   }
   if (exact >= 0) {
@@ -119,7 +119,7 @@ __kernel void reconstruct_weighted(__global const uint* table, uint canvas_width
   for (uint j = 0; j < k; ++j) {
     idx[j] = table[table_offset(pixel, j, k_stored, group, pixel_count)];
     h[j] = distance(position[idx[j]], centre);
-    acc += w[j] * colour[idx[j]];
+    if (w[j] != 0.0f) acc += w[j] * colour[idx[j]];
   }
   const size_t at = (size_t)sy * width + sx;
   out_rgb[at] = acc;

@@ -1,7 +1,9 @@
+#include <limits>
 #include <cmath>
 #include <iostream>
 #include <random>
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include "fov/cl_reconstruct.h"
@@ -81,6 +83,44 @@ TEST_F(device_fixture, KernelsReproduceAConstantField) {
       ASSERT_NEAR(c.r, 0.25f, 1e-5 * 0.25f) << method_name(m) << " k=" << k;
       ASSERT_NEAR(c.b, 0.75f, 1e-5 * 0.75f) << method_name(m) << " k=" << k;
     }
+  }
+}
+
+// A NaN sample whose weight is zero (the k-th neighbour under modified Shepard) adds
+// nothing on the device, as in C++: both give the pixel the constant around it.
+TEST_F(device_fixture, ANaNSampleWithoutWeightChangesNothingOnEitherPath) {
+  cl_reconstructor device(set);
+  FOV_REQUIRE_DEVICE(device);
+  for (glm::vec3& c : samples.colour) c = {0.25f, 0.5f, 0.75f};
+  const uint32_t k = 5, cx = uint32_t(samples.offset.x) + 10, cy = uint32_t(samples.offset.y) + 10;
+  samples.colour[set.table.at(cx, cy, k - 1)] = glm::vec3(std::numeric_limits<float>::quiet_NaN());
+  reconstruct_params rp;
+  rp.how = method::shepard;
+  rp.k = k;
+  const size_t at = size_t(10) * size_t(set.model.display.width) + 10;
+  const glm::vec3 on_device = device.run(samples, rp).rgb[at], in_cpp = reconstruct(set, samples, rp).rgb[at];
+  EXPECT_NEAR(on_device.r, 0.25f, 1e-5) << "OpenCL";
+  EXPECT_NEAR(in_cpp.r, 0.25f, 1e-5) << "C++";
+}
+
+// The tie rule at float precision: a point closer than on_point_px to a pixel centre is on
+// it, for the float kernels and the double C++ path alike (a point 1e-7 px away made them
+// differ by up to 0.08 under Shepard).
+TEST_F(device_fixture, APointAHairFromAPixelCentreIsOnItOnEitherPath) {
+  const uint32_t cx = uint32_t(samples.offset.x) + 12, cy = uint32_t(samples.offset.y) + 9;
+  const uint32_t i = set.table.at(cx, cy, 0);
+  set.points[i].x = float(cx) + 0.5f + 3e-5f, set.points[i].y = float(cy) + 0.5f;
+  for (glm::vec3& c : samples.colour) c = glm::vec3(0.0f);
+  samples.colour[i] = glm::vec3(1.0f);
+  cl_reconstructor device(set);
+  FOV_REQUIRE_DEVICE(device);
+  const size_t at = size_t(9) * size_t(set.model.display.width) + 12;
+  for (method m : {method::shepard, method::rbf}) {
+    reconstruct_params rp;
+    rp.how = m;
+    rp.k = 8;
+    EXPECT_EQ(device.run(samples, rp).rgb[at].g, 1.0f) << method_name(m) << ", OpenCL";
+    EXPECT_EQ(reconstruct(set, samples, rp).rgb[at].g, 1.0f) << method_name(m) << ", C++";
   }
 }
 
@@ -171,6 +211,7 @@ TEST_F(device_fixture, KernelConstantsAndStructLayoutComeFromTheHost) {
   const std::string options = cl_reconstructor::kernel_build_options();
   EXPECT_NE(options.find("-DFOV_MAX_K=" + std::to_string(max_knn)), std::string::npos) << options;
   EXPECT_NE(options.find("-DFOV_RBF_TILE=" + std::to_string(rbf_weight_cache::tile)), std::string::npos) << options;
+  EXPECT_NE(options.find(fmt::format("-DFOV_ON_POINT={:.9g}f", on_point_px)), std::string::npos) << options;
   cl_reconstructor device(set);
   FOV_REQUIRE_DEVICE(device);
   const std::vector<uint32_t> host = cl_reconstructor::host_taa_camera_layout(), dev = device.device_taa_camera_layout();

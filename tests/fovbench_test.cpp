@@ -85,6 +85,47 @@ TEST(ResultsCsv, AForeignFileIsRefusedWithItsLine) {
   }
 }
 
+// What --resume must not take in: a duplicated configuration, a nan fovbench never writes
+// (an empty cell stands for none), a number beyond a double; a CRLF copy reads as the file.
+TEST(ResultsCsv, CorruptRowsAreRefusedAndCrlfIsRead) {
+  const std::string path = ::testing::TempDir() + "/results-corrupt.csv";
+  std::filesystem::remove(path);
+  {
+    results_writer w(path);
+    w.append(sample_row("nn", "1"));
+    w.append(sample_row("rbf", "32"));
+  }
+  std::ifstream in(path);
+  std::vector<std::string> lines;
+  for (std::string l; std::getline(in, l);) lines.push_back(l);
+  ASSERT_EQ(lines.size(), 3u);
+  auto write = [&](const std::vector<std::string>& ls, const std::string& end) {
+    std::ofstream out(path, std::ios::binary | std::ios::trunc);
+    for (const std::string& l : ls) out << l << end;
+  };
+  auto refused = [&](const std::string& what) {
+    try {
+      read_results(path);
+      ADD_FAILURE() << what << ": accepted";
+    } catch (const std::runtime_error& e) {
+      EXPECT_EQ(std::string(e.what()).rfind(path + ":", 0), 0u) << e.what();
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  write({lines[0], lines[1], lines[2], lines[1]}, "\n");
+  EXPECT_NE(refused("duplicate").find(":4: the same configuration as line 2"), std::string::npos);
+  for (const char* bad : {"nan", "1e999", "12abc"}) {
+    std::filesystem::remove(path);
+    result_row r = sample_row("nn", "1");
+    r.cells["frame_ms"] = bad;
+    results_writer(path).append(r);
+    EXPECT_NE(refused(bad).find(":2: frame_ms '" + std::string(bad) + "' is not a number fovbench writes"), std::string::npos);
+  }
+  write(lines, "\r\n");
+  EXPECT_EQ(read_results(path).size(), 2u);
+}
+
 // A reference is traced once per scene, size and spp, and read back from its files after
 // that: a new cache over the same folder returns the same image and timing, tracing nothing.
 TEST(ReferenceCache, TracesOnceAndReadsTheFilesAfter) {

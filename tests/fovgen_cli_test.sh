@@ -14,6 +14,9 @@ check "k too large"       2 -- "$fovgen" "${small[@]}" --k 33 -o "$dir/a.fovset"
 check "width zero"        2 -- "$fovgen" --width 0 -o "$dir/a.fovset"
 check "height negative"   2 -- "$fovgen" --height -5 -o "$dir/a.fovset"
 check "v zero"            2 -- "$fovgen" "${small[@]}" -v 0 -o "$dir/a.fovset"
+check "v huge"            2 -- "$fovgen" "${small[@]}" -v 1e300 -o "$dir/a.fovset"
+err=$("$fovgen" "${small[@]}" -v 1e300 -o "$dir/a.fovset" 2>&1)
+(( ${#err} < 200 )) || fail "-v 1e300 printed ${#err} characters: $err"
 check "s negative"        2 -- "$fovgen" "${small[@]}" --scale -1 -o "$dir/a.fovset"
 check "unknown display"   2 -- "$fovgen" --display oculus -o "$dir/a.fovset"
 check "unknown encoding"  2 -- "$fovgen" "${small[@]}" --encoding lzma -o "$dir/a.fovset"
@@ -31,6 +34,9 @@ check "k above points"    2 -- "$fovgen" --width 1 --height 1 --k 20 -o "$dir/on
 check "generate"          0 -- "$fovgen" "${small[@]}" --k 8 -o "$dir/a.fovset"
 check "generate 1x1"      0 -- "$fovgen" --width 1 --height 1 --k 1 -o "$dir/one.fovset"
 check "info"              0 -- "$fovgen" info "$dir/a.fovset"
+mv "$dir/a.fovset.gen.json" "$dir/gen.json.saved" && mkdir "$dir/a.fovset.gen.json"
+check "sidecar a directory" 0 -- "$fovgen" info "$dir/a.fovset"
+rmdir "$dir/a.fovset.gen.json" && mv "$dir/gen.json.saved" "$dir/a.fovset.gen.json"
 check "bad gaze"          2 -- "$fovgen" info "$dir/a.fovset" --gaze 10
 check "gaze off screen"   2 -- "$fovgen" info "$dir/a.fovset" --gaze 100,10
 check "plot"              0 -- "$fovgen" plot "$dir/a.fovset" --gaze 10,30 -o "$dir/p.png"

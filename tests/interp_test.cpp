@@ -489,6 +489,58 @@ TEST(Rbf, DuplicatePointsFallBackToShepard) {
   EXPECT_FALSE(rbf_weights(x, y, 3, 0.5, 0.5, 1.0, rbf_kernel::multiquadric, w));
 }
 
+// Points all but on top of each other (an imported set; 1e-7 px apart) pass the pivot test
+// with condition numbers of 1e14 and more (issue 16 measured a constant field off by up to
+// 0.37 through the float weight cache). Such pixels now fall back to Shepard, counted, and
+// the constant comes back from the solve and the cache alike.
+TEST(Rbf, NearDuplicateNeighboursFallBackAndKeepAConstantField) {
+  const glm::vec3 c(0.25f, 0.5f, 0.75f);
+  fixture fx(48, 40, {24, 20}, [&](float, float) { return c; });
+  knn_table& t = fx.set.table;
+  uint32_t moved = 0;
+  for (uint32_t y = 8; y < t.height; y += 16)  // a pixel's second neighbour moved onto its first
+    for (uint32_t x = 8; x < t.width; x += 16, ++moved) {
+      const point& a = fx.set.points[t.at(x, y, 0)];
+      point& b = fx.set.points[t.at(x, y, 1)];
+      b.x = a.x + 1e-7f * std::max(1.0f, a.x), b.y = a.y;
+    }
+  ASSERT_GT(moved, 10u);
+  for (uint32_t k : {5u, 20u}) {
+    reconstruct_params rp;
+    rp.how = method::rbf;
+    rp.k = k;
+    rbf_stats stats;
+    rbf_weight_cache cache(fx.set, rp);
+    const frame direct = reconstruct(fx.set, fx.samples, rp, &stats);
+    const frame cached = reconstruct(fx.set, fx.samples, rp, nullptr, &cache);
+    EXPECT_GT(stats.fallbacks, 0u) << "k=" << k;
+    for (size_t i = 0; i < direct.rgb.size(); ++i)
+      for (int ch = 0; ch < 3; ++ch) {
+        ASSERT_NEAR(direct.rgb[i][ch], c[ch], 1e-5) << "k=" << k << " pixel " << i;
+        ASSERT_NEAR(cached.rgb[i][ch], c[ch], 1e-5) << "k=" << k << " pixel " << i;
+      }
+  }
+}
+
+// A neighbour whose weight is zero adds nothing, NaN included (the k-th neighbour under
+// modified Shepard always weighs zero): the pixel keeps its value; the OpenCL kernels follow
+// the same rule (cl_reconstruct_test).
+TEST(Reconstruct, ANaNSampleWithoutWeightChangesNothing) {
+  const glm::vec3 c(0.25f, 0.5f, 0.75f);
+  fixture fx(40, 36, {20, 18}, [&](float, float) { return c; });
+  const knn_table& t = fx.set.table;
+  const uint32_t k = 5, cx = uint32_t(fx.samples.offset.x) + 10, cy = uint32_t(fx.samples.offset.y) + 10;
+  const uint32_t far = t.at(cx, cy, k - 1);
+  fx.samples.colour[far] = glm::vec3(std::numeric_limits<float>::quiet_NaN());
+  reconstruct_params rp;
+  rp.how = method::shepard;
+  rp.k = k;
+  const frame f = reconstruct(fx.set, fx.samples, rp);
+  const glm::vec3 v = f.rgb[size_t(10) * 40 + 10];
+  EXPECT_NEAR(v.r, c.r, 1e-6) << "the NaN neighbour's zero weight still poisoned the pixel";
+  EXPECT_NEAR(v.b, c.b, 1e-6);
+}
+
 TEST(Rbf, RejectsANonPositiveShape) {
   fixture fx(16, 16, {8, 8}, [](float, float) { return glm::vec3(1); });
   reconstruct_params rp;

@@ -9,6 +9,7 @@
 #include <cstdlib>
 
 #include <iostream>
+#include <new>
 #include <sstream>
 
 #include <fmt/format.h>
@@ -31,10 +32,13 @@ int run_tool(const char* tool, CLI::App& app, int argc, char** argv, const std::
     std::cerr << tool << ": " << e.what() << " (see --help)\n";
     return 2;
   } catch (const usage_error& e) {
-    std::cerr << tool << ": " << e.what() << "\n";
+    std::cerr << tool << ": " << first_line(e.what()) << "\n";
     return 2;
+  } catch (const std::bad_alloc&) {  // what no check foresaw: say so plainly, in one line
+    std::cerr << tool << ": out of memory (an allocation failed; smaller sizes, or a machine with more memory)\n";
+    return 1;
   } catch (const std::exception& e) {
-    std::cerr << tool << ": " << e.what() << "\n";
+    std::cerr << tool << ": " << first_line(e.what()) << "\n";
     return 1;
   }
 }

@@ -1,5 +1,7 @@
 // fovbench: sweeps point-set scale, method, k, rays per sample and gaze over scenes, and
 // measures the speed/accuracy trade against full-resolution references, side by side.
+#include <cmath>
+#include <cstdlib>
 #include <malloc.h>
 #include <unistd.h>
 
@@ -74,8 +76,11 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--temporal-frames", o.temporal_frames, "Frames of the camera path for flicker (0: skip)");
   app.add_flag("--resume", o.resume, "Skip configurations already in results.csv");
-  app.add_option("--budget-psnr", o.budget_psnr, "Report the fastest configuration with PSNR >= this (dB)");
-  app.add_option("--budget-foveated", o.budget_foveated, "... or with foveated error <= this");
+  const CLI::Validator finite(
+      [](std::string& text) { return std::isfinite(std::strtod(text.c_str(), nullptr)) ? "" : "must be a finite number"; },
+      "FINITE");
+  app.add_option("--budget-psnr", o.budget_psnr, "Report the fastest configuration with PSNR >= this (dB)")->check(finite);
+  app.add_option("--budget-foveated", o.budget_foveated, "... or with foveated error <= this")->check(finite);
 
   // fovbench compare TEST REFERENCE: every metric of two images, without a sweep.
   fov::compare_options co;

@@ -141,7 +141,11 @@ void write_provenance(const fov::pointset& set, const std::string& path) {
 // Timings from the provenance file, or nulls when it is missing or unreadable.
 void read_timings(json& j, const std::string& set_path) {
   j["generation_seconds"] = nullptr;
-  std::ifstream in(provenance_path(set_path));
+  // The sidecar is optional: one that is not a small regular file is passed over.
+  const std::string sidecar = provenance_path(set_path);
+  std::error_code ec;
+  if (!fov::input_file_problem(sidecar).empty() || std::filesystem::file_size(sidecar, ec) > (1u << 20) || ec) return;
+  std::ifstream in(sidecar);
   if (!in) return;
   const json p = json::parse(in, nullptr, false);
   if (p.is_discarded()) return;

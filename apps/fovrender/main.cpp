@@ -15,6 +15,7 @@
 #include "../common/image_io.h"
 #include "../common/render_flags.h"
 #include "fov/metrics.h"
+#include "fov/files.h"
 #include "fov/pointset_io.h"
 #include "fov/renderer.h"
 #include "fov/speedup.h"
@@ -43,6 +44,13 @@ void check_options(const render_options& o, const fov::render_params& p) {
     throw usage_error("nothing to do: give -o, --compare or --reference-spp");
   if (o.debug_asked && o.debug_output.empty() && o.outputs.empty()) throw usage_error("--debug-view needs -o or --debug-output");
   if (!o.reference && o.points.empty()) throw usage_error("--points is required unless --reference");
+  // A frame's buffers (colour, depth, samples, the file's pixels) take a few tens of bytes a
+  // pixel: a size the range check passes may still not fit (65536 x 65536 is 275 GB).
+  if (o.points.empty())
+    if (const std::string why = fov::memory_problem(uint64_t(o.width) * uint64_t(o.height) * 64,
+                                                    fmt::format("a {} x {} frame (about 64 bytes a pixel)", o.width, o.height));
+        !why.empty())
+      throw usage_error("--width/--height: " + why);
   if (o.reference && o.taa_frames > 0) throw usage_error("--taa-frames applies to foveated frames, not --reference");
   if (o.reference && o.speedup > 0) throw usage_error("--speedup compares a foveated frame with --reference; give --points instead");
   const bool comparing = !o.compare.empty() || o.reference_spp > 0;

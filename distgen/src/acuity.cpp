@@ -60,7 +60,7 @@ std::string validate(const spacing_model& m) {
     return fmt::format("screen {}x{} is larger than the supported 65536 pixels a side",
                        m.display.width, m.display.height);
   if (!(m.display.viewing_distance > 0) || !std::isfinite(m.display.viewing_distance))
-    return fmt::format("viewing distance must be a positive number of display widths (got {})",
+    return fmt::format("viewing distance must be a positive number of display widths (got {:.4g})",
                        m.display.viewing_distance);
   if (!(m.scale > 0) || !std::isfinite(m.scale))
     return fmt::format("scale must be positive (got {})", m.scale);
@@ -87,9 +87,9 @@ std::string validate(const spacing_model& m) {
   const double corner = std::hypot(double(m.display.width), double(m.display.height));
   const double p0 = point_spacing_px(m, 0.0), p1 = point_spacing_px(m, corner);
   if (!std::isfinite(p0) || !std::isfinite(p1) || !(p0 > 0))
-    return fmt::format("model gives unusable spacing ({} .. {} px)", p0, p1);
+    return fmt::format("model gives unusable spacing ({:.4g} .. {:.4g} px)", p0, p1);
   if (p1 > 0.25 * double(std::max(m.display.width, m.display.height)) && p1 > 64.0)
-    return fmt::format("spacing reaches {:.1f} px at the canvas corner, more than a quarter of the screen; "
+    return fmt::format("spacing reaches {:.4g} px at the canvas corner, more than a quarter of the screen; "
                        "lower the scale or viewing distance", p1);
   return {};
 }

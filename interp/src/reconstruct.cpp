@@ -107,7 +107,7 @@ void shepard_weights(const double* h, uint32_t k, bool renka, double* w) {
   const double r = h[k - 1];
   double wsum = 0;
   for (uint32_t i = 0; i < k; ++i) {
-    if (h[i] == 0) {
+    if (h[i] < on_point_px) {
       for (uint32_t j = 0; j < k; ++j) w[j] = j == i ? 1 : 0;
       return;
     }
@@ -135,7 +135,7 @@ void pixel_weights(const pointset& set, const reconstruct_params& params, uint32
     // A neighbour on the pixel centre (a grid point): the interpolant's value there is its
     // value, exactly, where a solved system would give it only to rounding.
     for (uint32_t j = 0; j < k; ++j)
-      if (dist[j] == 0) {
+      if (dist[j] < on_point_px) {
         if (stats) ++stats->pixels;
         for (uint32_t i = 0; i < k; ++i) w[i] = i == j ? 1 : 0;
         return;
@@ -143,7 +143,13 @@ void pixel_weights(const pointset& set, const reconstruct_params& params, uint32
     const bool sample = stats && (cy * 131 + cx) % 257 == 0;
     double condition = 0;
     if (stats) ++stats->pixels;
-    if (rbf_weights(xs, ys, k, x, y, params.shape * spacing / k, params.kernel, w, sample ? &condition : nullptr)) {
+    bool duplicates = false;  // two neighbours all but on top of each other: a near-singular system
+    for (uint32_t i = 0; i < k && !duplicates; ++i)
+      for (uint32_t j = i + 1; j < k && !duplicates; ++j) {
+        const double a = set.points[t.entries[t.offset(pixel, i)]].spacing, b = set.points[t.entries[t.offset(pixel, j)]].spacing;
+        duplicates = std::hypot(xs[i] - xs[j], ys[i] - ys[j]) < rbf_duplicate_fraction * std::min(a, b);
+      }
+    if (!duplicates && rbf_weights(xs, ys, k, x, y, params.shape * spacing / k, params.kernel, w, sample ? &condition : nullptr)) {
       if (sample) ++stats->sampled, stats->worst_condition = std::max(stats->worst_condition, condition);
       return;
     }
@@ -212,7 +218,7 @@ frame reconstruct(const pointset& set, const point_samples& samples, const recon
           const uint32_t i = t.entries[t.offset(row + tx, j)];
           const point& p = set.points[i];
           dist[j] = std::hypot(double(p.x) - px, double(p.y) - py);
-          if (dist[j] == 0 && on_point < 0) on_point = i;
+          if (dist[j] < on_point_px && on_point < 0) on_point = i;
           const glm::vec3& c = samples.colour[i];
           value[j] = {c.r, c.g, c.b};
           if (std::isfinite(samples.depth[i])) dist_hit[hits] = dist[j], depth[hits++] = samples.depth[i];
@@ -220,10 +226,12 @@ frame reconstruct(const pointset& set, const point_samples& samples, const recon
         rgbd c;
         if (rbf && cache) {
           const float* cached = cache->weights(cx, cy);
-          for (uint32_t j = 0; j < k; ++j) c = c + value[j] * double(cached[j]);
+          for (uint32_t j = 0; j < k; ++j)
+            if (cached[j] != 0) c = c + value[j] * double(cached[j]);
         } else if (rbf) {
           pixel_weights(set, params, cx, cy, weight, stats ? &local : nullptr);
-          for (uint32_t j = 0; j < k; ++j) c = c + value[j] * weight[j];
+          for (uint32_t j = 0; j < k; ++j)
+            if (weight[j] != 0) c = c + value[j] * weight[j];
         } else {
           c = shepard_weighted(dist, value, k, params.renka);
         }

@@ -73,7 +73,8 @@ class texture_resolver {
       return {};
     }
     const fs::path file = dir_ / name;
-    if (!fs::exists(file)) {
+    std::error_code ec;
+    if (!fs::exists(file, ec) && !ec) {
       warn_once(name, fmt::format("texture {} is missing; using the material's factors", file.string()));
       return {};
     }
@@ -156,7 +157,8 @@ std::mutex& assimp_mutex() {
 }
 
 scene_description load_file(const std::string& path) {
-  if (!fs::exists(path)) throw std::runtime_error(fmt::format("{}: no such file", path));
+  std::error_code ec;  // (a loop of links is an error code, not an exception)
+  if (!fs::exists(path, ec) && !ec) throw std::runtime_error(fmt::format("{}: no such file", path));
   if (const std::string why = input_file_problem(path); !why.empty()) throw std::runtime_error(fmt::format("{}: {}", path, why));
   Assimp::Importer importer;
   const unsigned flags = aiProcess_Triangulate | aiProcess_JoinIdenticalVertices | aiProcess_GenSmoothNormals |

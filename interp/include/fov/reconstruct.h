@@ -19,10 +19,17 @@ namespace fov {
 bool rbf_weights(const double* px, const double* py, uint32_t k, double x, double y, double c, rbf_kernel kernel,
                  double* w, double* condition = nullptr);
 
+// A neighbour this close to a pixel centre (pixels) is on it: the pixel takes its value,
+// in every method and on both paths. The one tie rule at float precision: the C++ path
+// measures distances in double, the OpenCL kernels in float, and with a point 1e-7 px away
+// Shepard's weights of ~1e7 made the two differ by up to 0.08; grid points lie exactly on
+// pixel centres (distance 0). The kernels get it as FOV_ON_POINT.
+inline constexpr double on_point_px = 1e-4;
+
 // Modified Shepard as linear weights, from a pixel's neighbours' distances h[0..k)
 // (ascending, k <= max_knn): F = sum w[i] f[i], w[i] = v[i] / sum(v), v = (R - h) / (R h)
 // (squared with renka), R = h[k-1], the farthest;
-//  - h[i] == 0 (a pixel exactly on a point): one-hot on that point;
+//  - h[i] < on_point_px (a pixel on a point): one-hot on the first such;
 //  - every v zero (all neighbours at distance R, including k = 1): 1/k each.
 void shepard_weights(const double* h, uint32_t k, bool renka, double* w);
 
@@ -32,14 +39,20 @@ T shepard_weighted(const double* h, const T* f, uint32_t k, bool renka) {
   double w[max_knn];
   shepard_weights(h, k, renka, w);
   T acc{};
-  for (uint32_t i = 0; i < k; ++i) acc = acc + f[i] * w[i];
+  for (uint32_t i = 0; i < k; ++i)
+    if (w[i] != 0) acc = acc + f[i] * w[i];  // a neighbour without weight adds nothing, NaN included
   return acc;
 }
 
 // The weights of canvas pixel (cx, cy) under `params` (shepard or rbf): the pixel's value is
-// sum w[j] f[j] over its k neighbours, nearest first. An RBF system too close to singular
-// falls back to Shepard's weights (counted in stats); every 257th pixel or so has its
-// condition number sampled. Inputs are not checked (see check_reconstruct_inputs).
+// sum w[j] f[j] over its k neighbours, nearest first, with terms of zero weight left out (a
+// NaN sample there adds nothing; the OpenCL kernels follow the same rule). An RBF system too
+// close to singular, or with two neighbours closer than rbf_duplicate_fraction of their
+// spacing (near-duplicate points, which fovgen never makes but an imported set may: their
+// system passes the pivot test with condition numbers of 1e14 and more), falls back to
+// Shepard's weights (counted in stats); every 257th pixel or so has its condition number
+// sampled. Inputs are not checked (see check_reconstruct_inputs).
+constexpr double rbf_duplicate_fraction = 1e-3;
 void pixel_weights(const pointset& set, const reconstruct_params& params, uint32_t cx, uint32_t cy, double* w,
                    rbf_stats* stats);
 
