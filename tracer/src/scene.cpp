@@ -187,7 +187,12 @@ glm::vec3 env_pyramid::lookup(float s, float t, float ds, float dt) const {
 
 env_pyramid load_env_pyramid(const std::string& file) {
   OIIO::ImageBuf image(file);
-  if (!image.read(0, 0, true, OIIO::TypeDesc::FLOAT))
+  bool read = false;
+  {
+    const stderr_silenced quiet;  // libpng prints its own line for what OpenImageIO reports below
+    read = image.read(0, 0, true, OIIO::TypeDesc::FLOAT);
+  }
+  if (!read)
     throw std::runtime_error(fmt::format("{}: cannot read environment image: {}", file, first_line(image.geterror())));
   const OIIO::ImageSpec& spec = image.spec();
   const bool srgb = !(spec.format == OIIO::TypeDesc::FLOAT || spec.format == OIIO::TypeDesc::HALF ||
