@@ -154,8 +154,10 @@ class reader {
   }
 };
 
-// The line of the first number outside strings that overflows a double (1 if none does).
-int overflow_line(const std::string& text) {
+// Calls f(i, line) for each character of the text outside JSON strings (and their
+// escapes), until f returns false.
+template <class F>
+void outside_strings(const std::string& text, F&& f) {
   int line = 1;
   bool in_string = false;
   for (size_t i = 0; i < text.size(); ++i) {
@@ -166,39 +168,42 @@ int overflow_line(const std::string& text) {
       else if (c == '"') in_string = false;
     } else if (c == '"') {
       in_string = true;
-    } else if (c == '-' || std::isdigit(static_cast<unsigned char>(c))) {
-      size_t j = i;
-      while (j < text.size() && std::strchr("+-.0123456789eE", text[j])) ++j;
-      if (std::isinf(std::strtod(text.substr(i, j - i).c_str(), nullptr))) return line;
-      i = j - 1;
+    } else if (!f(i, line)) {
+      return;
     }
   }
-  return 1;
+}
+
+// The line of the first number that overflows a double (1 if none does).
+int overflow_line(const std::string& text) {
+  int found = 1;
+  size_t after = 0;  // the end of the number last read: each is read once, whole
+  outside_strings(text, [&](size_t i, int line) {
+    if (i < after || (text[i] != '-' && !std::isdigit(static_cast<unsigned char>(text[i])))) return true;
+    size_t j = i;
+    while (j < text.size() && std::strchr("+-.0123456789eE", text[j])) ++j;
+    after = j;
+    if (!std::isinf(std::strtod(text.substr(i, j - i).c_str(), nullptr))) return true;
+    found = line;
+    return false;
+  });
+  return found;
 }
 
 }  // namespace
 
 stair_protocol parse_protocol(const std::string& text, const std::string& file) {
   // Nesting is bounded before anything walks the text: the line map recurses per level.
-  {
-    int depth = 0, line = 1;
-    bool in_string = false;
-    for (size_t i = 0; i < text.size(); ++i) {
-      const char c = text[i];
-      if (c == '\n') ++line;
-      if (in_string) {
-        if (c == '\\') ++i;
-        else if (c == '"') in_string = false;
-      } else if (c == '"') {
-        in_string = true;
-      } else if (c == '{' || c == '[') {
-        if (++depth > max_protocol_depth)
-          throw protocol_error(fmt::format("{}:{}: nested deeper than {} levels", file, line, max_protocol_depth));
-      } else if (c == '}' || c == ']') {
-        --depth;
-      }
+  int depth = 0;
+  outside_strings(text, [&](size_t i, int line) {
+    if (text[i] == '{' || text[i] == '[') {
+      if (++depth > max_protocol_depth)
+        throw protocol_error(fmt::format("{}:{}: nested deeper than {} levels", file, line, max_protocol_depth));
+    } else if (text[i] == '}' || text[i] == ']') {
+      --depth;
     }
-  }
+    return true;
+  });
   json j;
   try {
     j = json::parse(text);
