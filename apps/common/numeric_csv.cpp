@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
-#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
@@ -16,9 +15,8 @@ namespace fov {
 
 numeric_csv read_numeric_csv(const std::string& path, const std::vector<std::string>& headers,
                              const std::string& header_rule, const std::string& what) {
-  if (const std::string why = input_file_problem(path); !why.empty()) throw std::runtime_error(fmt::format("{}: {}", path, why));
-  if (const uintmax_t bytes = std::filesystem::file_size(path); bytes > max_numeric_csv_bytes)
-    throw std::runtime_error(fmt::format("{}: {} bytes; a {} may hold at most {}", path, bytes, what, max_numeric_csv_bytes));
+  if (const std::string why = input_file_problem(path, max_numeric_csv_bytes, what); !why.empty())
+    throw std::runtime_error(fmt::format("{}: {}", path, why));
   std::ifstream in(path);
   if (!in) throw std::runtime_error(fmt::format("{}: cannot open the {}", path, what));
   auto chomp = [](std::string& s) {

@@ -143,8 +143,7 @@ void read_timings(json& j, const std::string& set_path) {
   j["generation_seconds"] = nullptr;
   // The sidecar is optional: one that is not a small regular file is passed over.
   const std::string sidecar = provenance_path(set_path);
-  std::error_code ec;
-  if (!fov::input_file_problem(sidecar).empty() || std::filesystem::file_size(sidecar, ec) > (1u << 20) || ec) return;
+  if (!fov::input_file_problem(sidecar, 1u << 20).empty()) return;
   std::ifstream in(sidecar);
   if (!in) return;
   const json p = json::parse(in, nullptr, false);

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
-#include <filesystem>
 #include <limits>
 #include <fstream>
 #include <map>
@@ -337,9 +336,8 @@ stair_protocol parse_protocol(const std::string& text, const std::string& file) 
 }
 
 stair_protocol load_protocol(const std::string& path) {
-  if (const std::string why = input_file_problem(path); !why.empty()) throw protocol_error(fmt::format("{}: {}", path, why));
-  if (const uintmax_t bytes = std::filesystem::file_size(path); bytes > max_protocol_bytes)
-    throw protocol_error(fmt::format("{}: {} bytes; a protocol file may hold at most {}", path, bytes, max_protocol_bytes));
+  if (const std::string why = input_file_problem(path, max_protocol_bytes, "protocol file"); !why.empty())
+    throw protocol_error(fmt::format("{}: {}", path, why));
   std::ifstream in(path, std::ios::binary);
   if (!in) throw protocol_error(fmt::format("{}: cannot open the protocol file", path));
   std::stringstream text;

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <filesystem>
 #include <fstream>
 #include <numeric>
 #include <optional>
@@ -153,9 +152,8 @@ class record_check {
 }  // namespace
 
 session_data read_session(const std::string& path) {
-  if (const std::string why = input_file_problem(path); !why.empty()) throw std::runtime_error(fmt::format("{}: {}", path, why));
-  if (const uintmax_t bytes = std::filesystem::file_size(path); bytes > max_session_bytes)
-    throw std::runtime_error(fmt::format("{}: {} bytes; a session file may hold at most {}", path, bytes, max_session_bytes));
+  if (const std::string why = input_file_problem(path, max_session_bytes, "session file"); !why.empty())
+    throw std::runtime_error(fmt::format("{}: {}", path, why));
   std::ifstream in(path, std::ios::binary);
   if (!in) throw std::runtime_error(fmt::format("{}: cannot open the session file", path));
   session_data out;

@@ -18,11 +18,13 @@
 
 namespace fov {
 
-std::string input_file_problem(const std::string& path) {
+std::string input_file_problem(const std::string& path, uintmax_t max_bytes, const std::string& what) {
   struct stat st {};
   if (::stat(path.c_str(), &st) != 0) return fmt::format("cannot open: {}", std::strerror(errno));
   if (S_ISDIR(st.st_mode)) return "is a directory, not a file";
   if (!S_ISREG(st.st_mode)) return "not a regular file (a FIFO, device or socket): refused";
+  if (max_bytes > 0 && uintmax_t(st.st_size) > max_bytes)
+    return fmt::format("{} bytes; a {} may hold at most {}", uintmax_t(st.st_size), what, max_bytes);
   return "";
 }
 

@@ -18,8 +18,9 @@ class file_error : public std::runtime_error {
 
 // Why `path` cannot be read as an input file, or "" when it can: it does not exist, is a
 // directory, or is not a regular file (a FIFO, device or socket, whose open or read may
-// block or never end). Symbolic links are followed.
-std::string input_file_problem(const std::string& path);
+// block or never end), or, with `max_bytes`, holds more bytes than that ("N bytes; a
+// `what` may hold at most MAX"). Symbolic links are followed.
+std::string input_file_problem(const std::string& path, uintmax_t max_bytes = 0, const std::string& what = "file");
 
 // The machine's physical memory in bytes (0 when unknown): what no single allocation a
 // file asks for may exceed.
