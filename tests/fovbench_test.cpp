@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <tuple>
 
 #include <gtest/gtest.h>
 
@@ -26,9 +27,15 @@ TEST(Pareto, KeepsOnlyUndominatedPointsSortedByTime) {
   EXPECT_TRUE(pareto_front({}, {}).empty());
 }
 
+// A row as fovbench writes it (every cell within its column's range).
 result_row sample_row(const std::string& method, const std::string& spp) {
   result_row r;
-  for (const std::string& c : result_columns()) r.cells[c] = "1.5";
+  for (const std::string& c : result_columns()) {
+    const bool share = c.rfind("flip", 0) == 0 || c.rfind("foveated_flip", 0) == 0 || c.rfind("noise_floor_flip", 0) == 0 ||
+                       c.rfind("geometry_", 0) == 0 || c == "pixel_fraction";
+    r.cells[c] = c.rfind("ssim", 0) == 0 ? "0.5" : share ? "0.25" : "1.5";
+  }
+  r.cells["kind"] = "foveated";
   r.cells["scene"] = "env:/tmp/a, \"quoted\" name.exr";  // commas and quotes survive
   r.cells["method"] = method;
   r.cells["spp"] = spp;
@@ -115,13 +122,39 @@ TEST(ResultsCsv, CorruptRowsAreRefusedAndCrlfIsRead) {
   };
   write({lines[0], lines[1], lines[2], lines[1]}, "\n");
   EXPECT_NE(refused("duplicate").find(":4: the same configuration as line 2"), std::string::npos);
+  // A row as text, written past the writer (which refuses rows it would not read back).
+  auto line_of = [](const result_row& r) {
+    std::string line;
+    for (const std::string& c : result_columns()) line += (line.empty() ? "" : ",") + csv_cell(r.text(c));
+    return line;
+  };
   for (const char* bad : {"nan", "1e999", "12abc"}) {
-    std::filesystem::remove(path);
     result_row r = sample_row("nn", "1");
     r.cells["frame_ms"] = bad;
-    results_writer(path).append(r);
+    EXPECT_THROW(results_writer(path).append(r), std::logic_error) << bad;
+    write({lines[0], line_of(r)}, "\n");
     EXPECT_NE(refused(bad).find(":2: frame_ms '" + std::string(bad) + "' is not a number fovbench writes"), std::string::npos);
   }
+  // Numbers fovbench never writes, and text cells it never writes: refused by the rule new
+  // rows pass, with the cell named (issue 30: -inf PSNR, a zero frame time, kind bogus,
+  // scale 1e308, an error profile that is not numbers).
+  for (const auto& [column, bad, why] : std::vector<std::tuple<std::string, std::string, std::string>>{
+           {"psnr", "-inf", "psnr -inf lies outside [0, inf]"},
+           {"frame_ms", "0", "frame_ms 0 lies outside (0"},
+           {"frame_ms", "-3", "frame_ms -3 lies outside (0"},
+           {"kind", "bogus", "kind 'bogus' is not foveated, uniform or full"},
+           {"scale", "1e308", "scale 1e308 lies outside (0, 10]"},
+           {"ssim", "1.5", "ssim 1.5 lies outside [-1, 1]"},
+           {"method", "full", "method 'full' is not one a foveated row has"},
+           {"error_profile", "abc;def", "error_profile 'abc;def' is not numbers >= 0 joined by ';'"}}) {
+    result_row r = sample_row("nn", "1");
+    r.cells[column] = bad;
+    EXPECT_NE(result_row_problem(r), "") << column << " " << bad;
+    write({lines[0], line_of(r)}, "\n");
+    const std::string e = refused(column + " " + bad);
+    EXPECT_NE(e.find(":2: " + why), std::string::npos) << e;
+  }
+  EXPECT_EQ(result_row_problem(sample_row("nn", "1")), "");
   write(lines, "\r\n");
   EXPECT_EQ(read_results(path).size(), 2u);
 }

@@ -233,8 +233,12 @@ TEST(SessionFile, NeverOverwritesAndResumeCutsATornLine) {
   std::ofstream(path, std::ios::app) << "{\"type\": \"trial\", \"ind";  // a crash mid-write
   nlohmann::json read_header;
   std::vector<nlohmann::json> trials;
+  // Another subject's --resume is refused before the file is touched: the torn line stays.
+  const auto size_before = std::filesystem::file_size(path);
+  EXPECT_THROW(session_file::resume(path, "S2", read_header, trials), std::runtime_error);
+  EXPECT_EQ(std::filesystem::file_size(path), size_before);
   {
-    session_file f = session_file::resume(path, read_header, trials);
+    session_file f = session_file::resume(path, "S1", read_header, trials);
     EXPECT_EQ(read_header["subject"], "S1");
     ASSERT_EQ(trials.size(), 1u);
     f.append(next_record(true));  // a reversal: the series' one threshold, and the end
@@ -245,7 +249,7 @@ TEST(SessionFile, NeverOverwritesAndResumeCutsATornLine) {
   ASSERT_EQ(d.trials.size(), 2u);
   EXPECT_EQ(d.trials[1]["index"], 1);
   EXPECT_TRUE(d.ended);
-  EXPECT_THROW(session_file::resume(path, read_header, trials), std::runtime_error);  // finished
+  EXPECT_THROW(session_file::resume(path, "S1", read_header, trials), std::runtime_error);  // finished
 }
 
 TEST(SessionPlan, IsDeterministicAndSkipsCatchTrialsInTheStaircase) {

@@ -249,16 +249,44 @@ TEST_F(PointsetFile, HeaderSizesAreBoundedByTheFileBeforeAnyAllocation) {
     std::memcpy(&b[176], &bytes, 8);
   });
   EXPECT_NE(e.find("inconsistent"), std::string::npos) << e;
-  // A 65536 x 65536 screen (its canvas's table 2.2 TB at k = 12): refused naming the memory.
-  e = patched("huge.fovset", [](std::vector<char>& b) {
-    const uint32_t w = 65536, cw = 2 * w;
+  // A screen the file's table section cannot hold (the 4096 x 4096 in a small file):
+  // refused from the header, before the table is allocated or decoded.
+  auto declare_screen = [](std::vector<char>& b, uint32_t w) {
+    const uint32_t cw = 2 * w;
     std::memcpy(&b[16], &w, 4);
     std::memcpy(&b[20], &w, 4);
     std::memcpy(&b[144], &cw, 4);
     std::memcpy(&b[148], &cw, 4);
-  });
-  EXPECT_NE(e.find("GB, more than this machine's"), std::string::npos) << e;
+  };
+  e = patched("4k.fovset", [&](std::vector<char>& b) { declare_screen(b, 4096); });
+  EXPECT_NE(e.find("more than 1024 times its size (refused)"), std::string::npos) << e;
+  EXPECT_NE(e.find("4k.fovset"), std::string::npos) << e;
   EXPECT_EQ(e.find('\n'), std::string::npos) << "one line";
+  // A 65536 x 65536 screen (its canvas's table 2.2 TB at k = 12) whose section could hold
+  // it (a sparse 2.2 GB file): refused naming the machine's memory.
+  e = patched("huge.fovset", [&](std::vector<char>& b) {
+    declare_screen(b, 65536);
+    uint64_t table_offset = 0;
+    std::memcpy(&table_offset, &b[184], 8);
+    const uint64_t section = (uint64_t(131072) * 131072 * 12 * 4) / 1024 + 1;
+    std::memcpy(&b[192], &section, 8);
+  });
+  EXPECT_NE(e.find("inconsistent"), std::string::npos) << "the file is shorter than the section: " << e;
+  {
+    std::vector<char> b = good;
+    declare_screen(b, 65536);
+    uint64_t table_offset = 0;
+    std::memcpy(&table_offset, &b[184], 8);
+    const uint64_t section = (uint64_t(131072) * 131072 * 12 * 4) / 1024 + 1;
+    std::memcpy(&b[192], &section, 8);
+    reseal_header(b);
+    write(path("huge-sparse.fovset"), b);
+    fs::resize_file(path("huge-sparse.fovset"), table_offset + section);  // sparse: no disk used
+    e = load_error(path("huge-sparse.fovset"));
+    EXPECT_NE(e.find("GB, more than this machine's"), std::string::npos) << e;
+    EXPECT_EQ(e.find('\n'), std::string::npos) << "one line";
+    fs::remove(path("huge-sparse.fovset"));
+  }
   // Two points swapped (checksum re-sealed): out of Morton order.
   e = patched("order.fovset", [&](std::vector<char>& b) {
     std::vector<char> first(&b[512], &b[524]);

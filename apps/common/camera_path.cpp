@@ -20,10 +20,9 @@ camera_path load_camera_path(const std::string& path) {
     const std::vector<double>& v = csv.rows[i];
     if (!out.keys.empty() && v[0] < out.keys.back().t)
       throw std::runtime_error(fmt::format("{}:{}: time goes backwards", path, csv.lines[i]));
-    for (int c = 1; c <= 6; ++c)
-      if (!(std::fabs(v[c]) <= max_camera_coordinate))
-        throw std::runtime_error(fmt::format("{}:{}: coordinates must lie within +-{:g} (world units, kept as floats)", path,
-                                             csv.lines[i], max_camera_coordinate));
+    for (int c : {1, 4})
+      if (const std::string why = world_point_problem(v[c], v[c + 1], v[c + 2]); !why.empty())
+        throw std::runtime_error(fmt::format("{}:{}: the {}: {}", path, csv.lines[i], c == 1 ? "eye" : "target", why));
     if (float(v[1]) == float(v[4]) && float(v[2]) == float(v[5]) && float(v[3]) == float(v[6]))
       throw std::runtime_error(fmt::format("{}:{}: the eye is on its target", path, csv.lines[i]));
     out.keys.push_back({v[0], {v[1], v[2], v[3]}, {v[4], v[5], v[6]}});

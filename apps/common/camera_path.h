@@ -17,12 +17,9 @@ struct camera_path {
   camera at(double t_ms, const camera& base) const;
 };
 
-// The largest coordinate a key may have: positions are floats when rendered, and their
-// differences must stay finite.
-constexpr double max_camera_coordinate = 1e30;
-
-// Throws std::runtime_error "FILE:LINE: reason" for a bad header, bad numbers, a
-// coordinate beyond max_camera_coordinate, time going backwards or an eye on its target.
+// Throws std::runtime_error "FILE:LINE: reason" for a bad header, bad numbers, an eye or
+// target that fails world_point_problem (fov/camera.h), time going backwards or an eye on
+// its target.
 camera_path load_camera_path(const std::string& path);
 
 }  // namespace fov

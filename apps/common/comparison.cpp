@@ -138,12 +138,16 @@ std::string run_compare(const compare_options& o) {
   const bool named = !o.display.empty();
   display_geometry display = named ? parse_display(o.display) : display_geometry{};
   if (o.viewing_distance != 0) {
-    if (!(o.viewing_distance > 0 && o.viewing_distance <= 100))
-      throw usage_error(fmt::format("--viewing-distance must lie in (0, 100] display widths (got {})", o.viewing_distance));
+    if (const std::string why = viewing_distance_problem(o.viewing_distance); !why.empty()) throw usage_error("--viewing-distance: " + why);
     display.viewing_distance = o.viewing_distance;
   }
   if (!o.flip && !(o.flip_map.empty() && o.foveated_flip_map.empty()))
     throw usage_error("--no-flip leaves no FLIP map to write");
+  // The maps are checked before anything is read: neither may be an input (or each other).
+  require_output("--flip-map", o.flip_map, {o.test, o.reference});
+  require_output("--foveated-flip-map", o.foveated_flip_map, {o.test, o.reference});
+  if (!o.flip_map.empty() && o.flip_map == o.foveated_flip_map)
+    throw usage_error("--flip-map and --foveated-flip-map name the same file");
   const frame test = read_frame(o.test), reference = read_frame(o.reference);
   if (test.width != reference.width || test.height != reference.height)
     throw usage_error(fmt::format("{} is {}x{} but {} is {}x{}", o.test, test.width, test.height, o.reference, reference.width,

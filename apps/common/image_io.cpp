@@ -68,6 +68,19 @@ frame read_frame(const std::string& path) {
     f.depth.resize(f.rgb.size());
     for (size_t i = 0; i < f.depth.size(); ++i) f.depth[i] = px[i * spec.nchannels + zc];
   }
+  size_t bad = 0, first = 0;
+  for (size_t i = 0; i < f.rgb.size(); ++i) {
+    const glm::vec3& c = f.rgb[i];
+    const bool colour_ok = c.r >= 0 && c.g >= 0 && c.b >= 0 && c.r <= max_image_value && c.g <= max_image_value &&
+                           c.b <= max_image_value;  // false for NaN too
+    const bool depth_ok = f.depth.empty() || f.depth[i] >= 0;
+    if (!(colour_ok && depth_ok) && bad++ == 0) first = i;
+  }
+  if (bad)
+    throw file_error(fmt::format("{}: {} pixel{} NaN, infinite, negative or above {} (first at x = {}, y = {}): not an image "
+                                 "to measure",
+                                 path, bad, bad == 1 ? " is" : "s are", max_image_value, first % size_t(f.width),
+                                 first / size_t(f.width)));
   return f;
 }
 

@@ -13,7 +13,16 @@ namespace fov {
 // Throws file_error naming the path.
 void write_frame(const frame& f, const std::string& path);
 
-// Reads RGB (and depth from a channel Z, else none); 8-bit images are sRGB-decoded to linear. Throws file_error naming the path.
+// The largest linear value an image read for measurement may hold: the largest half float
+// (what OpenEXR's common half channels hold); fovray's frames are display values near 1.
+constexpr float max_image_value = 65504.0f;
+
+// Reads RGB (and depth from a channel Z, else none); 8-bit images are sRGB-decoded to linear.
+// Every image read here is measured (compare, --compare, fovbench's cached references), so
+// one whose colour values are not all finite and within [0, max_image_value], or whose
+// depth is NaN or negative (+inf, no hit, is fine), is refused with the count of such
+// pixels and the first one's position: a metric over them would be a number, silently
+// wrong. Throws file_error naming the path.
 frame read_frame(const std::string& path);
 
 }  // namespace fov

@@ -6,8 +6,7 @@
 
 #include <cerrno>
 #include <cstring>
-#include <fstream>
-#include <iterator>
+#include <algorithm>
 
 #include <fmt/format.h>
 
@@ -22,23 +21,44 @@ namespace {
 }  // namespace
 
 line_log::line_log(const std::string& path, mode m) : path_(path) {
-  const int flags = O_WRONLY | O_APPEND | O_CLOEXEC | (m == mode::open_existing ? 0 : O_CREAT) |
-                    (m == mode::create_new ? O_EXCL : 0);
+  // O_NOFOLLOW: an append is refused through a symbolic link, as every write is (it would
+  // change the link's target); O_NONBLOCK: a FIFO without a reader is refused, not waited on.
+  const int flags = O_RDWR | O_APPEND | O_CLOEXEC | O_NOFOLLOW | O_NONBLOCK |
+                    (m == mode::open_existing ? 0 : O_CREAT) | (m == mode::create_new ? O_EXCL : 0);
   fd_ = ::open(path.c_str(), flags, 0644);
   if (fd_ < 0) {
     if (errno == EEXIST) throw file_exists_error(fmt::format("{}: exists", path));
+    if (errno == ELOOP)
+      throw std::runtime_error(fmt::format("{}: a symbolic link: give the file it points to (appends are refused through links)", path));
     fail_io(path, m == mode::open_existing ? "cannot open for appending" : "cannot create");
+  }
+  struct stat st {};
+  if (::fstat(fd_, &st) != 0 || !S_ISREG(st.st_mode)) {
+    ::close(fd_);
+    throw std::runtime_error(fmt::format("{}: not a regular file (a FIFO, device or socket): refused", path));
   }
   if (m == mode::create_new) {  // the new name must survive a crash too: sync the directory entry
     const std::string dir = path.find('/') == std::string::npos ? "." : path.substr(0, path.rfind('/') + 1);
     if (const int d = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC); d >= 0) ::fsync(d), ::close(d);
     return;
   }
-  // Keep complete lines only: cut a torn last line.
-  std::ifstream in(path, std::ios::binary);
-  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  const size_t keep = text.rfind('\n') == std::string::npos ? 0 : text.rfind('\n') + 1;
-  if (keep < text.size() && ::ftruncate(fd_, off_t(keep)) != 0) {
+  // Keep complete lines only: cut a torn last line (after the last newline).
+  size_t keep = 0;
+  char buffer[4096];
+  for (off_t end = st.st_size; end > 0 && keep == 0;) {
+    const size_t n = size_t(std::min<off_t>(end, off_t(sizeof buffer)));
+    end -= off_t(n);
+    if (::pread(fd_, buffer, n, end) != ssize_t(n)) {
+      ::close(fd_);
+      fail_io(path, "cannot read");
+    }
+    for (size_t i = n; i-- > 0;)
+      if (buffer[i] == '\n') {
+        keep = size_t(end) + i + 1;
+        break;
+      }
+  }
+  if (keep < size_t(st.st_size) && ::ftruncate(fd_, off_t(keep)) != 0) {
     ::close(fd_);
     fail_io(path, "cannot cut the torn last line");
   }

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
-#include <fstream>
 #include <sstream>
 #include <stdexcept>
 
@@ -15,10 +14,7 @@ namespace fov {
 
 numeric_csv read_numeric_csv(const std::string& path, const std::vector<std::string>& headers,
                              const std::string& header_rule, const std::string& what) {
-  if (const std::string why = input_file_problem(path, max_numeric_csv_bytes, what); !why.empty())
-    throw std::runtime_error(fmt::format("{}: {}", path, why));
-  std::ifstream in(path);
-  if (!in) throw std::runtime_error(fmt::format("{}: cannot open the {}", path, what));
+  std::istringstream in(read_input_file(path, max_numeric_csv_bytes, what));
   auto chomp = [](std::string& s) {
     if (!s.empty() && s.back() == '\r') s.pop_back();
   };

@@ -118,8 +118,7 @@ std::shared_ptr<const pointset> bench_pointset(const bench_options& o, const dis
     dart_params darts;
     darts.fovea = o.fovea;
     darts.grid_spacing = o.grid_spacing;
-    require_output_dir("--points-dir", o.points_dir);
-    fs::create_directories(o.points_dir);
+    make_output_dir(o.points_dir);
     save_pointset(path, generate_pointset(model, darts, {}));
   }
   auto set = std::make_shared<const pointset>(load_pointset(path));
@@ -153,20 +152,19 @@ const reference_frame& reference_cache::get(renderer& r, const render_params& ba
   p.seed = seed;
   const std::string settings = render_settings_label(p);
   reference_frame ref;
-  if (fs::exists(file + ".exr") && fs::exists(file + ".json")) {
-    std::ifstream in(file + ".json");
-    const json j = json::parse(in, nullptr, false);
-    if (j.is_discarded() || !j.is_object() || !j.contains("ms") || !j["ms"].is_number() || !j.contains("rays") ||
-        !j["rays"].is_number_unsigned() || j.value("render_settings", "") != settings || j.value("sampler", "") !=
-        label_of(pixel_sampler_labels, p.reference_sampler))
+  std::error_code ec;
+  if (fs::exists(file + ".exr", ec) && fs::exists(file + ".json", ec)) {
+    const reference_meta m = read_reference_meta(file + ".json");
+    if (m.render_settings != settings || m.sampler != label_of(pixel_sampler_labels, p.reference_sampler) || m.spp != spp ||
+        m.seed != seed)
       throw std::runtime_error(fmt::format("{}.json: not a reference of these settings ({}); remove it or use another -o",
                                            file, settings));
     ref.image = read_frame(file + ".exr");
     if (ref.image.width != display_.width || ref.image.height != display_.height)
       throw std::runtime_error(fmt::format("{}.exr: {}x{}, not {}x{}", file, ref.image.width, ref.image.height,
                                            display_.width, display_.height));
-    ref.ms = j["ms"].get<double>();
-    ref.rays = j["rays"].get<uint64_t>();
+    ref.ms = m.ms;
+    ref.rays = m.rays;
     ref.from_disk = true;
   } else {
     if (say) say(fmt::format("reference {} spp, seed {}", spp, seed));
@@ -184,6 +182,27 @@ const reference_frame& reference_cache::get(renderer& r, const render_params& ba
 }
 
 
+
+reference_meta read_reference_meta(const std::string& path) {
+  const json j = json::parse(read_input_file(path, max_reference_meta_bytes, "reference sidecar"), nullptr, false);
+  if (j.is_discarded() || !j.is_object()) throw std::runtime_error(fmt::format("{}: not a JSON object", path));
+  auto field = [&](const char* key, bool (json::*is)() const noexcept, const char* type) -> const json& {
+    if (!j.contains(key) || !(j[key].*is)()) throw std::runtime_error(fmt::format("{}: \"{}\" must be {}", path, key, type));
+    return j[key];
+  };
+  reference_meta m;
+  m.scene = field("scene", &json::is_string, "a string").get<std::string>();
+  m.sampler = field("sampler", &json::is_string, "a string").get<std::string>();
+  m.render_settings = field("render_settings", &json::is_string, "a string").get<std::string>();
+  m.seed = field("seed", &json::is_number_unsigned, "a whole number >= 0").get<uint64_t>();
+  m.rays = field("rays", &json::is_number_unsigned, "a whole number >= 0").get<uint64_t>();
+  const uint64_t spp = field("spp", &json::is_number_unsigned, "a whole number >= 0").get<uint64_t>();
+  if (spp < 1 || spp > max_spp) throw std::runtime_error(fmt::format("{}: \"spp\" {} lies outside 1..{}", path, spp, max_spp));
+  m.spp = uint32_t(spp);
+  m.ms = field("ms", &json::is_number, "a number").get<double>();
+  if (!(m.ms >= 0) || !std::isfinite(m.ms)) throw std::runtime_error(fmt::format("{}: \"ms\" must be finite and >= 0", path));
+  return m;
+}
 
 std::vector<named_gaze> parse_gazes(const std::vector<std::string>& items, const display_geometry& d, uint64_t seed) {
   std::vector<named_gaze> out;
@@ -381,7 +400,7 @@ size_t run_bench(const bench_options& o, const bench_reporter& report) {
   }
   // Only now is anything written.
   report.line(fmt::format("{} configurations, {} already in {}, {} to measure", all.size(), all.size() - todo, results_path, todo));
-  fs::create_directories(fs::path(o.out) / "references");
+  make_output_dir((fs::path(o.out) / "references").string());
   std::optional<results_writer> writer;  // made with the first row: a run that fails before leaves no results.csv
   const auto [seed_a, seed_b] = converged_seeds(o.render.seed);
   uint32_t widest_k = 1;

@@ -33,6 +33,20 @@ struct reference_frame {
   bool from_disk = false;  // read from the cache, not traced by this run
 };
 
+// A cached reference's sidecar (references/*.json): how it was traced and what it cost.
+struct reference_meta {
+  std::string scene, sampler, render_settings;
+  uint32_t spp = 0;
+  uint64_t seed = 0, rays = 0;
+  double ms = 0;
+};
+// The largest sidecar read back.
+constexpr uintmax_t max_reference_meta_bytes = 64 << 10;
+// Reads a sidecar: a regular file of at most max_reference_meta_bytes holding one JSON
+// object with every field above of its type (ms finite and >= 0, spp >= 1); throws
+// std::runtime_error "FILE: reason" (naming the key) otherwise.
+reference_meta read_reference_meta(const std::string& path);
+
 // Converged references, cached in `dir` (EXR + JSON) so a resumed or repeated sweep
 // reuses them: get() traces once per scene, size, spp and seed, and reads the files after.
 class reference_cache {

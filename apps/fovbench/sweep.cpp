@@ -2,7 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
+#include <optional>
+#include <sstream>
 #include <limits>
 #include <map>
 #include <numeric>
@@ -12,6 +13,7 @@
 #include <fmt/format.h>
 
 #include "fov/files.h"
+#include "fov/reconstruct_params.h"
 
 namespace fov {
 
@@ -86,10 +88,56 @@ std::vector<std::string> split_csv(const std::string& line) {
 
 }  // namespace
 
+std::string result_row_problem(const result_row& row) {
+  const std::string& kind = row.text("kind");
+  if (kind != "foveated" && kind != "uniform" && kind != "full")
+    return fmt::format("kind '{}' is not foveated, uniform or full", printable(kind));
+  const std::string& how = row.text("method");
+  method m{};
+  if (kind == "full" ? how != "full" : !parse_label(method_labels, how, m))
+    return fmt::format("method '{}' is not one a {} row has", printable(how), kind);
+  {
+    std::stringstream profile(row.text("error_profile"));
+    std::string v;
+    while (std::getline(profile, v, ';')) {
+      char* end = nullptr;
+      const double x = std::strtod(v.c_str(), &end);
+      if (v.empty() || *end || !(x >= 0) || !std::isfinite(x))
+        return fmt::format("error_profile '{}' is not numbers >= 0 joined by ';'", printable(row.text("error_profile")));
+    }
+  }
+  // Each numeric column's range, by its name.
+  struct range { double lo, hi; bool lo_open, inf_ok; };
+  auto rule = [](const std::string& c) -> std::optional<range> {
+    auto starts = [&](const char* p) { return c.rfind(p, 0) == 0; };
+    constexpr double inf = std::numeric_limits<double>::infinity(), big = std::numeric_limits<double>::max();
+    if (starts("psnr") || starts("noise_floor_psnr") || c == "foveated_psnr") return range{0, inf, false, true};
+    if (starts("ssim")) return range{-1, 1, false, false};
+    if (starts("flip") || starts("foveated_flip") || starts("noise_floor_flip") || starts("geometry_") || c == "pixel_fraction")
+      return range{0, 1, c == "pixel_fraction", false};
+    if (c == "frame_ms" || starts("frame_ms_") || starts("full_ms") || starts("speedup") || c == "spp" || c == "frames" ||
+        c == "reference_spp")
+      return range{0, big, true, false};
+    if (c == "scale") return range{0, 10, true, false};
+    if (c == "k") return range{1, 32, false, false};
+    if (c == "gaze_x" || c == "gaze_y" || c == "points_traced" || c == "rays" || c == "full_rays" || c == "trace_ms" ||
+        c == "reconstruct_ms" || c == "foveated_error" || c == "noise_floor_foveated_error" || starts("flicker"))
+      return range{0, big, false, false};
+    return std::nullopt;
+  };
+  for (const auto& [column, text] : row.cells) {
+    const auto r = rule(column);
+    if (text.empty() || !r) continue;
+    const double v = row.number(column);
+    const bool ok = std::isinf(v) ? (r->inf_ok && v > 0) : (r->lo_open ? v > r->lo : v >= r->lo) && v <= r->hi;
+    const std::string upper = r->inf_ok ? "inf]" : r->hi == std::numeric_limits<double>::max() ? "inf)" : fmt::format("{:g}]", r->hi);
+    if (!ok) return fmt::format("{} {} lies outside {}{:g}, {}", column, printable(text), r->lo_open ? "(" : "[", r->lo, upper);
+  }
+  return "";
+}
+
 std::vector<result_row> read_results(const std::string& path) {
-  if (const std::string why = input_file_problem(path); !why.empty()) throw std::runtime_error(fmt::format("{}: {}", path, why));
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw std::runtime_error(fmt::format("{}: cannot open", path));
+  std::istringstream in(read_input_file(path, max_results_bytes, "results.csv"));
   auto chomp = [](std::string& s) {  // a file saved with CRLF line ends reads the same
     if (!s.empty() && s.back() == '\r') s.pop_back();
   };
@@ -124,6 +172,8 @@ std::vector<result_row> read_results(const std::string& path) {
       }
       r.cells[header[i]] = c;
     }
+    if (const std::string why = result_row_problem(r); !why.empty())
+      throw std::runtime_error(fmt::format("{}:{}: {} (not a row fovbench writes)", path, number, why));
     if (const auto [it, added] = first_line.emplace(r.key(), number); !added)
       throw std::runtime_error(fmt::format("{}:{}: the same configuration as line {} (a results.csv holds each once)", path,
                                            number, it->second));
@@ -140,6 +190,8 @@ results_writer::results_writer(const std::string& path) : log_(path, line_log::m
 }
 
 void results_writer::append(const result_row& row) {
+  if (const std::string why = result_row_problem(row); !why.empty())  // a defect in fovbench, never data
+    throw std::logic_error(fmt::format("fovbench made a row it would not read back: {}", why));
   std::string line;
   for (const std::string& c : result_columns()) line += (line.empty() ? "" : ",") + csv_cell(row.text(c));
   log_.append_line(line);

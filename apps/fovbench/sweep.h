@@ -23,9 +23,21 @@ struct result_row {
 // The columns, in file order (docs/speed-accuracy.md explains each).
 const std::vector<std::string>& result_columns();
 
-// Reads results.csv; throws std::runtime_error "FILE:LINE: reason" when the header is not
-// result_columns(), a row has the wrong number of cells, a numeric cell is not a number
-// fovbench writes (finite, inf, or empty; never nan), or a row repeats an earlier row's
+// Why a row is not one fovbench writes, or "" when it is: the rule every row passes, read
+// back (--resume) or about to be written. Text cells: kind foveated, uniform or full, a
+// method its kind has, error_profile numbers >= 0 joined by ';'. Numbers (empty where a
+// column does not apply): PSNR >= 0 or inf; SSIM in [-1, 1]; FLIP, geometry shares and
+// pixel_fraction in [0, 1]; times, counts, errors and flicker finite and >= 0; frame and
+// full-frame times, speedups, scale (<= 10), k (<= 32), spp and frames > 0.
+std::string result_row_problem(const result_row& row);
+
+// The largest results.csv read back (about 300,000 rows).
+constexpr uintmax_t max_results_bytes = uintmax_t(256) << 20;
+
+// Reads results.csv; throws std::runtime_error "FILE:LINE: reason" when the file is not a
+// regular file of at most max_results_bytes, the header is not result_columns(), a row has
+// the wrong number of cells, a numeric cell is not a number fovbench writes (finite, inf,
+// or empty; never nan), a row fails result_row_problem, or a row repeats an earlier row's
 // configuration (key()). A torn last line (no newline: an interrupted write) is ignored;
 // CRLF line ends read as LF.
 std::vector<result_row> read_results(const std::string& path);

@@ -73,9 +73,8 @@ fov::spacing_model model_from(const generate_options& o, CLI::App& app) {
   m.scale = o.scale;
   if (o.width <= 0 && app.count("--width")) throw usage_error(fmt::format("--width must be positive (got {})", o.width));
   if (o.height <= 0 && app.count("--height")) throw usage_error(fmt::format("--height must be positive (got {})", o.height));
-  if (!(m.display.viewing_distance > 0) || !std::isfinite(m.display.viewing_distance))
-    throw usage_error(fmt::format("--viewing-distance must be a positive number of display widths (got {})",
-                                  m.display.viewing_distance));
+  if (const std::string why = fov::viewing_distance_problem(m.display.viewing_distance); !why.empty())
+    throw usage_error("--viewing-distance: " + why);
   if (!(o.scale > 0) || !std::isfinite(o.scale))
     throw usage_error(fmt::format("--scale must be positive (got {})", o.scale));
   if (o.k < 1 || o.k > fov::max_knn) throw usage_error(fmt::format("--k must lie in 1..{} (got {})", fov::max_knn, o.k));

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <set>
 #include <sstream>
 #include <stdexcept>
 
@@ -15,9 +16,8 @@
 namespace fov {
 
 std::vector<threshold_value> read_thresholds_csv(const std::string& path) {
-  if (const std::string why = input_file_problem(path); !why.empty()) throw std::runtime_error(fmt::format("{}: {}", path, why));
-  std::ifstream in(path);
-  if (!in) throw std::runtime_error(fmt::format("{}: cannot open", path));
+  std::istringstream in(read_input_file(path, max_thresholds_bytes, "thresholds CSV"));
+  std::set<std::string> conditions;
   std::string line;
   if (!std::getline(in, line)) throw std::runtime_error(fmt::format("{}: empty file", path));
   if (!line.empty() && line.back() == '\r') line.pop_back();
@@ -42,6 +42,9 @@ std::vector<threshold_value> read_thresholds_csv(const std::string& path) {
     }
     if (!(v.threshold > 0) || !std::isfinite(v.threshold))
       throw std::runtime_error(fmt::format("{}:{}: threshold must be positive (the analysis takes logs)", path, number));
+    if (conditions.insert(v.condition).second && conditions.size() > max_threshold_conditions)
+      throw std::runtime_error(fmt::format("{}:{}: more than {} conditions (a protocol's most)", path, number,
+                                           max_threshold_conditions));
     out.push_back(v);
   }
   if (out.empty()) throw std::runtime_error(fmt::format("{}: no threshold rows", path));

@@ -14,8 +14,14 @@ struct threshold_value {
   double threshold = 0;
 };
 
-// A CSV with the header subject,condition,threshold (one row per threshold value).
-// Throws std::runtime_error "FILE:LINE: reason".
+// The largest thresholds CSV read (about 40,000 rows), and the most conditions it may
+// name: a protocol's (the analysis compares every pair of them).
+constexpr uintmax_t max_thresholds_bytes = uintmax_t(1) << 20;
+constexpr size_t max_threshold_conditions = 64;
+
+// A CSV with the header subject,condition,threshold (one row per threshold value): a
+// regular file of at most max_thresholds_bytes naming at most max_threshold_conditions
+// conditions. Throws std::runtime_error "FILE:LINE: reason".
 std::vector<threshold_value> read_thresholds_csv(const std::string& path);
 void write_thresholds_csv(const std::vector<threshold_value>& values, const std::string& path);  // temp + rename
 

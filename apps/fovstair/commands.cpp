@@ -45,14 +45,6 @@ std::string now_iso() {
   return buffer;
 }
 
-std::string read_text(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw std::runtime_error(fmt::format("{}: cannot open", path));
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
 }  // namespace
 
 int run_session(const run_options& o) {
@@ -66,18 +58,21 @@ int run_session(const run_options& o) {
   if (gaze_udp < 0 || gaze_udp > 65535) throw usage_error(fmt::format("--gaze-udp {}: not a port", gaze_udp));
   if (!std::regex_match(subject, std::regex("[A-Za-z0-9_]{1,32}")))
     throw usage_error(fmt::format("--subject '{}': use 1-32 letters, digits or _", subject));
+  // --out is made only when the session file is (a run that cannot start leaves nothing).
+  require_output_dir("--out", out_dir);
   std::error_code ec;
-  fs::create_directories(out_dir, ec);
-  if (!fs::is_directory(out_dir)) throw std::runtime_error(fmt::format("--out {}: not a directory", out_dir));
-  // Session number: the next free one, or (--resume) the newest.
+  const bool out_exists = fs::is_directory(out_dir, ec);
+  // Session number: the next free one, or (--resume) the newest. Session numbers have at
+  // most six digits (--session); other names in the folder are not sessions.
   if (session.empty()) {
     int newest = 0;
-    const std::regex name(subject + "-([0-9]+)\\.jsonl");
-    for (const auto& e : fs::directory_iterator(out_dir)) {
-      std::smatch m;
-      const std::string file = e.path().filename().string();
-      if (std::regex_match(file, m, name)) newest = std::max(newest, std::stoi(m[1]));
-    }
+    const std::regex name(subject + "-([0-9]{1,6})\\.jsonl");
+    if (out_exists)
+      for (const auto& e : fs::directory_iterator(out_dir, ec)) {
+        std::smatch m;
+        const std::string file = e.path().filename().string();
+        if (std::regex_match(file, m, name)) newest = std::max(newest, std::stoi(m[1]));
+      }
     if (resume && newest == 0) throw std::runtime_error(fmt::format("--resume: no session of {} in {}", subject, out_dir));
     session = std::to_string(resume ? newest : newest + 1);
   }
@@ -100,15 +95,13 @@ int run_session(const run_options& o) {
   std::string protocol_text;
   if (resume) {
     if (!protocol_path.empty()) std::cerr << "fovstair: note: --resume uses the protocol stored in the session, not --protocol\n";
-    file.emplace(session_file::resume(path, header, done));
+    file.emplace(session_file::resume(path, subject, header, done));
     protocol_text = header.at("protocol_text").get<std::string>();  // read_session checked the header's fields
-    if (header.at("subject") != subject)
-      throw std::runtime_error(fmt::format("{}: belongs to subject {}", path, header.at("subject").get<std::string>()));
     if (header.contains("observer") && header["observer"].is_string() && !observer)
       observer = parse_observer(header["observer"].get<std::string>());
   } else {
     if (protocol_path.empty()) throw usage_error("run: --protocol is required");
-    protocol_text = read_text(protocol_path);
+    protocol_text = read_protocol_text(protocol_path);
   }
   const stair_protocol p = parse_protocol(protocol_text, resume ? path + " (stored protocol)" : protocol_path);
   stair_session state(p, subject);
@@ -140,6 +133,7 @@ int run_session(const run_options& o) {
   // The session file is created only once the window, scene and sets are ready, so a
   // run that cannot start leaves nothing behind.
   if (!resume) {
+    make_output_dir(out_dir);
     std::vector<std::string> order;
     for (uint32_t c : state.order()) order.push_back(p.conditions[c].name);
     header = {{"type", "session"},     {"fovstair", 1},          {"subject", subject},
@@ -280,6 +274,11 @@ int analyze(const analyze_options& o) {
   const bool as_json = o.json;
   std::vector<threshold_value> values;
   std::vector<session_data> sessions;
+  // Outputs checked before anything is read or written: never one of the inputs.
+  std::vector<std::string> all_inputs = inputs;
+  all_inputs.push_back(thresholds_csv);
+  require_output("--out-csv", out_csv, all_inputs);
+  if (!plots_dir.empty()) require_output_dir("--plots", plots_dir);
   if (!thresholds_csv.empty()) {
     if (!inputs.empty()) throw usage_error("analyze: give session files or --thresholds, not both");
     values = read_thresholds_csv(thresholds_csv);
@@ -295,7 +294,7 @@ int analyze(const analyze_options& o) {
   std::vector<std::string> plots;
   if (!sessions.empty()) {
     if (plots_dir.empty()) plots_dir = (fs::path(inputs.front()).parent_path() / "plots").string();
-    fs::create_directories(plots_dir);
+    make_output_dir(plots_dir);
     for (const session_data& s : sessions) {
       const stair_protocol p = parse_protocol(s.header.at("protocol_text").get<std::string>(), "stored protocol");  // checked
       for (const stair_condition& c : p.conditions) {

@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "fov/files.h"
+#include "fov/json_scan.h"
 #include "fov/knn_table.h"
 
 namespace fov {
@@ -153,31 +154,11 @@ class reader {
   }
 };
 
-// Calls f(i, line) for each character of the text outside JSON strings (and their
-// escapes), until f returns false.
-template <class F>
-void outside_strings(const std::string& text, F&& f) {
-  int line = 1;
-  bool in_string = false;
-  for (size_t i = 0; i < text.size(); ++i) {
-    const char c = text[i];
-    if (c == '\n') ++line;
-    if (in_string) {
-      if (c == '\\') ++i;
-      else if (c == '"') in_string = false;
-    } else if (c == '"') {
-      in_string = true;
-    } else if (!f(i, line)) {
-      return;
-    }
-  }
-}
-
 // The line of the first number that overflows a double (1 if none does).
 int overflow_line(const std::string& text) {
   int found = 1;
   size_t after = 0;  // the end of the number last read: each is read once, whole
-  outside_strings(text, [&](size_t i, int line) {
+  outside_json_strings(text, [&](size_t i, int line) {
     if (i < after || (text[i] != '-' && !std::isdigit(static_cast<unsigned char>(text[i])))) return true;
     size_t j = i;
     while (j < text.size() && std::strchr("+-.0123456789eE", text[j])) ++j;
@@ -193,16 +174,8 @@ int overflow_line(const std::string& text) {
 
 stair_protocol parse_protocol(const std::string& text, const std::string& file) {
   // Nesting is bounded before anything walks the text: the line map recurses per level.
-  int depth = 0;
-  outside_strings(text, [&](size_t i, int line) {
-    if (text[i] == '{' || text[i] == '[') {
-      if (++depth > max_protocol_depth)
-        throw protocol_error(fmt::format("{}:{}: nested deeper than {} levels", file, line, max_protocol_depth));
-    } else if (text[i] == '}' || text[i] == ']') {
-      --depth;
-    }
-    return true;
-  });
+  if (const int line = json_too_deep_line(text, max_protocol_depth))
+    throw protocol_error(fmt::format("{}:{}: nested deeper than {} levels", file, line, max_protocol_depth));
   json j;
   try {
     j = json::parse(text);
@@ -336,13 +309,15 @@ stair_protocol parse_protocol(const std::string& text, const std::string& file) 
 }
 
 stair_protocol load_protocol(const std::string& path) {
-  if (const std::string why = input_file_problem(path, max_protocol_bytes, "protocol file"); !why.empty())
-    throw protocol_error(fmt::format("{}: {}", path, why));
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw protocol_error(fmt::format("{}: cannot open the protocol file", path));
-  std::stringstream text;
-  text << in.rdbuf();
-  return parse_protocol(text.str(), path);
+  return parse_protocol(read_protocol_text(path), path);
+}
+
+std::string read_protocol_text(const std::string& path) {
+  try {
+    return read_input_file(path, max_protocol_bytes, "protocol file");
+  } catch (const file_error& e) {
+    throw protocol_error(e.what());
+  }
 }
 
 std::vector<double> reachable_scales(const stair_protocol& p) {

@@ -81,6 +81,9 @@ constexpr uint64_t max_protocol_trials = uint64_t(max_protocol_conditions) * max
 
 // Parses and validates; every error names the file and the line of the offending value.
 stair_protocol load_protocol(const std::string& path);
+// The protocol file's text, read as load_protocol reads it (a regular file of at most
+// max_protocol_bytes; protocol_error naming the file otherwise): `run` stores it.
+std::string read_protocol_text(const std::string& path);
 stair_protocol parse_protocol(const std::string& text, const std::string& name_for_errors);
 
 // The scales a series can visit: scale_min + i x step (and the initial steps), rounded to 0.01.

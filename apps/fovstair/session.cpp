@@ -5,6 +5,7 @@
 #include <fstream>
 #include <numeric>
 #include <optional>
+#include <sstream>
 #include <stdexcept>
 
 #include <fmt/format.h>
@@ -152,10 +153,7 @@ class record_check {
 }  // namespace
 
 session_data read_session(const std::string& path) {
-  if (const std::string why = input_file_problem(path, max_session_bytes, "session file"); !why.empty())
-    throw std::runtime_error(fmt::format("{}: {}", path, why));
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw std::runtime_error(fmt::format("{}: cannot open the session file", path));
+  std::istringstream in(read_input_file(path, max_session_bytes, "session file"));
   session_data out;
   std::string line;
   int number = 0;
@@ -236,8 +234,12 @@ session_data read_session(const std::string& path) {
   return out;
 }
 
-session_file session_file::resume(const std::string& path, nlohmann::json& header, std::vector<nlohmann::json>& trials) {
+session_file session_file::resume(const std::string& path, const std::string& subject, nlohmann::json& header,
+                                  std::vector<nlohmann::json>& trials) {
   session_data d = read_session(path);
+  // Refused before the file is touched: the torn last line stays for its own subject.
+  if (d.header.at("subject") != subject)
+    throw std::runtime_error(fmt::format("{}: belongs to subject {}", path, printable(d.header.at("subject").get<std::string>())));
   if (d.ended) throw std::runtime_error(fmt::format("{}: the session is finished; nothing to resume", path));
   session_file f(line_log(path, line_log::mode::open_existing));  // cuts a torn last line
   header = d.header;

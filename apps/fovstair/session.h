@@ -66,7 +66,9 @@ class session_file {
   static session_file create(const std::string& path, const nlohmann::json& header);
   // Opens an existing session to continue it: returns its header and trials. A torn
   // last line (a crash while writing) is cut off; a finished session is refused.
-  static session_file resume(const std::string& path, nlohmann::json& header, std::vector<nlohmann::json>& trials);
+  // Refuses (before touching the file) a session of another subject or one that ended.
+  static session_file resume(const std::string& path, const std::string& subject, nlohmann::json& header,
+                             std::vector<nlohmann::json>& trials);
   void append(const nlohmann::json& record);
 
  private:

@@ -18,14 +18,46 @@
 
 namespace fov {
 
-std::string input_file_problem(const std::string& path, uintmax_t max_bytes, const std::string& what) {
-  struct stat st {};
-  if (::stat(path.c_str(), &st) != 0) return fmt::format("cannot open: {}", std::strerror(errno));
+namespace {
+
+std::string stat_problem(const struct stat& st, uintmax_t max_bytes, const std::string& what) {
   if (S_ISDIR(st.st_mode)) return "is a directory, not a file";
   if (!S_ISREG(st.st_mode)) return "not a regular file (a FIFO, device or socket): refused";
   if (max_bytes > 0 && uintmax_t(st.st_size) > max_bytes)
     return fmt::format("{} bytes; a {} may hold at most {}", uintmax_t(st.st_size), what, max_bytes);
   return "";
+}
+
+}  // namespace
+
+std::string input_file_problem(const std::string& path, uintmax_t max_bytes, const std::string& what) {
+  struct stat st {};
+  if (::stat(path.c_str(), &st) != 0) return fmt::format("cannot open: {}", std::strerror(errno));
+  return stat_problem(st, max_bytes, what);
+}
+
+std::string read_input_file(const std::string& path, uintmax_t max_bytes, const std::string& what) {
+  const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+  if (fd < 0) throw file_error(fmt::format("{}: cannot open: {}", path, std::strerror(errno)));
+  struct stat st {};
+  std::string why = ::fstat(fd, &st) != 0 ? fmt::format("cannot read: {}", std::strerror(errno))
+                                          : stat_problem(st, max_bytes > 0 ? max_bytes : physical_memory_bytes(), what);
+  std::string text;
+  if (why.empty()) {
+    text.resize(size_t(st.st_size));
+    size_t done = 0;
+    while (done < text.size()) {
+      const ssize_t n = ::read(fd, text.data() + done, text.size() - done);
+      if (n < 0 && errno == EINTR) continue;
+      if (n < 0) why = fmt::format("cannot read: {}", std::strerror(errno));
+      if (n <= 0) break;  // shorter than it was: what was there
+      done += size_t(n);
+    }
+    text.resize(done);
+  }
+  ::close(fd);
+  if (!why.empty()) throw file_error(fmt::format("{}: {}", path, why));
+  return text;
 }
 
 uint64_t physical_memory_bytes() {
@@ -83,6 +115,21 @@ std::string output_file_problem(const std::string& path, const std::vector<std::
   for (const std::string& in : inputs)
     if (!in.empty() && same_file(path, in)) return fmt::format("is also an input ({}): refused, it would be overwritten", in);
   return "";
+}
+
+void make_output_dir(const std::string& dir) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  fs::path at;
+  for (const fs::path& part : fs::path(dir)) {
+    at /= part;
+    if (part.empty() || part == "/") continue;
+    const fs::file_status st = fs::status(at, ec);
+    if (fs::is_directory(st)) continue;
+    if (fs::exists(st)) throw file_error(fmt::format("{}: cannot make the directory: {} is not a directory", dir, at.string()));
+    if (!fs::create_directory(at, ec) && !fs::is_directory(at))
+      throw file_error(fmt::format("{}: cannot make the directory {}: {}", dir, at.string(), ec.message()));
+  }
 }
 
 bool same_file(const std::string& a, const std::string& b) {

@@ -53,15 +53,19 @@ double point_spacing_px(const spacing_model& model, double distance_px) {
   return fd / fc0 - (1.0 - a);
 }
 
+std::string viewing_distance_problem(double v) {
+  if (v >= min_viewing_distance && v <= max_viewing_distance) return "";
+  return fmt::format("viewing distance must lie in {}..{} display widths (got {:.4g})", min_viewing_distance,
+                     max_viewing_distance, v);
+}
+
 std::string validate(const spacing_model& m) {
   if (m.display.width <= 0) return fmt::format("width must be positive (got {})", m.display.width);
   if (m.display.height <= 0) return fmt::format("height must be positive (got {})", m.display.height);
   if (m.display.width > 65536 || m.display.height > 65536)
     return fmt::format("screen {}x{} is larger than the supported 65536 pixels a side",
                        m.display.width, m.display.height);
-  if (!(m.display.viewing_distance > 0) || !std::isfinite(m.display.viewing_distance))
-    return fmt::format("viewing distance must be a positive number of display widths (got {:.4g})",
-                       m.display.viewing_distance);
+  if (std::string why = viewing_distance_problem(m.display.viewing_distance); !why.empty()) return why;
   if (!(m.scale > 0) || !std::isfinite(m.scale))
     return fmt::format("scale must be positive (got {})", m.scale);
   switch (m.acuity.model) {

@@ -309,7 +309,9 @@ void save_pointset(const std::string& path, const pointset& set, const save_para
                 params);
 }
 
-pointset load_pointset(const std::string& path, const load_params& params) {
+namespace {
+
+pointset load_checked(const std::string& path, const load_params& params) {
   auto fail = [&](const std::string& why) { return file_error(fmt::format("{}: {}", path, why)); };
   if (const std::string why = input_file_problem(path); !why.empty()) throw fail(why);
   std::ifstream in(path, std::ios::binary);
@@ -372,6 +374,15 @@ pointset load_pointset(const std::string& path, const load_params& params) {
       h.table_offset > file_size || h.table_bytes > file_size - h.table_offset)
     throw fail(fmt::format("truncated or inconsistent: {} bytes, the header places its sections at {} (+{}) and {} (+{})",
                            file_size, h.points_offset, h.points_bytes, h.table_offset, h.table_bytes));
+  // The canvas the header declares, bounded by what the file holds: a compressed table
+  // section expands at most max_table_expansion times (above a small floor).
+  const uint64_t table_entry_bytes = pixels * h.k * 4;
+  if (h.encoding != uint32_t(table_encoding::raw) &&
+      table_entry_bytes > std::max(min_table_expansion_bound, h.table_bytes * max_table_expansion))
+    throw fail(fmt::format("declares a {} x {} canvas with k = {}: {:.2f} GB of k-NN table from a {:.2f} MB table section, more "
+                           "than {} times its size (refused)",
+                           h.canvas_width, h.canvas_height, h.k, double(table_entry_bytes) / 1e9, double(h.table_bytes) / 1e6,
+                           max_table_expansion));
 
   set.points.resize(h.point_count);
   read_at(h.points_offset, set.points.data(), h.points_bytes);
@@ -397,7 +408,6 @@ pointset load_pointset(const std::string& path, const load_params& params) {
   t.group = h.group;
   if (!params.table) return set;
 
-  const uint64_t table_entry_bytes = pixels * h.k * 4;
   if (const std::string why = memory_problem(table_entry_bytes, fmt::format("the k-NN table ({} x {} pixels, k = {})",
                                                                             h.canvas_width, h.canvas_height, h.k));
       !why.empty())
@@ -465,6 +475,16 @@ pointset load_pointset(const std::string& path, const load_params& params) {
   if (params.group && params.group != t.group) t = regroup(t, params.group);
   set_knn_radii(t, set.points);
   return set;
+}
+
+}  // namespace
+
+pointset load_pointset(const std::string& path, const load_params& params) {
+  try {
+    return load_checked(path, params);
+  } catch (const std::bad_alloc&) {  // what the memory check did not foresee (a process limit): the file named
+    throw file_error(fmt::format("{}: out of memory while loading it (a smaller set, or more memory)", path));
+  }
 }
 
 }  // namespace fov

@@ -278,6 +278,7 @@ RTCDevice shared_device() {
 
 scene::scene(scene_description description) : impl_(std::make_unique<impl>()) {
   impl& d = *impl_;
+  if (const std::string why = geometry_problem(description); !why.empty()) throw std::invalid_argument(why);
   d.desc = std::move(description);
   if (d.desc.materials.empty()) d.desc.materials.push_back({});
   d.device = shared_device();
@@ -339,7 +340,6 @@ scene::scene(scene_description description) : impl_(std::make_unique<impl>()) {
   d.normal_matrix.resize(d.desc.instances.size());
   for (size_t i = 0; i < d.desc.instances.size(); ++i) {
     const instance& in = d.desc.instances[i];
-    if (in.mesh >= d.desc.meshes.size()) throw std::invalid_argument("instance of a mesh that does not exist");
     d.normal_matrix[i] = glm::transpose(glm::inverse(glm::mat3(in.transform)));
     RTCGeometry g = rtcNewGeometry(d.device, RTC_GEOMETRY_TYPE_INSTANCE);
     rtcSetGeometryInstancedScene(g, d.mesh_scenes[in.mesh]);
@@ -400,11 +400,44 @@ namespace {
 bool finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 }  // namespace
 
+std::string geometry_problem(const scene_description& d) {
+  auto point_problem = [](const glm::vec3& p) { return world_point_problem(p.x, p.y, p.z); };
+  for (size_t m = 0; m < d.meshes.size(); ++m)
+    for (const glm::vec3& p : d.meshes[m].positions)
+      if (const std::string why = point_problem(p); !why.empty())
+        return fmt::format("mesh {}: a vertex out of range ({}; refused)", m, why);
+  for (const instance& in : d.instances) {
+    const std::string name = in.node.empty() ? "an instance" : fmt::format("node '{}'", printable(in.node));
+    if (in.mesh >= d.meshes.size()) return fmt::format("{}: places a mesh that does not exist", name);
+    const glm::mat4& t = in.transform;
+    bool ok = true;
+    for (int c = 0; c < 4; ++c)
+      for (int r = 0; r < 4; ++r) ok = ok && std::isfinite(t[c][r]);
+    if (!ok) return fmt::format("{}: its transform is not finite (refused)", name);
+    if (t[0][3] != 0 || t[1][3] != 0 || t[2][3] != 0 || t[3][3] != 1)
+      return fmt::format("{}: its transform is projective, not affine (refused)", name);
+    const glm::mat3 linear(t), inverse = glm::inverse(linear);
+    bool within = true;  // (NaN fails)
+    for (int c = 0; c < 3; ++c)
+      for (int r = 0; r < 3; ++r)
+        within = within && std::fabs(linear[c][r]) <= max_transform_scale && std::fabs(inverse[c][r]) <= max_transform_scale;
+    if (!within)
+      return fmt::format("{}: its transform scales its mesh by more than {:g} or less than {:g} (refused)", name,
+                         max_transform_scale, 1 / max_transform_scale);
+    for (const glm::vec3& p : d.meshes[in.mesh].positions)
+      if (const std::string why = point_problem(glm::vec3(t * glm::vec4(p, 1))); !why.empty())
+        return fmt::format("{}: places a vertex out of range ({}; refused)", name, why);
+  }
+  return "";
+}
+
 std::string validate(const camera_overrides& o) {
   if (o.hfov_deg != 0 && !(o.hfov_deg > 0 && o.hfov_deg < 180))
     return fmt::format("--hfov: the field of view must lie in (0, 180) degrees (got {})", o.hfov_deg);
-  if (o.eye && !finite(*o.eye)) return "--eye: not a finite point";
-  if (o.target && !finite(*o.target)) return "--look-at: not a finite point";
+  for (const auto& [flag, point] : {std::pair{"--eye", &o.eye}, std::pair{"--look-at", &o.target}})
+    if (*point)
+      if (const std::string why = world_point_problem((**point).x, (**point).y, (**point).z); !why.empty())
+        return fmt::format("{}: {}", flag, why);
   if (o.up && !(finite(*o.up) && glm::length(*o.up) > 0)) return "--up: not a finite, non-zero direction";
   if (o.eye && o.target && glm::length(*o.target - *o.eye) <= 1e-6f * std::max(1.0f, glm::length(*o.eye)))
     return "--look-at: the target is the eye";
@@ -424,6 +457,9 @@ camera setup_camera(const scene& s, const camera_overrides& o) {
     cam.forward = glm::normalize(d);
   }
   if (o.up) cam.up = glm::normalize(*o.up);
+  // The scene's own camera (or the one framing its bounds) within range too.
+  if (const std::string why = world_point_problem(cam.position.x, cam.position.y, cam.position.z); !why.empty())
+    throw std::runtime_error(fmt::format("the scene's camera: {}; place it with --eye", why));
   if ((o.target || o.up) && glm::length(glm::cross(cam.forward, cam.up)) < 1e-4f)
     throw usage_error("--up: parallel to the view direction (give another --up)");
   return cam;

@@ -6,6 +6,11 @@
 #include <set>
 #include <stdexcept>
 
+#include <sys/stat.h>
+
+#include <cstring>
+
+#include <assimp/DefaultIOSystem.h>
 #include <assimp/DefaultLogger.hpp>
 #include <assimp/GltfMaterial.h>
 #include <assimp/LogStream.hpp>
@@ -13,9 +18,11 @@
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 #include <fmt/format.h>
+#include <nlohmann/json.hpp>
 #include <OpenImageIO/imageio.h>
 
 #include "fov/files.h"
+#include "fov/json_scan.h"
 #include "fov/scene.h"
 
 namespace fov {
@@ -35,11 +42,22 @@ glm::mat4 to_glm(const aiMatrix4x4& m) {
   return glm::mat4(m.a1, m.b1, m.c1, m.d1, m.a2, m.b2, m.c2, m.d2, m.a3, m.b3, m.c3, m.d3, m.a4, m.b4, m.c4, m.d4);
 }
 
-const aiNode* find_node(const aiNode* node, const aiString& name) {
-  if (node->mName == name) return node;
-  for (unsigned i = 0; i < node->mNumChildren; ++i)
-    if (const aiNode* n = find_node(node->mChildren[i], name)) return n;
-  return nullptr;
+// The node tree walked without recursion, parents before children: f(node, depth).
+template <class F>
+void walk_nodes(const aiNode* root, F&& f) {
+  std::vector<std::pair<const aiNode*, int>> stack{{root, 1}};
+  while (!stack.empty()) {
+    const auto [node, depth] = stack.back();
+    stack.pop_back();
+    if (!f(node, depth)) return;
+    for (unsigned i = node->mNumChildren; i-- > 0;) stack.emplace_back(node->mChildren[i], depth + 1);
+  }
+}
+
+const aiNode* find_node(const aiNode* root, const aiString& name) {
+  const aiNode* found = nullptr;
+  walk_nodes(root, [&](const aiNode* n, int) { return n->mName == name ? (found = n, false) : true; });
+  return found;
 }
 
 glm::mat4 world_transform(const aiNode* node) {
@@ -48,12 +66,104 @@ glm::mat4 world_transform(const aiNode* node) {
   return t;
 }
 
-void flatten(const aiNode* node, const glm::mat4& parent, std::vector<instance>& out,
-             const std::vector<int>& mesh_map) {
-  const glm::mat4 t = parent * to_glm(node->mTransformation);
-  for (unsigned i = 0; i < node->mNumMeshes; ++i)
-    if (mesh_map[node->mMeshes[i]] >= 0) out.push_back({uint32_t(mesh_map[node->mMeshes[i]]), t});
-  for (unsigned i = 0; i < node->mNumChildren; ++i) flatten(node->mChildren[i], t, out, mesh_map);
+// The node hierarchy as instances (world transforms), without recursion. A placement that
+// scales its mesh to (almost) nothing draws nothing: skipped, with a warning.
+void flatten(const aiNode* root, std::vector<instance>& out, const std::vector<int>& mesh_map,
+             std::vector<std::string>& warnings) {
+  walk_nodes(root, [&](const aiNode* node, int) {
+    const glm::mat4 t = world_transform(node);
+    const glm::mat3 linear(t), inverse = glm::inverse(linear);
+    bool finite = true, inverse_within = true;  // (NaN fails both)
+    for (int c = 0; c < 3; ++c)
+      for (int r = 0; r < 3; ++r)
+        finite = finite && std::isfinite(linear[c][r]), inverse_within = inverse_within && std::fabs(inverse[c][r]) <= max_transform_scale;
+    const bool vanishes = finite && !inverse_within;
+    for (unsigned i = 0; i < node->mNumMeshes; ++i) {
+      if (node->mMeshes[i] >= mesh_map.size() || mesh_map[node->mMeshes[i]] < 0) continue;
+      if (vanishes) {
+        warnings.push_back(fmt::format("node '{}' scales its mesh below {:g}: not drawn", printable(node->mName.C_Str()),
+                                       1 / max_transform_scale));
+        break;
+      }
+      out.push_back({uint32_t(mesh_map[node->mMeshes[i]]), t, node->mName.C_Str()});
+    }
+    return true;
+  });
+}
+
+// Every file Assimp opens for a scene (the scene file, a glTF's buffers, an OBJ's .mtl) is
+// checked first: a regular file (a FIFO would block forever) of at most
+// max_scene_file_bytes, and not empty. Refused files are remembered with the reason, so the
+// error names them; the files read are the scene's inputs.
+class checked_io : public Assimp::DefaultIOSystem {
+ public:
+  bool Exists(const char* file) const override {
+    struct stat st {};
+    return ::stat(file, &st) == 0;  // the default opens the file, which blocks on a FIFO
+  }
+  Assimp::IOStream* Open(const char* file, const char* mode) override {
+    if (std::strchr(mode, 'w') || std::strchr(mode, 'a') || std::strchr(mode, '+')) {
+      refused.push_back(fmt::format("{}: the importer asked to write it (refused)", file));
+      return nullptr;
+    }
+    std::string why = input_file_problem(file, max_scene_file_bytes, "scene file");
+    if (why.empty() && std::filesystem::file_size(file) == 0) why = "is empty (0 bytes)";
+    if (!why.empty()) {
+      refused.push_back(fmt::format("{}: {}", file, why));
+      return nullptr;
+    }
+    read.emplace_back(file);
+    return Assimp::DefaultIOSystem::Open(file, mode);
+  }
+  std::vector<std::string> refused, read;
+};
+
+// A glTF's JSON (a .gltf file, a .glb's first chunk), checked before Assimp parses it:
+// nesting at most max_gltf_json_depth, and a node tree (children by index) at most
+// max_node_depth deep in which every node has at most one parent and no node is its own
+// ancestor. "" when fine, or when the JSON does not parse (Assimp's error then says why).
+std::string gltf_structure_problem(const std::string& path, const std::string& extension) {
+  std::string text = read_input_file(path, max_scene_file_bytes, "scene file");
+  if (extension == ".glb") {
+    uint32_t length = 0, type = 0;
+    if (text.size() < 20) return "";
+    std::memcpy(&length, text.data() + 12, 4), std::memcpy(&type, text.data() + 16, 4);
+    if (type != 0x4E4F534Au || length > text.size() - 20) return "";
+    text = text.substr(20, length);
+  }
+  if (const int line = json_too_deep_line(text, max_gltf_json_depth))
+    return fmt::format("line {}: JSON nested deeper than {} levels (refused)", line, max_gltf_json_depth);
+  const nlohmann::json j = nlohmann::json::parse(text, nullptr, false);
+  if (j.is_discarded() || !j.is_object() || !j.contains("nodes") || !j["nodes"].is_array()) return "";
+  const nlohmann::json& nodes = j["nodes"];
+  std::vector<long> parent(nodes.size(), -1);
+  for (size_t i = 0; i < nodes.size(); ++i) {
+    if (!nodes[i].is_object() || !nodes[i].contains("children") || !nodes[i]["children"].is_array()) continue;
+    for (const nlohmann::json& c : nodes[i]["children"]) {
+      if (!c.is_number_unsigned() || c.get<uint64_t>() >= nodes.size())
+        return fmt::format("node {}: a child that is not a node index (refused)", i);
+      const size_t child = c.get<size_t>();
+      if (parent[child] >= 0 || child == i)
+        return fmt::format("node {}: the child of more than one node, or of itself (refused: glTF nodes form trees)", child);
+      parent[child] = long(i);
+    }
+  }
+  std::vector<int> depth(nodes.size(), 0);  // 0: not known yet
+  for (size_t i = 0; i < nodes.size(); ++i) {
+    std::vector<size_t> chain;  // up to a node whose depth is known, or the root
+    size_t n = i;
+    while (depth[n] == 0) {
+      chain.push_back(n);
+      if (chain.size() > size_t(max_node_depth))
+        return fmt::format("node {}: nested deeper than {} levels, or in a cycle (refused)", i, max_node_depth);
+      if (parent[n] < 0) break;
+      n = size_t(parent[n]);
+    }
+    int d = depth[n] == 0 ? 0 : depth[n];
+    for (size_t c = chain.size(); c-- > 0;) depth[chain[c]] = ++d;
+    if (d > max_node_depth) return fmt::format("node {}: nested deeper than {} levels (refused)", i, max_node_depth);
+  }
+  return "";
 }
 
 class texture_resolver {
@@ -91,8 +201,10 @@ class texture_resolver {
       warn_once(name, fmt::format("texture {} {}; using the material's factors", file.string(), why));
       return {};
     }
+    if (seen_files_.insert(file.string()).second) files_.push_back(file.string());
     return {file.string(), srgb};
   }
+  const std::vector<std::string>& files() const { return files_; }
 
  private:
   void warn_once(const std::string& key, std::string message) {
@@ -100,7 +212,8 @@ class texture_resolver {
   }
   fs::path dir_;
   std::vector<std::string>& warnings_;
-  std::set<std::string> seen_;
+  std::set<std::string> seen_, seen_files_;
+  std::vector<std::string> files_;
 };
 
 material convert_material(const aiMaterial* m, texture_resolver& textures) {
@@ -159,8 +272,15 @@ std::mutex& assimp_mutex() {
 scene_description load_file(const std::string& path) {
   std::error_code ec;  // (a loop of links is an error code, not an exception)
   if (!fs::exists(path, ec) && !ec) throw std::runtime_error(fmt::format("{}: no such file", path));
-  if (const std::string why = input_file_problem(path); !why.empty()) throw std::runtime_error(fmt::format("{}: {}", path, why));
+  if (const std::string why = input_file_problem(path, max_scene_file_bytes, "scene file"); !why.empty())
+    throw std::runtime_error(fmt::format("{}: {}", path, why));
+  const std::string extension = lowercase(fs::path(path).extension().string());
+  if (extension == ".gltf" || extension == ".glb")
+    if (const std::string why = gltf_structure_problem(path, extension); !why.empty())
+      throw std::runtime_error(fmt::format("{}: {}", path, why));
   Assimp::Importer importer;
+  auto* io = new checked_io;  // the importer owns it
+  importer.SetIOHandler(io);
   const unsigned flags = aiProcess_Triangulate | aiProcess_JoinIdenticalVertices | aiProcess_GenSmoothNormals |
                          aiProcess_CalcTangentSpace | aiProcess_FlipUVs | aiProcess_SortByPType;
   const aiScene* ai = nullptr;
@@ -173,13 +293,21 @@ scene_description load_file(const std::string& path) {
         throw std::runtime_error(fmt::format("{}: faces with vertex indices out of range (refused; Assimp: {})", path,
                                              m.substr(m.find(':') == std::string::npos ? 0 : m.find(':') + 2)));
   }
+  if (!io->refused.empty())  // a file the scene refers to, named with the reason
+    throw std::runtime_error(fmt::format("{} (read for {})", io->refused.front(), path));
   if (!ai || !ai->mRootNode)
     throw std::runtime_error(fmt::format("{}: cannot load scene: {}", path, first_line(importer.GetErrorString())));
+  int deepest = 0;
+  walk_nodes(ai->mRootNode, [&](const aiNode*, int depth) { return (deepest = std::max(deepest, depth)) <= max_node_depth; });
+  if (deepest > max_node_depth)
+    throw std::runtime_error(fmt::format("{}: nodes nested deeper than {} levels (refused)", path, max_node_depth));
 
   scene_description d;
+  d.files = io->read;
   texture_resolver textures(fs::path(path).parent_path(), d.warnings);
   for (unsigned i = 0; i < ai->mNumMaterials; ++i) d.materials.push_back(convert_material(ai->mMaterials[i], textures));
 
+  d.files.insert(d.files.end(), textures.files().begin(), textures.files().end());
   std::vector<int> mesh_map(ai->mNumMeshes, -1);
   for (unsigned i = 0; i < ai->mNumMeshes; ++i) {
     const aiMesh* am = ai->mMeshes[i];
@@ -223,8 +351,10 @@ scene_description load_file(const std::string& path) {
     mesh_map[i] = int(d.meshes.size());
     d.meshes.push_back(std::move(m));
   }
-  flatten(ai->mRootNode, glm::mat4(1.0f), d.instances, mesh_map);
-  if (d.instances.empty()) throw std::runtime_error(fmt::format("{}: the scene has no triangles", path));
+  flatten(ai->mRootNode, d.instances, mesh_map, d.warnings);
+  if (d.instances.empty())
+    throw std::runtime_error(fmt::format("{}: the scene has no triangles{}", path, d.warnings.empty() ? "" : " (" + d.warnings.back() + ")"));
+  if (const std::string why = geometry_problem(d); !why.empty()) throw std::runtime_error(fmt::format("{}: {}", path, why));
 
   if (ai->mNumCameras > 0) {
     const aiCamera* c = ai->mCameras[0];
@@ -235,8 +365,7 @@ scene_description load_file(const std::string& path) {
     // mHorizontalFOV (the full angle's linear approximation, not half an angle). For glTF
     // the node alone places the camera, and the vertical field of view is kept as the
     // file states it: yfov = mHorizontalFOV / mAspect (mAspect 0 when the file gives none).
-    const std::string ext = lowercase(std::filesystem::path(path).extension().string());
-    const bool gltf = ext == ".gltf" || ext == ".glb";
+    const bool gltf = extension == ".gltf" || extension == ".glb";
     const glm::vec3 local = gltf ? glm::vec3(0) : glm::vec3(c->mPosition.x, c->mPosition.y, c->mPosition.z);
     const glm::vec3 eye = glm::vec3(t * glm::vec4(local, 1));
     const glm::vec3 look = glm::mat3(t) * glm::vec3(c->mLookAt.x, c->mLookAt.y, c->mLookAt.z);
@@ -293,6 +422,7 @@ std::unique_ptr<scene> load_scene(const std::string& spec) {
                                            file, s.width, s.height, max_env_pixels, 2 * max_env_height, max_env_height));
     scene_description d;
     d.env.latlong_file = file;
+    d.files = {file};
     d.env.colour = glm::vec3(0);
     if (std::abs(s.width - 2 * s.height) > s.height / 8)
       d.warnings.push_back(fmt::format("{}: {}x{} is not 2:1; reading it as lat-long anyway", file, s.width, s.height));

@@ -22,6 +22,12 @@ class file_error : public std::runtime_error {
 // `what` may hold at most MAX"). Symbolic links are followed.
 std::string input_file_problem(const std::string& path, uintmax_t max_bytes = 0, const std::string& what = "file");
 
+// Reads the whole of an input file: refused as input_file_problem(path, max_bytes, what)
+// says (with max_bytes 0, the machine's memory bounds it), checked on the
+// descriptor it reads, which is opened without blocking, so a FIFO or device put in the
+// file's place after a check is refused too. Throws file_error "PATH: reason".
+std::string read_input_file(const std::string& path, uintmax_t max_bytes, const std::string& what = "file");
+
 // The machine's physical memory in bytes (0 when unknown): what no single allocation a
 // file asks for may exceed.
 uint64_t physical_memory_bytes();
@@ -87,6 +93,11 @@ class temp_output {
   bool committed_ = false;
   int slot_ = -1;  // in the signal handler's list
 };
+
+// Makes the directory `dir` and its missing parents; file_error "DIR: reason" in one line
+// (a part of the path that is a file, a directory it cannot write in) instead of the
+// filesystem library's text.
+void make_output_dir(const std::string& dir);
 
 // Writes bytes to `path` through a temp_output.
 void write_file_atomic(const std::string& path, const void* data, size_t bytes);

@@ -14,6 +14,13 @@ struct display_geometry {
   double viewing_distance = 1.0;  // v: eye-to-screen distance / screen width
 };
 
+// The viewing distances every tool takes, in display widths: from 0.01 (a 178 degree field
+// of view across the width) to 1000 (0.06 degrees); outside them pixels per degree and the
+// eccentricities of the acuity model leave any display (a 1e-300 distance gave NaN FLIP).
+constexpr double min_viewing_distance = 0.01, max_viewing_distance = 1000;
+// "" when v lies in that range, else why not (naming the range).
+std::string viewing_distance_problem(double v);
+
 // Where the viewer looks: a screen position in pixels, continuous; (0, 0) is the top-left
 // corner of the top-left pixel, y grows downwards. The one gaze type of every library and app.
 struct gaze_point {

@@ -49,8 +49,16 @@ void save_pointset(const std::string& path, const pointset& set, uint32_t k, uin
 // Writes a set whose table is in memory.
 void save_pointset(const std::string& path, const pointset& set, const save_params& params = {});
 
+// A compressed table section may expand to at most this many times its size (real sets:
+// 8-15x, docs/pointset-format.md; zstd itself allows about 32,000x), except that tables of
+// up to min_table_expansion_bound bytes are always allowed: a 2 MB file declaring an 8 GB
+// table is refused from its header, before anything is allocated.
+constexpr uint64_t max_table_expansion = 1024;
+constexpr uint64_t min_table_expansion_bound = uint64_t(64) << 20;
+
 // Reads and verifies a file (with table = false, table.entries stays empty but its shape is set): magic, version, checksums, sizes, parameter ranges,
-// point coordinates and every table index. Throws file_error.
+// the canvas against the table section (max_table_expansion), point coordinates and every
+// table index. Throws file_error naming the file, for running out of memory too.
 pointset load_pointset(const std::string& path, const load_params& params = {});
 
 

@@ -50,6 +50,7 @@ struct mesh {
 struct instance {
   uint32_t mesh = 0;
   glm::mat4 transform{1.0f};
+  std::string node;  // the file's node that places it (for messages)
 };
 
 struct light {
@@ -77,7 +78,15 @@ struct scene_description {
   environment env;
   std::optional<camera> scene_camera;  // from the file, when it has one
   std::vector<std::string> warnings;   // one per problem item, in load order
+  std::vector<std::string> files;      // every file it was read from (scene, buffers, images)
 };
+
+// "" when Embree may be given the description's geometry, else why not (naming the mesh or
+// node): every vertex finite and within max_world_coordinate (fov/camera.h) in its mesh and
+// placed in the world; every placement finite, affine, and scaling its mesh by at most
+// max_transform_scale either way; every instance of a mesh that exists. The scene
+// constructor refuses (std::invalid_argument) what fails it; load_scene names the file.
+std::string geometry_problem(const scene_description& d);
 
 // A scene ready to trace: Embree BVH (two levels: meshes, instances), textures.
 class scene {
@@ -118,8 +127,18 @@ camera setup_camera(const scene& s, const camera_overrides& o = {});
 
 // "builtin", "env:FILE" (an environment image and no geometry) or a glTF 2.0 / OBJ
 // file (through Assimp). Missing textures and degenerate triangles are warned about
-// once each and skipped; an unreadable file throws std::runtime_error naming it.
+// once each and skipped; an unreadable file throws std::runtime_error naming it. Every
+// file a scene reads (the scene, its buffers, its images) must be a regular file of at most
+// max_scene_file_bytes; a glTF's JSON is refused before Assimp parses it when it nests
+// deeper than max_gltf_json_depth or its node tree is deeper than max_node_depth, cyclic,
+// or shares a node between parents (Assimp recurses once per level and crashed at 20,000).
+// Meshes a node scales below 1 / max_transform_scale are skipped with a warning; the
+// geometry must pass geometry_problem.
 std::unique_ptr<scene> load_scene(const std::string& spec);
+
+constexpr uintmax_t max_scene_file_bytes = uintmax_t(4) << 30;
+constexpr int max_gltf_json_depth = 64;
+constexpr int max_node_depth = 256;
 
 // The largest env: image (width x height; 8192 x 4096): its float MIP pyramid takes about
 // 0.5 GB. Larger images are refused with the size in the message.

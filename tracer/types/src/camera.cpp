@@ -2,7 +2,16 @@
 
 #include <cmath>
 
+#include <fmt/format.h>
+
 namespace fov {
+
+std::string world_point_problem(double x, double y, double z) {
+  if (!(std::isfinite(x) && std::isfinite(y) && std::isfinite(z))) return "not a finite point";
+  if (std::fabs(x) > max_world_coordinate || std::fabs(y) > max_world_coordinate || std::fabs(z) > max_world_coordinate)
+    return fmt::format("a coordinate beyond +-{:g} world units", max_world_coordinate);
+  return "";
+}
 
 camera_frame make_frame(const camera& cam, int width, int height) {
   camera_frame f;

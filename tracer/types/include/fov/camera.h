@@ -1,9 +1,24 @@
 // Pinhole camera: screen pixels to rays and back.
 #pragma once
 
+#include <string>
+
 #include <glm/glm.hpp>
 
 namespace fov {
+
+// The largest |coordinate| (world units) of anything placed in the world: a camera's eye
+// and target (flags, camera path rows) and a scene's vertices, in their mesh and placed.
+// Embree aborts on a ray whose origin lies beyond about 1.8e18 (its FLT_LARGE), and
+// instances carry rays into their meshes' coordinates through inverse transforms of up to
+// max_transform_scale: 1e9 keeps every ray of such scenes inside Embree's range.
+constexpr double max_world_coordinate = 1e9;
+// The most a placement (a glTF node's transform, composed) may scale its mesh, or the
+// inverse: scenes scaled by more are refused, meshes scaled below its inverse are skipped.
+constexpr double max_transform_scale = 1e6;
+
+// "" when (x, y, z) is finite and within max_world_coordinate, else why not.
+std::string world_point_problem(double x, double y, double z);
 
 struct camera {
   glm::vec3 position{0, 0, 0};
