@@ -1,6 +1,8 @@
 // fovbench's data handling: the Pareto front, results.csv round trips, torn lines, the
 // reference cache, and what its options accept.
 #include <cmath>
+#include <sys/stat.h>
+
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -157,6 +159,53 @@ TEST(ResultsCsv, CorruptRowsAreRefusedAndCrlfIsRead) {
   EXPECT_EQ(result_row_problem(sample_row("nn", "1")), "");
   write(lines, "\r\n");
   EXPECT_EQ(read_results(path).size(), 2u);
+}
+
+// A reference's sidecar is read through the one checked read: a FIFO does not block, a
+// directory or a value of the wrong type is refused in one line naming the file and key
+// (issue 30: they hung, or printed a raw json or filebuf message).
+TEST(ReferenceMeta, SpecialFilesAndWrongTypesAreRefusedNamingTheFile) {
+  const std::string dir = ::testing::TempDir() + "/refmeta";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir + "/as-dir.json");
+  ASSERT_EQ(mkfifo((dir + "/fifo.json").c_str(), 0600), 0);
+  std::ofstream(dir + "/type.json") << R"({"scene": "builtin", "spp": 4, "seed": 1, "ms": 2.5, "rays": 9, "sampler": "sobol", "render_settings": 3})";
+  std::ofstream(dir + "/good.json") << R"({"scene": "builtin", "spp": 4, "seed": 1, "ms": 2.5, "rays": 9, "sampler": "sobol", "render_settings": "x"})";
+  std::ofstream(dir + "/neg.json") << R"({"scene": "builtin", "spp": 4, "seed": 1, "ms": -1, "rays": 9, "sampler": "sobol", "render_settings": "x"})";
+  for (const auto& [name, why] : std::vector<std::pair<std::string, std::string>>{
+           {"as-dir.json", "is a directory"}, {"fifo.json", "not a regular file"},
+           {"type.json", "\"render_settings\" must be a string"}, {"neg.json", "\"ms\" must be finite and >= 0"}}) {
+    try {
+      read_reference_meta(dir + "/" + name);
+      ADD_FAILURE() << name << ": accepted";
+    } catch (const std::runtime_error& e) {
+      const std::string m = e.what();
+      EXPECT_EQ(m.rfind(dir + "/" + name + ": ", 0), 0u) << m;
+      EXPECT_NE(m.find(why), std::string::npos) << m;
+    }
+  }
+  const reference_meta m = read_reference_meta(dir + "/good.json");
+  EXPECT_EQ(m.spp, 4u);
+  EXPECT_DOUBLE_EQ(m.ms, 2.5);
+}
+
+// --resume appends to results.csv: through a symbolic link it is refused, as a write is,
+// and the link's target is left as it was.
+TEST(ResultsCsv, AppendsRefuseSymbolicLinks) {
+  const std::string dir = ::testing::TempDir() + "/results-link";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir + "/elsewhere.csv") << "precious\n";
+  std::filesystem::create_symlink(dir + "/elsewhere.csv", dir + "/results.csv");
+  try {
+    results_writer w(dir + "/results.csv");
+    ADD_FAILURE() << "appended through a link";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("a symbolic link"), std::string::npos) << e.what();
+  }
+  std::ifstream in(dir + "/elsewhere.csv");
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(text, "precious\n");
 }
 
 // A reference is traced once per scene, size and spp, and read back from its files after

@@ -15,12 +15,18 @@
 
 namespace fov {
 
+std::string image_format_problem(const std::string& path) {
+  const std::string ext = std::filesystem::path(path).extension().string();
+  if (ext.empty()) return "no extension to choose the image format by";
+  if (!OIIO::ImageOutput::create(ext.substr(1))) return fmt::format("unsupported image format '{}'", ext);
+  return "";
+}
+
 void write_frame(const frame& f, const std::string& path) {
   const std::string ext = std::filesystem::path(path).extension().string();
-  if (ext.empty()) throw file_error(fmt::format("{}: no extension to choose the image format by", path));
+  if (const std::string why = image_format_problem(path); !why.empty()) throw file_error(fmt::format("{}: {}", path, why));
   const bool linear = ext == ".exr" || ext == ".EXR" || ext == ".hdr";
   auto out = OIIO::ImageOutput::create(ext.substr(1));
-  if (!out) throw file_error(fmt::format("{}: unsupported image format '{}'", path, ext));
   temp_output tmp(path, ext);  // OpenImageIO picks the format by the name's extension
   // An EXR keeps the depth too, as channel Z (+inf where no ray hit), when the frame has it.
   const bool depth = (ext == ".exr" || ext == ".EXR") && f.depth.size() == f.rgb.size();

@@ -17,6 +17,10 @@ void write_frame(const frame& f, const std::string& path);
 // (what OpenEXR's common half channels hold); fovray's frames are display values near 1.
 constexpr float max_image_value = 65504.0f;
 
+// "" when write_frame can write `path`'s format (its extension names one OpenImageIO
+// writes), else why not: checked before a tool renders anything.
+std::string image_format_problem(const std::string& path);
+
 // Reads RGB (and depth from a channel Z, else none); 8-bit images are sRGB-decoded to linear.
 // Every image read here is measured (compare, --compare, fovbench's cached references), so
 // one whose colour values are not all finite and within [0, max_image_value], or whose

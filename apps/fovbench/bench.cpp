@@ -103,13 +103,19 @@ std::string fovea_text(const bench_options& o) {
   return fovea_label(d);
 }
 
+// Where the set for one scale lives in --points-dir.
+std::string bench_pointset_path(const bench_options& o, const display_geometry& display, double scale) {
+  display_geometry preset;
+  const std::string name = display_preset(o.display, preset) ? o.display : fmt::format("{}x{}", display.width, display.height);
+  return (fs::path(o.points_dir) /
+          fmt::format("{}-s{:.2f}{}.fovset", name, scale, o.fovea == fovea_layout::grid ? "-" + fovea_text(o) : ""))
+      .string();
+}
+
 // The set for one scale, generated when missing.
 std::shared_ptr<const pointset> bench_pointset(const bench_options& o, const display_geometry& display, double scale,
                                                const std::function<void(const std::string&)>& say) {
-  display_geometry preset;
-  const std::string name = display_preset(o.display, preset) ? o.display : fmt::format("{}x{}", display.width, display.height);
-  const std::string path = (fs::path(o.points_dir) / fmt::format("{}-s{:.2f}{}.fovset", name, scale,
-                                                                  o.fovea == fovea_layout::grid ? "-" + fovea_text(o) : "")).string();
+  const std::string path = bench_pointset_path(o, display, scale);
   if (!fs::exists(path)) {
     say(fmt::format("generating {}", path));
     spacing_model model;
@@ -275,6 +281,13 @@ display_geometry check_bench_options(const bench_options& o) {
   if (!problem.empty()) throw usage_error(problem);
   const display_geometry display = parse_display(o.display);
   parse_gazes(o.gazes, display, o.render.seed);
+  // Sets that will be generated need a --points-dir this process can write in: known now,
+  // not after the references are traced.
+  for (double s : o.scales)
+    if (!fs::exists(bench_pointset_path(o, display, s))) require_output_dir("--points-dir", o.points_dir);
+  // -o/references must be (or become) a directory.
+  if (const fs::path refs = fs::path(o.out) / "references"; fs::exists(refs) && !fs::is_directory(refs))
+    throw usage_error(fmt::format("-o {}: {} is not a directory", o.out, refs.string()));
   for (const std::string& scene : o.scenes) {  // fail before any output, not an hour in
     const std::string file = scene.rfind("env:", 0) == 0 ? scene.substr(4) : scene;
     if (scene == "builtin") continue;

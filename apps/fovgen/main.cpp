@@ -219,10 +219,13 @@ void progress(size_t done, size_t total, double elapsed, const std::string& labe
   const int width = 30;
   const int filled = int(width * done / std::max<size_t>(1, total));
   const std::string eta = done ? format_duration(elapsed / done * (total - done)) : "?";
-  const bool tty = isatty(fileno(stderr));
-  fmt::print(stderr, "{}[{}{}] {}/{} {} elapsed {} ETA {}{}", tty ? "\r" : "", std::string(filled, '#'),
-             std::string(width - filled, ' '), done, total, label, format_duration(elapsed), eta, tty ? "" : "\n");
-  if (tty && done == total) fmt::print(stderr, "\n");
+  if (!isatty(fileno(stderr))) {  // a log, not a terminal: a plain line per set, no bar
+    fmt::print(stderr, "fovgen: {}/{} {}, elapsed {}\n", done, total, label, format_duration(elapsed));
+    return;
+  }
+  fmt::print(stderr, "\r[{}{}] {}/{} {} elapsed {} ETA {}", std::string(filled, '#'), std::string(width - filled, ' '), done,
+             total, label, format_duration(elapsed), eta);
+  if (done == total) fmt::print(stderr, "\n");
 }
 
 int run_generate(CLI::App& app, const generate_options& o, const std::string& output) {

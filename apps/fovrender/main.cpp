@@ -32,6 +32,7 @@ struct render_options {
   fov::debug_view debug = fov::debug_view::points;
   bool debug_asked = false;  // --debug-view given
   bool reference = false, no_warmup = false, json = false, no_flip = false;
+  bool size_given = false;  // --width or --height given
   int width = 1280, height = 1440;  // without --points
   uint32_t taa_frames = 0;
   uint32_t speedup = 0;  // repetitions of the paired timing (0: none)
@@ -44,6 +45,7 @@ void check_options(const render_options& o, const fov::render_params& p) {
     throw usage_error("nothing to do: give -o, --compare or --reference-spp");
   if (o.debug_asked && o.debug_output.empty() && o.outputs.empty()) throw usage_error("--debug-view needs -o or --debug-output");
   if (!o.reference && o.points.empty()) throw usage_error("--points is required unless --reference");
+  if (!o.points.empty() && o.size_given) throw usage_error("--width/--height: the set gives the screen size; drop them with --points");
   // A frame's buffers (colour, depth, samples, the file's pixels) take a few tens of bytes a
   // pixel: a size the range check passes may still not fit (65536 x 65536 is 275 GB).
   if (o.points.empty())
@@ -100,15 +102,35 @@ int main(int argc, char** argv) {
   app.add_flag("--json", o.json, "Print JSON");
   return fov::run_tool("fovrender", app, argc, argv, [&] {
     o.debug_asked = debug->count() > 0;
+    o.size_given = app.count("--width") + app.count("--height") > 0;
     check_options(o, p);
     p.taa = o.taa_frames > 0;
-    // Every output before anything is read, rendered or written: not a directory, link or
-    // device, and none of the inputs (--compare ref.png -o ref.png would overwrite it).
-    const std::vector<std::string> inputs = {o.compare, o.points, o.scene.rfind("env:", 0) == 0 ? o.scene.substr(4) : o.scene};
-    for (const std::string& out : o.outputs) fov::require_output("-o", out, inputs);
-    fov::require_output("--debug-output", o.debug_output, inputs);
-    fov::require_output("--flip-map", o.flip_map, inputs);
-    fov::require_output("--foveated-flip-map", o.foveated_flip_map, inputs);
+    if (o.debug_asked && o.debug_output.empty()) {
+      const std::filesystem::path first(o.outputs.front());
+      o.debug_output = (first.parent_path() / (first.stem().string() + "-" + fov::label_of(fov::debug_view_labels, o.debug)))
+                           .string() + ".png";
+    }
+    // Every output before anything is read, rendered or written: a format that can be
+    // written, not a directory, link or device, none of the inputs (--compare ref.png -o
+    // ref.png would overwrite it) and no two the same; after the scene loads, none of the
+    // files it was read from either (its buffers and textures).
+    std::vector<std::pair<std::string, std::string>> outputs;  // flag, path
+    for (const std::string& out : o.outputs) outputs.emplace_back("-o", out);
+    outputs.emplace_back("--debug-output", o.debug_output);
+    outputs.emplace_back("--flip-map", o.flip_map);
+    outputs.emplace_back("--foveated-flip-map", o.foveated_flip_map);
+    std::vector<std::string> inputs = {o.compare, o.points, o.scene.rfind("env:", 0) == 0 ? o.scene.substr(4) : o.scene};
+    auto check_outputs = [&] {
+      for (size_t i = 0; i < outputs.size(); ++i) {
+        const auto& [flag, out] = outputs[i];
+        if (out.empty()) continue;
+        if (const std::string why = fov::image_format_problem(out); !why.empty()) throw usage_error(fmt::format("{} {}: {}", flag, out, why));
+        fov::require_output(flag, out, inputs);
+        for (size_t j = 0; j < i; ++j)
+          if (outputs[j].second == out) throw usage_error(fmt::format("{} {}: also given to {}", flag, out, outputs[j].first));
+      }
+    };
+    check_outputs();
 
     fov::require_valid(p);  // what does not depend on the set, before loading it
     std::shared_ptr<const fov::pointset> set;
@@ -133,6 +155,8 @@ int main(int argc, char** argv) {
     const auto loading = std::chrono::steady_clock::now();
     std::shared_ptr<const fov::scene> scene = fov::load_scene(o.scene);
     j["scene_load_ms"] = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - loading).count();
+    inputs.insert(inputs.end(), scene->description().files.begin(), scene->description().files.end());
+    check_outputs();
     for (const std::string& w : scene->warnings()) std::cerr << "fovrender: warning: " << w << "\n";
     fov::renderer r(scene, p);
     fov::frame image;
@@ -186,11 +210,6 @@ int main(int argc, char** argv) {
 
     for (const std::string& output : o.outputs) fov::write_frame(image, output);
     if (o.debug_asked) {
-      const char* view = fov::label_of(fov::debug_view_labels, o.debug);
-      if (o.debug_output.empty()) {
-        const std::filesystem::path first(o.outputs.front());
-        o.debug_output = (first.parent_path() / (first.stem().string() + "-" + view)).string() + ".png";
-      }
       fov::write_frame(fov::debug_overlay(o.debug, image, o.reference ? nullptr : set.get(), gaze), o.debug_output);
     }
     std::string compared;

@@ -214,12 +214,13 @@ int simulate(const simulate_options& so) {
   if (observer_spec.empty()) throw usage_error("simulate: --observer is required");
   if (runs < 1 || runs > max_simulation_runs) throw usage_error(fmt::format("--runs must lie in 1..{}", max_simulation_runs));
   stair_protocol base = load_protocol(protocol_path);
-  if (o.step >= 0) base.rule.step = o.step;
-  if (o.initial_step >= 0) base.rule.initial_step = o.initial_step;
-  if (o.start >= 0) base.scale_start = o.start;
+  // -1 means not given; anything else (NaN too) replaces the protocol's value and is checked.
+  if (o.step != -1) base.rule.step = o.step;
+  if (o.initial_step != -1) base.rule.initial_step = o.initial_step;
+  if (o.start != -1) base.scale_start = o.start;
   if (o.thresholds >= 0) base.rule.thresholds = uint32_t(o.thresholds);
   if (o.discard >= 0) base.rule.discard_reversals = uint32_t(o.discard);
-  if (!(base.rule.step >= 0.01) || base.rule.initial_step < base.rule.step || base.rule.initial_step > max_protocol_scale)
+  if (!(base.rule.step >= 0.01) || !(base.rule.initial_step >= base.rule.step) || !(base.rule.initial_step <= max_protocol_scale))
     throw usage_error(fmt::format("--step must be at least 0.01, --initial-step at least --step and at most {}", max_protocol_scale));
   if (!(base.scale_start >= base.scale_min && base.scale_start <= base.scale_max))
     throw usage_error(fmt::format("--start must lie in the protocol's scales {}..{}", base.scale_min, base.scale_max));
@@ -234,6 +235,9 @@ int simulate(const simulate_options& so) {
   } catch (const std::invalid_argument& e) {
     throw usage_error(fmt::format("--observer {}", e.what()));
   }
+  if (!(m.threshold >= base.scale_min && m.threshold <= base.scale_max))
+    throw usage_error(fmt::format("--observer: threshold {} lies outside the protocol's scales {}..{}; the staircase cannot "
+                                  "reach it", m.threshold, base.scale_min, base.scale_max));
   const bool two_afc = base.mode == stair_mode::two_afc;
   const simulation_result r = simulate_rule(base, m, runs);
   const bool none = r.estimates.empty();
@@ -255,8 +259,12 @@ int simulate(const simulate_options& so) {
   if (as_json) {
     std::cout << j.dump(2) << "\n";
   } else {
-    fmt::print("true threshold {:.3f}: estimate {:.3f} +- {:.3f} (bias {:+.3f}) over {} series of {} runs; {} incomplete\n",
-               m.threshold, r.mean, r.sd, r.mean - m.threshold, r.estimates.size(), runs, r.incomplete);
+    if (none)
+      fmt::print("true threshold {:.3f}: no estimate, no series of {} runs recorded a threshold; {} incomplete\n", m.threshold,
+                 runs, r.incomplete);
+    else
+      fmt::print("true threshold {:.3f}: estimate {:.3f} +- {:.3f} (bias {:+.3f}) over {} series of {} runs; {} incomplete\n",
+                 m.threshold, r.mean, r.sd, r.mean - m.threshold, r.estimates.size(), runs, r.incomplete);
     fmt::print("the rule converges on P(detect) = {:.3f}, which this observer reaches at s = {:.3f}\n", r.target_probability,
                r.target_scale);
   }

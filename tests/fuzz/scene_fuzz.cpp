@@ -3,6 +3,7 @@
 // file. A scene that loads must hold what the tracer indexes without checking.
 #include <fstream>
 
+#include "fov/files.h"
 #include "fov/scene.h"
 #include "fuzz_input.h"
 
@@ -43,6 +44,12 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       fuzz::require(m.tangents.empty() || m.tangents.size() == m.positions.size(), "a tangent per vertex");
     }
     for (const instance& i : d.instances) fuzz::require(i.mesh < d.meshes.size(), "the instance's mesh exists");
+    fuzz::require(geometry_problem(d).empty(), "the geometry Embree sees is finite and within range");
+    if (d.scene_camera) {
+      const glm::vec3& p = d.scene_camera->position;
+      fuzz::require(world_point_problem(p.x, p.y, p.z).empty(), "the file's camera within range");
+    }
+    for (const std::string& f : d.files) fuzz::require(input_file_problem(f).empty(), "every file read is a regular file");
     for (const std::string& w : d.warnings) fuzz::require(w.find('\n') == std::string::npos, "warnings are one line");
   });
   return 0;

@@ -1,7 +1,10 @@
 #!/usr/bin/env python3
 """Writes the hand-made seeds of the scene, env_image, gaze and camera targets into
 corpus/ (the others are real files: see docs/fuzzing.md). Run from anywhere."""
-import base64, json, os, struct, zlib
+import base64, json, math, os, struct, sys, zlib
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+from hostile_inputs import exr, png, gltf as structured_gltf  # noqa: E402
 
 here = os.path.join(os.path.dirname(os.path.abspath(__file__)), "corpus")
 
@@ -50,6 +53,34 @@ put("scene", "quad.glb", b"\1" + glb)
 put("scene", "quad.obj", b"\2" + b"v 0 0 -2\nv 1 0 -2\nv 1 1 -2\nv 0 1 -2\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
     b"vn 0 0 1\nf 1/1/1 2/2/1 3/3/1\nf 1/1/1 3/3/1 4/4/1\n")
 
+# Structure the byte-level mutations seldom reach (issue 30): a node chain past the depth
+# bound, JSON nested past its bound, non-finite and huge vertices, a node scaling its mesh
+# to nothing, buffers that are a device or missing, a camera placed far away.
+flat = [0, 0, 0, 1, 0, 0, 1, 1, 0]
+for name, kwargs in {"deep-nodes": {"depth": 300}, "deep-json": {"json_nesting": 100},
+                     "inf-vertex": {"positions": flat + [0, 0, 0, math.inf, 0, 0, 1, 1, 0]},
+                     "huge-vertex": {"positions": flat + [0, 0, 0, 3e38, 0, 0, 1, 1, 0]},
+                     "tiny-scale": {"scale": [1e-30, 1e-30, 1e-30]}, "device-buffer": {"buffer_uri": "/dev/zero"},
+                     "missing-buffer": {"buffer_uri": "absent.bin"}}.items():
+    put("scene", "structure-" + name + ".gltf", b"\0" + structured_gltf(**kwargs)[0].encode())
+far = json.loads(structured_gltf()[0])
+far["nodes"].append({"camera": 0, "translation": [1e30, 0, 0]})
+far["scenes"][0]["nodes"].append(1)
+far["cameras"] = [{"type": "perspective", "perspective": {"yfov": 0.8, "znear": 0.1}}]
+put("scene", "structure-far-camera.gltf", b"\0" + json.dumps(far).encode())
+
+# fovbench's reference sidecars: one as fovbench writes it, one with a wrong type.
+meta = {"scene": "builtin", "spp": 256, "seed": 7, "ms": 812.5, "rays": 2359296, "sampler": "sobol",
+        "render_settings": "exposure 0 EV"}
+put("reference_meta", "written.json", json.dumps(meta, indent=2) + "\n")
+put("reference_meta", "wrong-type.json", json.dumps(dict(meta, render_settings=3)))
+
+# Camera flags, a value per line (--eye, --look-at, --up, --hfov; an empty line: not given).
+put("camera_flags", "look.txt", "0,1,4\n0,0,0\n0,1,0\n60\n")
+put("camera_flags", "far-eye.txt", "1e20,0,0\n")
+put("camera_flags", "overflow.txt", "3e38,0,0\n-3e38,0,0\n")
+put("camera_flags", "eye-only.txt", "2,2,2\n\n\n\n")
+
 # env: images, 8 x 4 pixels. Byte 0 picks the format in env_image_fuzz.cpp: 0 HDR, 1 EXR, 2 PNG.
 w, h = 8, 4
 texels = [(0.2 + x / w, 0.3 + y / h, 0.5) for y in range(h) for x in range(w)]
@@ -67,43 +98,10 @@ hdr = b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y %d +X %d\n" % (h, w) + b"".join
 put("env_image", "sky.hdr", b"\0" + hdr)
 
 
-def exr():
-    def attr(name, kind, value):
-        return name.encode() + b"\0" + kind.encode() + b"\0" + struct.pack("<i", len(value)) + value
-    chans = b"".join(c + b"\0" + struct.pack("<iBBBBii", 2, 0, 0, 0, 0, 1, 1) for c in (b"B", b"G", b"R")) + b"\0"
-    head = struct.pack("<ii", 20000630, 2)
-    head += attr("channels", "chlist", chans)
-    head += attr("compression", "compression", b"\0")
-    head += attr("dataWindow", "box2i", struct.pack("<4i", 0, 0, w - 1, h - 1))
-    head += attr("displayWindow", "box2i", struct.pack("<4i", 0, 0, w - 1, h - 1))
-    head += attr("lineOrder", "lineOrder", b"\0")
-    head += attr("pixelAspectRatio", "float", struct.pack("<f", 1))
-    head += attr("screenWindowCenter", "v2f", struct.pack("<2f", 0, 0))
-    head += attr("screenWindowWidth", "float", struct.pack("<f", 1)) + b"\0"
-    lines = []
-    for y in range(h):
-        row = texels[y * w:(y + 1) * w]
-        data = b"".join(struct.pack("<f", t[c]) for c in (2, 1, 0) for t in row)
-        lines.append(struct.pack("<ii", y, len(data)) + data)
-    table, at = b"", len(head) + 8 * h
-    for line in lines:
-        table += struct.pack("<Q", at)
-        at += len(line)
-    return head + table + b"".join(lines)
+put("env_image", "sky.exr", b"\1" + exr(w, h, texels))
 
 
-put("env_image", "sky.exr", b"\1" + exr())
-
-
-def png():
-    raw = b"".join(b"\0" + b"".join(bytes(min(255, int(255 * c)) for c in t) for t in texels[y * w:(y + 1) * w]) for y in range(h))
-    def chunk(kind, data):
-        return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data))
-    return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", w, h, 8, 2, 0, 0, 0))
-            + chunk(b"IDAT", zlib.compress(raw)) + chunk(b"IEND", b""))
-
-
-put("env_image", "sky.png", b"\2" + png())
+put("env_image", "sky.png", b"\2" + png(w, h, texels))
 
 # Gaze traces, camera paths and datagrams, as recorders and the docs write them.
 put("gaze_trace", "pixels.csv", "t_ms,x,y\n0,32,24\n16.7,33.5,24.2\n33.3,40,20\n50,64,48\n")

@@ -210,6 +210,8 @@ env_pyramid load_env_pyramid(const std::string& file) {
       for (int c = 0; c < 3; ++c) {
         float v = px[i * size_t(cs.nchannels) + size_t(std::min(c, cs.nchannels - 1))];
         if (out.levels.empty() && !std::isfinite(v)) v = 0, ++out.non_finite;
+        if (out.levels.empty() && v < 0) v = 0, ++out.negative;
+        if (out.levels.empty() && v > max_env_value) v = max_env_value, ++out.too_bright;
         l.texels[i][c] = srgb && out.levels.empty() ? srgb_decode(v) : v;
       }
     if (srgb && out.levels.empty()) {  // filter the decoded (linear) values from here on
@@ -301,6 +303,12 @@ scene::scene(scene_description description) : impl_(std::make_unique<impl>()) {
     if (d.env_map.non_finite)
       d.desc.warnings.push_back(fmt::format("{}: {} texel values are NaN or infinite; read as 0", d.desc.env.latlong_file,
                                             d.env_map.non_finite));
+    if (d.env_map.negative)
+      d.desc.warnings.push_back(fmt::format("{}: {} texel values are negative; read as 0", d.desc.env.latlong_file,
+                                            d.env_map.negative));
+    if (d.env_map.too_bright)
+      d.desc.warnings.push_back(fmt::format("{}: {} texel values exceed {}; read as {}", d.desc.env.latlong_file,
+                                            d.env_map.too_bright, max_env_value, max_env_value));
   }
   d.top = rtcNewScene(d.device);
   rtcSetSceneBuildQuality(d.top, RTC_BUILD_QUALITY_HIGH);

@@ -47,6 +47,8 @@ struct env_pyramid {
   };
   std::vector<level> levels;
   uint64_t non_finite = 0;  // texel values of the image that were NaN or infinite (read as 0)
+  uint64_t negative = 0;    // negative texel values (read as 0)
+  uint64_t too_bright = 0;  // texel values above max_env_value (read as max_env_value)
   // Filtered value at (s, t) in [0, 1] (s periodic, t clamped) over a footprint of ds x dt.
   glm::vec3 lookup(float s, float t, float ds, float dt) const;
 };

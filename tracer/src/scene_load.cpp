@@ -8,6 +8,7 @@
 
 #include <sys/stat.h>
 
+#include <cerrno>
 #include <cstring>
 
 #include <assimp/DefaultIOSystem.h>
@@ -93,8 +94,9 @@ void flatten(const aiNode* root, std::vector<instance>& out, const std::vector<i
 
 // Every file Assimp opens for a scene (the scene file, a glTF's buffers, an OBJ's .mtl) is
 // checked first: a regular file (a FIFO would block forever) of at most
-// max_scene_file_bytes, and not empty. Refused files are remembered with the reason, so the
-// error names them; the files read are the scene's inputs.
+// max_scene_file_bytes. Refused files are remembered with the reason, so the error names
+// them; missing and empty ones are left to Assimp (an OBJ's missing .mtl is not an error),
+// and named when the import fails; the files read are the scene's inputs.
 class checked_io : public Assimp::DefaultIOSystem {
  public:
   bool Exists(const char* file) const override {
@@ -106,16 +108,20 @@ class checked_io : public Assimp::DefaultIOSystem {
       refused.push_back(fmt::format("{}: the importer asked to write it (refused)", file));
       return nullptr;
     }
-    std::string why = input_file_problem(file, max_scene_file_bytes, "scene file");
-    if (why.empty() && std::filesystem::file_size(file) == 0) why = "is empty (0 bytes)";
-    if (!why.empty()) {
+    struct stat st {};
+    if (::stat(file, &st) != 0) {
+      unusable.push_back(fmt::format("{}: cannot open: {}", file, std::strerror(errno)));
+      return nullptr;
+    }
+    if (const std::string why = input_file_problem(file, max_scene_file_bytes, "scene file"); !why.empty()) {
       refused.push_back(fmt::format("{}: {}", file, why));
       return nullptr;
     }
+    if (st.st_size == 0) unusable.push_back(fmt::format("{}: is empty (0 bytes)", file));
     read.emplace_back(file);
     return Assimp::DefaultIOSystem::Open(file, mode);
   }
-  std::vector<std::string> refused, read;
+  std::vector<std::string> refused, unusable, read;  // unusable: missing or empty
 };
 
 // A glTF's JSON (a .gltf file, a .glb's first chunk), checked before Assimp parses it:
@@ -293,10 +299,15 @@ scene_description load_file(const std::string& path) {
         throw std::runtime_error(fmt::format("{}: faces with vertex indices out of range (refused; Assimp: {})", path,
                                              m.substr(m.find(':') == std::string::npos ? 0 : m.find(':') + 2)));
   }
+  auto name_it = [&](const std::string& problem) {  // "PATH: FILE: why", or "PATH: why" for the scene itself
+    return problem.rfind(path + ": ", 0) == 0 ? problem : fmt::format("{}: {}", path, problem);
+  };
   if (!io->refused.empty())  // a file the scene refers to, named with the reason
-    throw std::runtime_error(fmt::format("{} (read for {})", io->refused.front(), path));
-  if (!ai || !ai->mRootNode)
+    throw std::runtime_error(name_it(io->refused.front()));
+  if (!ai || !ai->mRootNode) {
+    if (!io->unusable.empty()) throw std::runtime_error(name_it(io->unusable.front()) + " (cannot load the scene)");
     throw std::runtime_error(fmt::format("{}: cannot load scene: {}", path, first_line(importer.GetErrorString())));
+  }
   int deepest = 0;
   walk_nodes(ai->mRootNode, [&](const aiNode*, int depth) { return (deepest = std::max(deepest, depth)) <= max_node_depth; });
   if (deepest > max_node_depth)
@@ -381,7 +392,8 @@ scene_description load_file(const std::string& path) {
     }
     const camera& cam = *d.scene_camera;
     const bool in_range = cam.hfov_deg > 0 && cam.hfov_deg < 180 && (gltf ? cam.vfov_deg > 0 && cam.vfov_deg < 180 : true);
-    if (!in_range || !std::isfinite(glm::dot(cam.position, cam.forward))) {
+    if (!in_range || !std::isfinite(glm::dot(cam.position, cam.forward)) ||
+        !world_point_problem(cam.position.x, cam.position.y, cam.position.z).empty()) {
       d.warnings.push_back(fmt::format("camera '{}': field of view or placement out of range; framing the scene instead",
                                        c->mName.C_Str()));
       d.scene_camera.reset();

@@ -144,6 +144,10 @@ constexpr int max_node_depth = 256;
 // 0.5 GB. Larger images are refused with the size in the message.
 constexpr int max_env_height = 4096;
 constexpr uint64_t max_env_pixels = uint64_t(2 * max_env_height) * max_env_height;
+// An env: image's texels are radiance: NaN or infinite ones and negative ones read as 0,
+// ones above max_env_value (the largest half float) as max_env_value; each kind is
+// counted in one warning naming the file.
+constexpr float max_env_value = 65504.0f;
 
 // The built-in procedural scene (no files): see docs/tracer.md.
 scene_description builtin_scene();
