@@ -61,6 +61,9 @@ check "compare --foveated-flip-map REF" 2 -- limited "$fovbench" compare "$dir/g
 unchanged "$dir/grey.exr" "$sum"
 check "compare NaN image"     1 -- limited "$fovbench" compare "$dir/nan.exr" "$dir/grey.exr"
 check "compare 3e38 pixel"    1 -- limited "$fovbench" compare "$dir/grey.exr" "$dir/huge.exr"
+check "compare negative pixel" 1 -- limited "$fovbench" compare "$dir/negative.exr" "$dir/grey.exr"
+err=$(limited "$fovbench" compare "$dir/negative.exr" "$dir/grey.exr" 2>&1)
+[[ "$err" == *"negative.exr: 1 pixel is NaN, infinite, negative or above 65504 (first at x = 0, y = 0)"* ]] || fail "compare said: $err"
 check "compare v 1e-300"      2 -- limited "$fovbench" compare "$dir/grey.exr" "$dir/copy-grey.exr" --viewing-distance 1e-300
 
 tool=fovstair

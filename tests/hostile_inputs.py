@@ -109,6 +109,7 @@ def write_test_files(out):
     put("grey.exr", exr(w, h, grey))
     put("nan.exr", exr(w, h, [(math.nan,) * 3] * (w * h)))
     put("huge.exr", exr(w, h, grey[:-1] + [(3e38, 0, 0)]))
+    put("negative.exr", exr(w, h, [(-0.5, 0.5, 0.5)] + grey[1:]))
     put("negative-sky.exr", exr(w, h, grey[:-2] + [(-1, 0.5, 0.5), (3e38, 0.5, 0.5)]))
 
 

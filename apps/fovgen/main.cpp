@@ -142,10 +142,13 @@ void read_timings(json& j, const std::string& set_path) {
   j["generation_seconds"] = nullptr;
   // The sidecar is optional: one that is not a small regular file is passed over.
   const std::string sidecar = provenance_path(set_path);
-  if (!fov::input_file_problem(sidecar, 1u << 20).empty()) return;
-  std::ifstream in(sidecar);
-  if (!in) return;
-  const json p = json::parse(in, nullptr, false);
+  std::string text;
+  try {
+    text = fov::read_input_file(sidecar, 1u << 20, "provenance file");
+  } catch (const fov::file_error&) {
+    return;
+  }
+  const json p = json::parse(text, nullptr, false);
   if (p.is_discarded()) return;
   for (const char* key : {"dart_seconds", "knn_seconds", "generation_seconds"})
     if (p.contains(key) && p[key].is_number()) j[key] = p[key];

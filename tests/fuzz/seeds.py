@@ -61,7 +61,8 @@ for name, kwargs in {"deep-nodes": {"depth": 300}, "deep-json": {"json_nesting":
                      "inf-vertex": {"positions": flat + [0, 0, 0, math.inf, 0, 0, 1, 1, 0]},
                      "huge-vertex": {"positions": flat + [0, 0, 0, 3e38, 0, 0, 1, 1, 0]},
                      "tiny-scale": {"scale": [1e-30, 1e-30, 1e-30]}, "device-buffer": {"buffer_uri": "/dev/zero"},
-                     "missing-buffer": {"buffer_uri": "absent.bin"}}.items():
+                     "missing-buffer": {"buffer_uri": "absent.bin"},
+                     "device-texture": {"image_uri": "/dev/zero"}}.items():
     put("scene", "structure-" + name + ".gltf", b"\0" + structured_gltf(**kwargs)[0].encode())
 far = json.loads(structured_gltf()[0])
 far["nodes"].append({"camera": 0, "translation": [1e30, 0, 0]})

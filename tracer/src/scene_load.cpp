@@ -419,7 +419,9 @@ scene_description load_file(const std::string& path) {
 
 }  // namespace
 
-std::unique_ptr<scene> load_scene(const std::string& spec) {
+namespace {
+
+std::unique_ptr<scene> load_scene_checked(const std::string& spec) {
   if (spec == "builtin") return std::make_unique<scene>(builtin_scene());
   if (spec.rfind("env:", 0) == 0) {
     const std::string file = spec.substr(4);
@@ -442,6 +444,16 @@ std::unique_ptr<scene> load_scene(const std::string& spec) {
     return std::make_unique<scene>(std::move(d));
   }
   return std::make_unique<scene>(load_file(spec));
+}
+
+}  // namespace
+
+std::unique_ptr<scene> load_scene(const std::string& spec) {
+  try {
+    return load_scene_checked(spec);
+  } catch (const std::bad_alloc&) {  // what no size check foresaw (a process limit): the file named
+    throw std::runtime_error(fmt::format("{}: out of memory while loading the scene", spec));
+  }
 }
 
 }  // namespace fov
