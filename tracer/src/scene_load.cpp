@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <mutex>
 #include <set>
 #include <stdexcept>
@@ -129,13 +130,18 @@ class checked_io : public Assimp::DefaultIOSystem {
 // max_node_depth deep in which every node has at most one parent and no node is its own
 // ancestor. "" when fine, or when the JSON does not parse (Assimp's error then says why).
 std::string gltf_structure_problem(const std::string& path, const std::string& extension) {
-  std::string text = read_input_file(path, max_scene_file_bytes, "scene file");
-  if (extension == ".glb") {
+  std::string text;
+  if (extension == ".glb") {  // only the JSON chunk is read (the binary one follows it)
+    std::ifstream in(path, std::ios::binary);  // (load_file has checked it is a regular file)
+    char head[20] = {};
     uint32_t length = 0, type = 0;
-    if (text.size() < 20) return "";
-    std::memcpy(&length, text.data() + 12, 4), std::memcpy(&type, text.data() + 16, 4);
-    if (type != 0x4E4F534Au || length > text.size() - 20) return "";
-    text = text.substr(20, length);
+    if (!in.read(head, sizeof head)) return "";
+    std::memcpy(&length, head + 12, 4), std::memcpy(&type, head + 16, 4);
+    if (type != 0x4E4F534Au || length > std::filesystem::file_size(path) - sizeof head) return "";
+    text.resize(length);
+    if (!in.read(text.data(), std::streamsize(length))) return "";
+  } else {
+    text = read_input_file(path, max_scene_file_bytes, "scene file");
   }
   if (const int line = json_too_deep_line(text, max_gltf_json_depth))
     return fmt::format("line {}: JSON nested deeper than {} levels (refused)", line, max_gltf_json_depth);
