@@ -4,7 +4,7 @@
 
 #include <gtest/gtest.h>
 
-#include "fov/metrics.h"
+#include "fov/acuity.h"
 #include "fov/taa.h"
 #include "fov/frame.h"
 

@@ -18,9 +18,8 @@
 #include "../common/image_io.h"
 #include "fov/files.h"
 #include "fov/flicker.h"
-#include "fov/flip.h"
+#include "fov/comparison.h"
 #include "fov/knn_table.h"
-#include "fov/metrics.h"
 #include "fov/pointset_io.h"
 #include "fov/random.h"
 
@@ -299,23 +298,9 @@ display_geometry check_bench_options(const bench_options& o) {
 
 namespace {
 
-// One frame's errors against the converged reference.
-struct measured {
-  error_report error;
-  flip_report flip;
-  bool has_flip = false;
-};
-
-measured measure(const frame& image, const frame& truth, const spacing_model& eye, gaze_point gaze, bool flip) {
-  measured m;
-  m.error = measure_error(image, truth, eye, gaze);
-  if (flip) m.flip = measure_flip(image, truth, eye, gaze, m.error.edges_deg), m.has_flip = true;
-  return m;
-}
-
 const char* band_suffix[5] = {"fovea", "5_10", "10_20", "20_30", "periphery"};
 
-void put_errors(result_row& row, const measured& m) {
+void put_errors(result_row& row, const comparison& m) {
   const error_report& e = m.error;
   row.cells["psnr"] = number(e.overall.psnr), row.cells["ssim"] = number(e.overall.ssim);
   for (size_t b = 0; b < 5; ++b) {
@@ -334,7 +319,7 @@ void put_errors(result_row& row, const measured& m) {
   row.cells["foveated_flip_worst_band"] = number(m.flip.foveated.worst_band);
 }
 
-void put_floor(result_row& row, const measured& floor, const std::vector<double>& coverage, uint32_t reference_spp) {
+void put_floor(result_row& row, const comparison& floor, uint32_t reference_spp) {
   row.cells["reference_spp"] = std::to_string(reference_spp);
   row.cells["noise_floor_psnr"] = number(floor.error.overall.psnr);
   row.cells["noise_floor_psnr_fovea"] = number(floor.error.bands[0].psnr);
@@ -344,7 +329,7 @@ void put_floor(result_row& row, const measured& floor, const std::vector<double>
     row.cells["noise_floor_flip_fovea"] = number(floor.flip.flip.bands[0]);
     row.cells["noise_floor_foveated_flip"] = number(floor.flip.foveated.mean);
   }
-  for (size_t b = 0; b < 5; ++b) row.cells[std::string("geometry_") + band_suffix[b]] = number(coverage[b]);
+  for (size_t b = 0; b < 5; ++b) row.cells[std::string("geometry_") + band_suffix[b]] = number(floor.geometry[b]);
 }
 
 void put_timing(result_row& row, const paired_timing& t, double spread_limit) {
@@ -428,13 +413,11 @@ size_t run_bench(const bench_options& o, const bench_reporter& report) {
     const frame& second = references.get(r, o.render, o.reference_spp, seed_b, say).image;
     // The eye the errors are judged by: the thesis's acuity, at true eccentricity.
     const spacing_model eye{display, 1.0, acuity_params{}};
-    std::map<size_t, measured> floors;
-    std::map<size_t, std::vector<double>> coverage;
-    auto floor_at = [&](size_t g) -> const measured& {
+    std::map<size_t, comparison> floors;  // the second reference against the first, per gaze
+    auto floor_at = [&](size_t g) -> const comparison& {
       if (!floors.count(g)) {
         say(fmt::format("noise floor at {}", gazes[g].name));
-        floors[g] = measure(second, truth, eye, gazes[g].at, o.flip);
-        coverage[g] = geometry_coverage(truth, display, gazes[g].at, {5, 10, 20, 30});
+        floors[g] = compare_images(second, truth, eye, gazes[g].at, o.flip);
       }
       return floors[g];
     };
@@ -444,8 +427,7 @@ size_t run_bench(const bench_options& o, const bench_reporter& report) {
       row.cells.insert({{"gaze_x", number(gp.at.x)}, {"gaze_y", number(gp.at.y)}, {"texture_footprint", footprint},
                         {"fovea", fovea}, {"device", r.device()}, {"frames", std::to_string(o.frames)}, {"render_settings", settings},
                         {"full_rays", std::to_string(uint64_t(display.width) * display.height * c.spp)}});
-      const measured& floor = floor_at(c.gaze);
-      put_floor(row, floor, coverage[c.gaze], o.reference_spp);
+      put_floor(row, floor_at(c.gaze), o.reference_spp);
       return row;
     };
     auto finish = [&](const config& c, result_row& row) {
@@ -551,7 +533,7 @@ size_t run_bench(const bench_options& o, const bench_reporter& report) {
               for (size_t f = 0; f < traces.size(); ++f) rec.push_back(frame_ms[c][f] - traces[f]);
               row.cells["reconstruct_ms"] = number(summarise(rec).median);
               put_timing(row, pair_timings(frame_ms[c], full_ms), o.spread_limit);
-              put_errors(row, measure(image, truth, eye, gp.at, o.flip));
+              put_errors(row, compare_images(image, truth, eye, gp.at, o.flip));
               if (o.temporal_frames >= 2) {
                 say(fmt::format("temporal {} {} {} k={} spp={}", slug(o.scenes[sc]), what, method_name(c->how), c->k, spp));
                 flicker_params fp;
@@ -580,7 +562,7 @@ size_t run_bench(const bench_options& o, const bench_reporter& report) {
       row.cells["points_traced"] = "", row.cells["rays"] = std::to_string(f.image.rays);
       row.cells["trace_ms"] = number(summarise(f.ms).median), row.cells["reconstruct_ms"] = "0";
       put_timing(row, pair_timings(f.ms, f.ms), o.spread_limit);
-      put_errors(row, measure(f.image, truth, eye, gazes[c.gaze].at, o.flip));
+      put_errors(row, compare_images(f.image, truth, eye, gazes[c.gaze].at, o.flip));
       finish(c, row);
     }
   }

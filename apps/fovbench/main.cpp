@@ -14,7 +14,7 @@
 #include <fmt/format.h>
 
 #include "../common/cli.h"
-#include "../common/comparison.h"
+#include "../common/compare_command.h"
 #include "../common/render_flags.h"
 #include "bench.h"
 #include "report.h"

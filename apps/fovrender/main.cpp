@@ -10,7 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "../common/cli.h"
-#include "../common/comparison.h"
+#include "../common/compare_command.h"
 #include "../common/debug_views.h"
 #include "../common/image_io.h"
 #include "../common/render_flags.h"

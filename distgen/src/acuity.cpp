@@ -53,6 +53,11 @@ double point_spacing_px(const spacing_model& model, double distance_px) {
   return fd / fc0 - (1.0 - a);
 }
 
+double pixel_eccentricity_deg(const display_geometry& d, gaze_point gaze, int x, int y) {
+  const double dist = std::hypot(x + 0.5 - gaze.x, y + 0.5 - gaze.y);
+  return std::atan(dist / (double(d.width) * d.viewing_distance)) * 180 / pi;
+}
+
 std::string viewing_distance_problem(double v) {
   if (v >= min_viewing_distance && v <= max_viewing_distance) return "";
   return fmt::format("viewing distance must lie in {}..{} display widths (got {:.4g})", min_viewing_distance,

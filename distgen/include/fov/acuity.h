@@ -30,6 +30,10 @@ struct gaze_point {
 };
 inline gaze_point screen_centre(const display_geometry& d) { return {0.5 * d.width, 0.5 * d.height}; }
 
+// Eccentricity (degrees) of screen pixel (x, y)'s centre seen with the gaze at `gaze`:
+// atan(d / (W v)) for a screen W pixels wide viewed from v widths (thesis Eq. 1, s = 1).
+double pixel_eccentricity_deg(const display_geometry& display, gaze_point gaze, int x, int y);
+
 // Named displays (documented in docs/fovgen.md). Returns false for an unknown name.
 bool display_preset(const std::string& name, display_geometry& out);
 

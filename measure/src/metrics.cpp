@@ -30,11 +30,6 @@ cv::Mat to_display(const frame& f) {
 
 }  // namespace
 
-double pixel_eccentricity_deg(const display_geometry& d, gaze_point gaze, int x, int y) {
-  const double dist = std::hypot(x + 0.5 - gaze.x, y + 0.5 - gaze.y);
-  return std::atan(dist / (double(d.width) * d.viewing_distance)) * 180 / pi;
-}
-
 double acuity_weight(const spacing_model& eye, double e) {
   const double fd = display_nyquist_cpd(eye.display);
   return std::min(cutoff_frequency_cpd(eye.acuity, e), fd) / fd;

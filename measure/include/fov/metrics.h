@@ -20,10 +20,6 @@ struct frame_comparison {
   band_metrics overall, fovea, mid, periphery;
 };
 
-// Eccentricity (degrees) of screen pixel (x, y)'s centre seen with the gaze at `gaze`:
-// atan(d / (W v)) for a screen W pixels wide viewed from v widths (thesis Eq. 1, s = 1).
-double pixel_eccentricity_deg(const display_geometry& display, gaze_point gaze, int x, int y);
-
 // Compares two frames of the same size. Both are tone-mapped the way PNGs are written
 // (clamped to [0, 1], sRGB-encoded, 8 bits): errors are measured on what is displayed.
 // SSIM is OpenCV's (quality module, 11x11 Gaussian window), averaged over each band.

@@ -1,5 +1,6 @@
 // Every error measure of one frame against a reference, as the tools print and write it:
-// fovrender --compare, fovbench compare and (PSNR/SSIM only) fovview's screenshots.
+// fovrender --compare, fovbench compare and its sweep, and (PSNR/SSIM only) fovview's
+// screenshots. One JSON schema for a comparison (comparison_json), written by every tool.
 #pragma once
 
 #include <cmath>
@@ -43,21 +44,5 @@ struct converged_comparison {
 };
 converged_comparison compare_converged(renderer& r, const frame& image, const spacing_model& eye, gaze_point gaze,
                                        const render_params& p, uint32_t spp, bool flip, bool keep_maps);
-
-// `fovbench compare`: two image files, the display they are seen on and the gaze.
-struct compare_options {
-  std::string test, reference;
-  std::string display;             // a preset or WxH, 8..8192 (parse_display; empty: the images' size)
-  double viewing_distance = 0;     // display widths (0: the display's, 1 for WxH)
-  std::string gaze = "centre";
-  bool json = false, flip = true;
-  std::string flip_map, foveated_flip_map;
-};
-// Reads both, checks sizes (usage_error for flags, file_error for files), compares and
-// writes the maps; returns what to print (JSON or the two lines).
-std::string run_compare(const compare_options& o);
-
-// An error map as a grey image: byte = round(255 x error). Written as write_frame does.
-void write_error_map(const error_map& map, const std::string& path);
 
 }  // namespace fov

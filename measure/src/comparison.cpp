@@ -1,11 +1,6 @@
-#include "comparison.h"
+#include "fov/comparison.h"
 
 #include <fmt/format.h>
-
-#include "cli.h"
-#include "fov/colour.h"
-#include "fov/usage_error.h"
-#include "image_io.h"
 
 namespace fov {
 
@@ -107,14 +102,6 @@ std::string comparison_text(const comparison& c, const std::string& against) {
   return s;
 }
 
-void write_error_map(const error_map& map, const std::string& path) {
-  frame f;
-  f.width = map.width, f.height = map.height;
-  f.rgb.reserve(map.value.size());
-  // write_frame sRGB-encodes: decoding first makes the stored byte the error itself.
-  for (float v : map.value) f.rgb.emplace_back(srgb_decode(std::clamp(v, 0.0f, 1.0f)));
-  write_frame(f, path);
-}
 
 converged_comparison compare_converged(renderer& r, const frame& image, const spacing_model& eye, gaze_point gaze,
                                        const render_params& p, uint32_t spp, bool flip, bool keep_maps) {
@@ -132,42 +119,6 @@ converged_comparison compare_converged(renderer& r, const frame& image, const sp
   c.against = compare_images(image, truth, eye, gaze, flip, keep_maps);
   c.floor = compare_images(second, truth, eye, gaze, flip, false);
   return c;
-}
-
-std::string run_compare(const compare_options& o) {
-  const bool named = !o.display.empty();
-  display_geometry display = named ? parse_display(o.display) : display_geometry{};
-  if (o.viewing_distance != 0) {
-    if (const std::string why = viewing_distance_problem(o.viewing_distance); !why.empty()) throw usage_error("--viewing-distance: " + why);
-    display.viewing_distance = o.viewing_distance;
-  }
-  if (!o.flip && !(o.flip_map.empty() && o.foveated_flip_map.empty()))
-    throw usage_error("--no-flip leaves no FLIP map to write");
-  // The maps are checked before anything is read: neither may be an input (or each other).
-  require_output("--flip-map", o.flip_map, {o.test, o.reference});
-  require_output("--foveated-flip-map", o.foveated_flip_map, {o.test, o.reference});
-  if (!o.flip_map.empty() && o.flip_map == o.foveated_flip_map)
-    throw usage_error("--flip-map and --foveated-flip-map name the same file");
-  const frame test = read_frame(o.test), reference = read_frame(o.reference);
-  if (test.width != reference.width || test.height != reference.height)
-    throw usage_error(fmt::format("{} is {}x{} but {} is {}x{}", o.test, test.width, test.height, o.reference, reference.width,
-                                  reference.height));
-  if (!named) display.width = test.width, display.height = test.height;
-  if (display.width != test.width || display.height != test.height)
-    throw usage_error(fmt::format("--display {} is {}x{}, the images {}x{}", o.display, display.width, display.height,
-                                  test.width, test.height));
-  const gaze_point gaze = require_gaze("--gaze", o.gaze, display);
-  spacing_model eye;
-  eye.display = display;
-  const comparison c = compare_images(test, reference, eye, gaze, o.flip, !o.flip_map.empty() || !o.foveated_flip_map.empty());
-  if (!o.flip_map.empty()) write_error_map(c.flip.flip_map, o.flip_map);
-  if (!o.foveated_flip_map.empty()) write_error_map(c.flip.foveated_map, o.foveated_flip_map);
-  if (!o.json) return comparison_text(c, o.reference) + "\n";
-  json j = comparison_json(c);
-  j["test"] = o.test, j["reference"] = o.reference;
-  j["display"] = {{"width", display.width}, {"height", display.height}, {"viewing_distance", display.viewing_distance}};
-  j["gaze"] = {gaze.x, gaze.y};
-  return j.dump(2) + "\n";
 }
 
 }  // namespace fov

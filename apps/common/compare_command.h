@@ -1,0 +1,26 @@
+// `fovbench compare`: two image files scored as every tool scores a frame (fov/comparison.h).
+#pragma once
+
+#include <string>
+
+#include "fov/comparison.h"
+
+namespace fov {
+
+// `fovbench compare`: two image files, the display they are seen on and the gaze.
+struct compare_options {
+  std::string test, reference;
+  std::string display;             // a preset or WxH, 8..8192 (parse_display; empty: the images' size)
+  double viewing_distance = 0;     // display widths (0: the display's, 1 for WxH)
+  std::string gaze = "centre";
+  bool json = false, flip = true;
+  std::string flip_map, foveated_flip_map;
+};
+// Reads both, checks sizes (usage_error for flags, file_error for files), compares and
+// writes the maps; returns what to print (JSON or the two lines).
+std::string run_compare(const compare_options& o);
+
+// An error map as a grey image: byte = round(255 x error). Written as write_frame does.
+void write_error_map(const error_map& map, const std::string& path);
+
+}  // namespace fov
