@@ -18,16 +18,6 @@
 namespace fov {
 namespace {
 
-TEST(Pareto, KeepsOnlyUndominatedPointsSortedByTime) {
-  // (time, error): b dominates d; e ties a in time with more error; f is NaN.
-  const double nan = std::numeric_limits<double>::quiet_NaN();
-  const std::vector<double> x = {1, 2, 4, 3, 1, 5, nan, 8};
-  const std::vector<double> y = {9, 5, 1, 6, 10, 1, 0, 0.5};
-  //                              a  b  c  d  e   f  g    h
-  const std::vector<size_t> front = pareto_front(x, y);
-  EXPECT_EQ(front, (std::vector<size_t>{0, 1, 2, 7}));  // a, b, c, h (f ties c's error but is slower)
-  EXPECT_TRUE(pareto_front({}, {}).empty());
-}
 
 // A row as fovbench writes it (every cell within its column's range).
 result_row sample_row(const std::string& method, const std::string& spp) {
@@ -247,17 +237,6 @@ TEST(ReferenceCache, TracesOnceAndReadsTheFilesAfter) {
   EXPECT_THROW(third.get(r, renka, 2, 7), std::runtime_error);
 }
 
-// Two fronts with known times: the baseline reaches error 0.1 in 40 ms, foveation in 10.
-TEST(EqualError, SpeedupAlongBothFronts) {
-  const std::vector<std::pair<double, double>> fov = {{10, 0.1}, {20, 0.05}}, base = {{10, 0.4}, {40, 0.1}, {160, 0.025}};
-  EXPECT_DOUBLE_EQ(time_at_error(fov, 0.1), 10);
-  EXPECT_NEAR(time_at_error(fov, 0.075), std::sqrt(10.0 * 20.0), 1e-9);  // halfway: the geometric mean
-  EXPECT_NEAR(equal_error_speedup(fov, base, 0.1), 4.0, 1e-12);
-  EXPECT_TRUE(std::isnan(time_at_error(fov, 0.2)));   // worse than the front's worst: not on it
-  EXPECT_TRUE(std::isnan(time_at_error(fov, 0.01)));  // better than its best
-  // 0.05 lies two thirds of the way from 0.1 to 0.025: log time two thirds of the way from 40 to 160 ms.
-  EXPECT_NEAR(equal_error_speedup(fov, base, 0.05), std::pow(40.0, 1 / 3.0) * std::pow(160.0, 2 / 3.0) / 20, 1e-9);
-}
 
 
 TEST(BenchOptions, AreCheckedBeforeAnythingRuns) {

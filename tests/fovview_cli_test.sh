@@ -49,7 +49,8 @@ assert j["frame"] == 29 and j["method"] == "shepard" and j["k"] == 5, j
 assert abs(j["gaze"][0] - 0.3 * 256) < 1e-6 and abs(j["gaze"][1] - 0.4 * 288) < 1e-6, j["gaze"]  # the traced gaze
 m = j["metrics"]
 # Foveated where the gaze is: the fovea is closer to the reference than the periphery.
-assert m["fovea"]["psnr"] > m["periphery"]["psnr"] + 2, m
+assert m["psnr_fovea"] > m["psnr_periphery"] + 2, m
+assert [b["band"] for b in m["bands"]] == ["<5", "5-10", "10-20", "20-30", ">30"], m  # fovrender's schema
 PY
   # --pipeline (the next frame traced while one is shown) shows the same frames: without
   # TAA the ray pattern is fixed, so frame 5 at a fixed gaze is the same image either way.

@@ -1,5 +1,6 @@
 // measure/: PSNR/SSIM and the foveated RMSE by eccentricity band, the acuity weight, the
-// luminance change flicker is measured by, and each band's share of geometry.
+// luminance change flicker is measured by, each band's share of geometry, Pareto fronts and
+// the equal-quality speedup.
 #include <cmath>
 #include <limits>
 #include <random>
@@ -7,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include "fov/metrics.h"
+#include "fov/pareto.h"
 
 namespace fov {
 namespace {
@@ -24,9 +26,16 @@ float linear_of_byte(int b) {
   return s <= 0.04045f ? s / 12.92f : std::pow((s + 0.055f) / 1.055f, 2.4f);
 }
 
+// The thesis's three bands (< 5, 5-30, > 30 degrees) of measure_error.
+error_report thesis_bands(const frame& test, const frame& reference, const display_geometry& d, gaze_point gaze) {
+  spacing_model eye;
+  eye.display = d;
+  return measure_error(test, reference, eye, gaze, {5, 30});
+}
+
 TEST(Metrics, IdenticalFramesAreInfinitelyClose) {
   const frame a = flat(32, 24, 0.3f);
-  const frame_comparison c = compare_frames(a, a, {32, 24, 1.0}, {16, 12});
+  const error_report c = thesis_bands(a, a, {32, 24, 1.0}, {16, 12});
   EXPECT_TRUE(std::isinf(c.overall.psnr));
   EXPECT_NEAR(c.overall.ssim, 1.0, 1e-9);
   EXPECT_EQ(c.overall.pixels, 32u * 24u);
@@ -35,9 +44,9 @@ TEST(Metrics, IdenticalFramesAreInfinitelyClose) {
 TEST(Metrics, AKnownOffsetGivesAKnownPsnr) {
   // Displayed bytes 0 against 10 everywhere: MSE 100, PSNR = 10 log10(255^2 / 100) = 28.1308 dB.
   const frame a = flat(32, 24, 0.0f), b = flat(32, 24, linear_of_byte(10));
-  const frame_comparison c = compare_frames(a, b, {32, 24, 1.0}, {16, 12});
+  const error_report c = thesis_bands(a, b, {32, 24, 1.0}, {16, 12});
   EXPECT_NEAR(c.overall.psnr, 28.1308, 1e-3);
-  EXPECT_NEAR(c.fovea.psnr, 28.1308, 1e-3);
+  EXPECT_NEAR(c.bands[0].psnr, 28.1308, 1e-3);
 }
 
 TEST(Metrics, NoiseLowersSsimAndPsnrAsExpected) {
@@ -53,7 +62,7 @@ TEST(Metrics, NoiseLowersSsimAndPsnrAsExpected) {
       mse += n * n;
     }
   mse /= 3.0 * 64 * 64;
-  const frame_comparison c = compare_frames(b, a, {64, 64, 1.0}, {32, 32});
+  const error_report c = thesis_bands(b, a, {64, 64, 1.0}, {32, 32});
   EXPECT_NEAR(c.overall.psnr, 10 * std::log10(255.0 * 255.0 / mse), 1e-6);
   EXPECT_NEAR(c.overall.psnr, 26.88, 0.3);
   EXPECT_LT(c.overall.ssim, 0.9);
@@ -66,7 +75,7 @@ TEST(Metrics, EccentricityBandsOnATinyScreen) {
   EXPECT_NEAR(pixel_eccentricity_deg(d, {0.5, 0.5}, 0, 0), 0.0, 1e-12);
   EXPECT_NEAR(pixel_eccentricity_deg(d, {0.5, 0.5}, 100 - 1, 0), std::atan(99.0 / 100) * 180 / M_PI, 1e-9);
   const frame a = flat(100, 100, 0.2f);
-  const frame_comparison c = compare_frames(a, a, d, {0, 0});
+  const error_report c = thesis_bands(a, a, d, {0, 0});
   // Count pixel centres within 8.749 px and 57.735 px of the corner gaze.
   uint64_t fovea = 0, mid = 0;
   for (int y = 0; y < 100; ++y)
@@ -75,10 +84,10 @@ TEST(Metrics, EccentricityBandsOnATinyScreen) {
       fovea += r < 100 * std::tan(5 * M_PI / 180);
       mid += r >= 100 * std::tan(5 * M_PI / 180) && r < 100 * std::tan(30 * M_PI / 180);
     }
-  EXPECT_EQ(c.fovea.pixels, fovea);
-  EXPECT_EQ(c.mid.pixels, mid);
-  EXPECT_EQ(c.fovea.pixels + c.mid.pixels + c.periphery.pixels, 10000u);
-  EXPECT_GT(c.periphery.pixels, 0u);
+  EXPECT_EQ(c.bands[0].pixels, fovea);
+  EXPECT_EQ(c.bands[1].pixels, mid);
+  EXPECT_EQ(c.bands[0].pixels + c.bands[1].pixels + c.bands[2].pixels, 10000u);
+  EXPECT_GT(c.bands[2].pixels, 0u);
 }
 
 TEST(Metrics, FiveBandsProfileAndFoveatedErrorOfAKnownOffset) {
@@ -158,14 +167,8 @@ TEST(Metrics, LuminanceChangeOfAKnownStep) {
 }
 
 TEST(Metrics, MismatchedSizesAreRejected) {
-  EXPECT_THROW(compare_frames(flat(4, 4, 0), flat(4, 5, 0), {4, 4, 1.0}, {2, 2}), std::invalid_argument);
+  EXPECT_THROW(thesis_bands(flat(4, 4, 0), flat(4, 5, 0), {4, 4, 1.0}, {2, 2}), std::invalid_argument);
 }
-
-}  // namespace
-}  // namespace fov
-
-namespace fov {
-namespace {
 
 TEST(Coverage, SharesOfGeometryPerBand) {
   frame f;
@@ -180,6 +183,29 @@ TEST(Coverage, SharesOfGeometryPerBand) {
   EXPECT_TRUE(std::isnan(c[4]));  // no pixel beyond 30 degrees
   f.depth.clear();
   for (double v : geometry_coverage(f, {100, 1, 2.0}, {0, 0.5})) EXPECT_TRUE(std::isnan(v));
+}
+
+TEST(Pareto, KeepsOnlyUndominatedPointsSortedByTime) {
+  // (time, error): b dominates d; e ties a in time with more error; f is NaN.
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const std::vector<double> x = {1, 2, 4, 3, 1, 5, nan, 8};
+  const std::vector<double> y = {9, 5, 1, 6, 10, 1, 0, 0.5};
+  //                              a  b  c  d  e   f  g    h
+  const std::vector<size_t> front = pareto_front(x, y);
+  EXPECT_EQ(front, (std::vector<size_t>{0, 1, 2, 7}));  // a, b, c, h (f ties c's error but is slower)
+  EXPECT_TRUE(pareto_front({}, {}).empty());
+}
+
+// Two fronts with known times: the baseline reaches error 0.1 in 40 ms, foveation in 10.
+TEST(EqualError, SpeedupAlongBothFronts) {
+  const std::vector<std::pair<double, double>> fov = {{10, 0.1}, {20, 0.05}}, base = {{10, 0.4}, {40, 0.1}, {160, 0.025}};
+  EXPECT_DOUBLE_EQ(time_at_error(fov, 0.1), 10);
+  EXPECT_NEAR(time_at_error(fov, 0.075), std::sqrt(10.0 * 20.0), 1e-9);  // halfway: the geometric mean
+  EXPECT_NEAR(equal_error_speedup(fov, base, 0.1), 4.0, 1e-12);
+  EXPECT_TRUE(std::isnan(time_at_error(fov, 0.2)));   // worse than the front's worst: not on it
+  EXPECT_TRUE(std::isnan(time_at_error(fov, 0.01)));  // better than its best
+  // 0.05 lies two thirds of the way from 0.1 to 0.025: log time two thirds of the way from 40 to 160 ms.
+  EXPECT_NEAR(equal_error_speedup(fov, base, 0.05), std::pow(40.0, 1 / 3.0) * std::pow(160.0, 2 / 3.0) / 20, 1e-9);
 }
 
 }  // namespace

@@ -20,7 +20,7 @@
 #include "../common/render_flags.h"
 #include "../common/window.h"
 #include "camera_path.h"
-#include "fov/metrics.h"
+#include "fov/comparison.h"
 #include "fov/pointset_io.h"
 #include "fov/renderer.h"
 #include "fov/scene.h"
@@ -256,9 +256,11 @@ int run_viewer(const viewer_options& o, render_params settings) {
                 {"rays", timing.rays},
                 {"points_traced", timing.points_traced}};
       if (!reference_image.rgb.empty()) {
-        const fov::frame_comparison c = fov::compare_frames(image, reference_image, display, g);
-        auto band = [](const fov::band_metrics& m) { return json{{"psnr", m.psnr}, {"ssim", m.ssim}, {"pixels", m.pixels}}; };
-        j["metrics"] = {{"overall", band(c.overall)}, {"fovea", band(c.fovea)}, {"mid", band(c.mid)}, {"periphery", band(c.periphery)}};
+        // The schema every tool writes (fovrender --compare's "metrics"); PSNR/SSIM only: FLIP
+        // takes seconds on a large frame, and a screenshot is taken live.
+        fov::spacing_model eye;
+        eye.display = display;
+        j["metrics"] = fov::comparison_json(fov::compare_images(image, reference_image, eye, g, false));
       }
       const std::string text = j.dump(2) + "\n";
       fov::write_file_atomic(file + ".json", text.data(), text.size());

@@ -1,5 +1,6 @@
 #include "fov/flip.h"
 
+#include "fov/bands.h"
 #include "fov/colour.h"
 #include "fov/metrics.h"
 
@@ -312,20 +313,16 @@ pooled_error pool_error(const error_map& map, const display_geometry& display, g
     throw std::invalid_argument("error map is empty or malformed");
   if (map.width != display.width || map.height != display.height)
     throw std::invalid_argument("error map and display differ in size");
-  for (size_t i = 1; i < edges.size(); ++i)
-    if (!(edges[i] > edges[i - 1])) throw std::invalid_argument("band edges must increase");
+  const eccentricity_bands bands(display, gaze, edges);
   pooled_error p;
   p.edges_deg = edges;
-  std::vector<double> sums(edges.size() + 1, 0.0);
-  p.pixels.assign(edges.size() + 1, 0);
+  std::vector<double> sums(bands.count(), 0.0);
+  p.pixels.assign(bands.count(), 0);
   double total = 0;
-  for (int y = 0; y < map.height; ++y)
-    for (int x = 0; x < map.width; ++x) {
-      const double v = map.value[size_t(y) * map.width + x];
-      const double e = pixel_eccentricity_deg(display, gaze, x, y);
-      const size_t band = size_t(std::upper_bound(edges.begin(), edges.end(), e) - edges.begin());
-      sums[band] += v, ++p.pixels[band], total += v;
-    }
+  bands.for_each_pixel(map.width, map.height, [&](int x, int y, double, size_t band) {
+    const double v = map.value[size_t(y) * map.width + x];
+    sums[band] += v, ++p.pixels[band], total += v;
+  });
   p.mean = total / double(map.value.size());
   p.worst_band = 0;
   for (size_t b = 0; b < sums.size(); ++b) {

@@ -1,5 +1,7 @@
 #include "fov/metrics.h"
 
+#include "fov/bands.h"
+
 #include "fov/colour.h"
 
 #include <algorithm>
@@ -59,8 +61,7 @@ error_report measure_error(const frame& test, const frame& reference, const spac
   if (test.width != reference.width || test.height != reference.height)
     throw std::invalid_argument("frames differ in size");
   if (!(bin_deg > 0)) throw std::invalid_argument("bin width must be positive");
-  for (size_t i = 1; i < edges.size(); ++i)
-    if (!(edges[i] > edges[i - 1])) throw std::invalid_argument("band edges must increase");
+  const eccentricity_bands bands_of(eye.display, gaze, edges);
   const cv::Mat a = to_display(test), b = to_display(reference);
   cv::Mat ssim_map;
   cv::quality::QualitySSIM::compute(a, b, ssim_map);  // per pixel and channel
@@ -68,21 +69,18 @@ error_report measure_error(const frame& test, const frame& reference, const spac
   r.edges_deg = edges;
   r.bin_deg = bin_deg;
   sums all;
-  std::vector<sums> bands(edges.size() + 1);
+  std::vector<sums> bands(bands_of.count());
   std::vector<double> bin_squared;
   double weighted = 0, weights = 0;
   // The weight depends on eccentricity only: tabulated per 0.01 degree.
   std::vector<double> weight_table(9001);
   for (size_t i = 0; i < weight_table.size(); ++i) weight_table[i] = acuity_weight(eye, double(i) * 0.01);
-  for (int y = 0; y < test.height; ++y)
-    for (int x = 0; x < test.width; ++x) {
+  bands_of.for_each_pixel(test.width, test.height, [&](int x, int y, double e, size_t band) {
       const cv::Vec3b p = a.at<cv::Vec3b>(y, x), q = b.at<cv::Vec3b>(y, x);
       double se = 0;
       for (int c = 0; c < 3; ++c) se += double(p[c] - q[c]) * double(p[c] - q[c]);
       const cv::Vec3f s = ssim_map.at<cv::Vec3f>(y, x);
       const double ssim = (double(s[0]) + s[1] + s[2]) / 3;
-      const double e = pixel_eccentricity_deg(eye.display, gaze, x, y);
-      const size_t band = size_t(std::upper_bound(edges.begin(), edges.end(), e) - edges.begin());
       for (sums* t : {&all, &bands[band]}) t->squared += se, t->ssim += ssim, ++t->pixels;
       const double unit = se / (3.0 * 255.0 * 255.0);  // squared error in full-scale units, mean over RGB
       const double w = weight_table[std::min(weight_table.size() - 1, size_t(e * 100 + 0.5))];
@@ -90,7 +88,7 @@ error_report measure_error(const frame& test, const frame& reference, const spac
       const size_t bin = size_t(e / bin_deg);
       if (bin >= bin_squared.size()) bin_squared.resize(bin + 1, 0.0), r.profile_pixels.resize(bin + 1, 0);
       bin_squared[bin] += unit, ++r.profile_pixels[bin];
-    }
+    });
   r.overall = finish(all);
   for (const sums& s : bands) r.bands.push_back(finish(s));
   r.foveated_error = weights > 0 ? std::sqrt(weighted / weights) : 0;
@@ -100,26 +98,16 @@ error_report measure_error(const frame& test, const frame& reference, const spac
   return r;
 }
 
-frame_comparison compare_frames(const frame& test, const frame& reference, const display_geometry& display,
-                                gaze_point gaze) {
-  spacing_model eye;
-  eye.display = display;
-  const error_report r = measure_error(test, reference, eye, gaze, {5, 30});
-  return {r.overall, r.bands[0], r.bands[1], r.bands[2]};
-}
-
 std::vector<double> geometry_coverage(const frame& f, const display_geometry& d, gaze_point gaze,
                                       const std::vector<double>& edges) {
+  const eccentricity_bands bands(d, gaze, edges);
   if (f.depth.size() != size_t(f.width) * size_t(f.height) || f.rgb.size() != f.depth.size())
-    return std::vector<double>(edges.size() + 1, std::numeric_limits<double>::quiet_NaN());
-  std::vector<double> hits(edges.size() + 1, 0), all(edges.size() + 1, 0);
-  for (int y = 0; y < f.height; ++y)
-    for (int x = 0; x < f.width; ++x) {
-      const double e = pixel_eccentricity_deg(d, gaze, x, y);
-      const size_t b = size_t(std::upper_bound(edges.begin(), edges.end(), e) - edges.begin());
-      ++all[b];
-      hits[b] += std::isfinite(f.depth[size_t(y) * f.width + x]) ? 1 : 0;
-    }
+    return std::vector<double>(bands.count(), std::numeric_limits<double>::quiet_NaN());
+  std::vector<double> hits(bands.count(), 0), all(bands.count(), 0);
+  bands.for_each_pixel(f.width, f.height, [&](int x, int y, double, size_t b) {
+    ++all[b];
+    hits[b] += std::isfinite(f.depth[size_t(y) * f.width + x]) ? 1 : 0;
+  });
   std::vector<double> out;
   for (size_t b = 0; b < all.size(); ++b) out.push_back(all[b] > 0 ? hits[b] / all[b] : std::numeric_limits<double>::quiet_NaN());
   return out;

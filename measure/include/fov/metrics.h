@@ -15,25 +15,16 @@ struct band_metrics {
   uint64_t pixels = 0;
 };
 
-// Bands of the thesis discussion: fovea < 5 deg, mid 5-30 deg, periphery > 30 deg.
-struct frame_comparison {
-  band_metrics overall, fovea, mid, periphery;
-};
-
-// Compares two frames of the same size. Both are tone-mapped the way PNGs are written
-// (clamped to [0, 1], sRGB-encoded, 8 bits): errors are measured on what is displayed.
-// SSIM is OpenCV's (quality module, 11x11 Gaussian window), averaged over each band.
-frame_comparison compare_frames(const frame& test, const frame& reference, const display_geometry& display,
-                                gaze_point gaze);
-
 // How much a pixel's error matters at an eccentricity: the acuity model's cut-off
 // frequency there relative to the display's Nyquist frequency, min(fc(e), fd) / fd in
 // (0, 1]: 1 where the eye resolves every pixel, falling with eccentricity. Evaluated at
 // the eye's true eccentricity (the model's scale is ignored: it thins sets, not eyes).
 double acuity_weight(const spacing_model& eye, double eccentricity_deg);
 
-// Everything fovbench measures of one frame against its reference, on display values
-// (tone-mapped as compare_frames does; errors below in units of full scale, 0..1).
+// Everything measured of one frame against its reference, on display values: both are
+// tone-mapped the way PNGs are written (clamped to [0, 1], sRGB-encoded, 8 bits), so
+// errors are measured on what is displayed (below in units of full scale, 0..1). SSIM is
+// OpenCV's (quality module, 11x11 Gaussian window), averaged over each band's pixels.
 struct error_report {
   band_metrics overall;
   std::vector<double> edges_deg;    // band edges, e.g. 5, 10, 20, 30
