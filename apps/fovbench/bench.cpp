@@ -46,7 +46,7 @@ std::string slug(const std::string& scene) {
 // One row of the sweep: a foveated or uniform configuration, or a full-resolution frame.
 struct config {
   size_t scene;
-  std::string kind;  // foveated, uniform, full
+  row_kind kind;
   size_t set;        // foveated: the scale's index; uniform: the fraction's; full: unused
   size_t gaze;
   method how;
@@ -60,12 +60,12 @@ std::string fraction_text(double f) { return fmt::format("{:.4f}", f); }
 // --resume's key and for the row itself.
 result_row identity_row(const bench_options& o, const std::vector<named_gaze>& gazes, const config& c) {
   result_row r;
-  r.cells = {{"scene", o.scenes[c.scene]}, {"gaze", gazes[c.gaze].name}, {"kind", c.kind}, {"spp", std::to_string(c.spp)}};
-  if (c.kind == "full") {
+  r.cells = {{"scene", o.scenes[c.scene]}, {"gaze", gazes[c.gaze].name}, {"kind", row_kind_name(c.kind)}, {"spp", std::to_string(c.spp)}};
+  if (c.kind == row_kind::full) {
     r.cells["method"] = "full", r.cells["pixel_fraction"] = fraction_text(1);
   } else {
     r.cells["method"] = method_name(c.how), r.cells["k"] = std::to_string(c.k);
-    if (c.kind == "foveated") r.cells["scale"] = fmt::format("{:.2f}", o.scales[c.set]);
+    if (c.kind == row_kind::foveated) r.cells["scale"] = fmt::format("{:.2f}", o.scales[c.set]);
     else r.cells["pixel_fraction"] = fraction_text(o.uniform_fractions[c.set]);
   }
   return r;
@@ -73,7 +73,7 @@ result_row identity_row(const bench_options& o, const std::vector<named_gaze>& g
 
 std::vector<config> all_configs(const bench_options& o, const std::vector<named_gaze>& gazes) {
   std::vector<config> all;
-  auto add = [&](size_t sc, const std::string& kind, size_t set, size_t g, method how, uint32_t k, uint32_t spp) {
+  auto add = [&](size_t sc, row_kind kind, size_t set, size_t g, method how, uint32_t k, uint32_t spp) {
     config c{sc, kind, set, g, how, k, spp, ""};
     c.key = identity_row(o, gazes, c).key();
     if (std::none_of(all.begin(), all.end(), [&](const config& d) { return d.key == c.key; })) all.push_back(c);
@@ -81,8 +81,8 @@ std::vector<config> all_configs(const bench_options& o, const std::vector<named_
   const bool uniform = std::count(o.baselines.begin(), o.baselines.end(), baseline::uniform) > 0;
   const bool full = std::count(o.baselines.begin(), o.baselines.end(), baseline::full) > 0;
   for (size_t sc = 0; sc < o.scenes.size(); ++sc) {
-    for (const auto& [kind, sets] : {std::pair<std::string, size_t>{"foveated", o.scales.size()},
-                                     {"uniform", uniform ? o.uniform_fractions.size() : 0}})
+    for (const auto& [kind, sets] : {std::pair<row_kind, size_t>{row_kind::foveated, o.scales.size()},
+                                     {row_kind::uniform, uniform ? o.uniform_fractions.size() : 0}})
       for (size_t si = 0; si < sets; ++si)
         for (size_t g = 0; g < gazes.size(); ++g)
           for (uint32_t spp : o.spps)
@@ -90,7 +90,7 @@ std::vector<config> all_configs(const bench_options& o, const std::vector<named_
               for (uint32_t k : how == method::nn ? std::vector<uint32_t>{1} : o.ks) add(sc, kind, si, g, how, k, spp);
     if (full)
       for (size_t g = 0; g < gazes.size(); ++g)
-        for (uint32_t spp : o.spps) add(sc, "full", 0, g, method::nn, 0, spp);
+        for (uint32_t spp : o.spps) add(sc, row_kind::full, 0, g, method::nn, 0, spp);
   }
   return all;
 }
@@ -454,11 +454,11 @@ size_t run_bench(const bench_options& o, const bench_reporter& report) {
     };
 
     // Foveated sets, then the uniform baseline's: traced and reconstructed the same way.
-    for (const std::string kind : {"foveated", "uniform"}) {
-      const size_t sets = kind == std::string("foveated") ? o.scales.size() : o.uniform_fractions.size();
+    for (const row_kind kind : {row_kind::foveated, row_kind::uniform}) {
+      const size_t sets = kind == row_kind::foveated ? o.scales.size() : o.uniform_fractions.size();
       for (size_t si = 0; si < sets; ++si) {
         if (!needed([&](const config& c) { return c.scene == sc && c.kind == kind && c.set == si; })) continue;
-        if (kind == std::string("foveated")) {
+        if (kind == row_kind::foveated) {
           r.use_pointset(bench_pointset(o, display, o.scales[si], say));
         } else {
           say(fmt::format("uniform set of {} of the pixels", fraction_text(o.uniform_fractions[si])));
@@ -467,7 +467,7 @@ size_t run_bench(const bench_options& o, const bench_reporter& report) {
           r.use_pointset(std::make_shared<const pointset>(uniform_pointset(display, o.uniform_fractions[si], kp)));
         }
         if (const std::string warning = r.device_warning(); !warning.empty()) report.line(warning);
-        const std::string what = kind == std::string("foveated") ? fmt::format("s={:.2f}", o.scales[si])
+        const std::string what = kind == row_kind::foveated ? fmt::format("s={:.2f}", o.scales[si])
                                                                    : fmt::format("uniform {}", fraction_text(o.uniform_fractions[si]));
         for (size_t g = 0; g < gazes.size(); ++g)
           for (uint32_t spp : o.spps) {
@@ -551,7 +551,7 @@ size_t run_bench(const bench_options& o, const bench_reporter& report) {
     // The full-resolution baseline: every timing of its frames gathered above (more when
     // none was), errors at each gaze.
     for (const config& c : all) {
-      if (c.scene != sc || c.kind != "full" || done.count(c.key)) continue;
+      if (c.scene != sc || c.kind != row_kind::full || done.count(c.key)) continue;
       full_frame& f = fulls[c.spp];
       while (f.ms.size() < o.frames) {
         say(fmt::format("timing full resolution spp={}", c.spp));

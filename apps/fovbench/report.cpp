@@ -34,15 +34,16 @@ std::string short_scene(const std::string& s) {
 // A configuration of knobs (kind, scale or pixel fraction, method, k, spp) averaged over
 // the gazes of the sweep: the gaze is not a knob, so the trade is judged on the average.
 struct knob_mean {
-  std::string kind, method, k, scale, fraction, spp;
+  row_kind kind;
+  std::string method, k, scale, fraction, spp;
   double frame_ms = 0, frame_lo = 0, frame_hi = 0, full_ms = 0, speedup = 0, speedup_lo = 0, speedup_hi = 0;
   double psnr = 0, psnr_fovea = 0, foveated_error = 0;
   double flip = 0, flip_fovea = 0, flip_p99 = 0, foveated_flip = 0, foveated_flip_p99 = 0, foveated_flip_worst_band = 0;
   int gazes = 0;
   std::string label() const {
-    if (kind == "full") return fmt::format("full {}spp", spp);
+    if (kind == row_kind::full) return fmt::format("full {}spp", spp);
     const std::string k_text = method == "nn" ? "" : " k" + k;
-    if (kind == "uniform") return fmt::format("u{} {} {}spp{}", fraction.substr(0, 4), method, spp, k_text);
+    if (kind == row_kind::uniform) return fmt::format("u{} {} {}spp{}", fraction.substr(0, 4), method, spp, k_text);
     return fmt::format("s{} {} {}spp{}", scale, method, spp, k_text);
   }
   // The mean of a named error column.
@@ -61,7 +62,7 @@ std::vector<knob_mean> knob_means(const std::vector<const result_row*>& rows) {
   std::vector<knob_mean> out;
   auto mse = [](double psnr) { return std::isinf(psnr) ? 0.0 : 255.0 * 255.0 / std::pow(10.0, psnr / 10); };
   for (const result_row* r : rows) {
-    const knob_mean id{r->text("kind"), r->text("method"), r->text("k"), r->text("scale"), r->text("pixel_fraction"), r->text("spp")};
+    const knob_mean id{r->kind(), r->text("method"), r->text("k"), r->text("scale"), r->text("pixel_fraction"), r->text("spp")};
     auto it = std::find_if(out.begin(), out.end(), [&](const knob_mean& m) {
       return m.kind == id.kind && m.method == id.method && m.k == id.k && m.scale == id.scale && m.fraction == id.fraction &&
              m.spp == id.spp;
@@ -99,7 +100,7 @@ std::string headline_metric(const std::vector<knob_mean>& means) {
 }
 
 // Indices of the front of the means whose kind is in `kinds`.
-std::vector<size_t> front_of(const std::vector<knob_mean>& means, const std::set<std::string>& kinds, const std::string& metric) {
+std::vector<size_t> front_of(const std::vector<knob_mean>& means, const std::set<row_kind>& kinds, const std::string& metric) {
   std::vector<double> x, y;
   for (const knob_mean& m : means) {
     const bool in = kinds.count(m.kind) > 0;
@@ -115,7 +116,7 @@ std::vector<std::pair<double, double>> points_of(const std::vector<knob_mean>& m
   return out;
 }
 
-const std::set<std::string> foveated_kind{"foveated"}, baseline_kinds{"full", "uniform"};
+const std::set<row_kind> foveated_kind{row_kind::foveated}, baseline_kinds{row_kind::full, row_kind::uniform};
 
 std::vector<const result_row*> rows_of(const std::vector<result_row>& rows, const std::string& scene) {
   std::vector<const result_row*> mine;
@@ -133,11 +134,16 @@ plot_panel pareto_panel(const std::string& scene, const std::vector<knob_mean>& 
   const std::vector<size_t> fov_front = front_of(means, foveated_kind, metric), base_front = front_of(means, baseline_kinds, metric);
   auto on = [](const std::vector<size_t>& f, size_t i) { return std::find(f.begin(), f.end(), i) != f.end(); };
   struct group {
-    std::string name, kind, method;
+    std::string name;
+    row_kind kind;
+    std::string method;
     int colour;
   };
-  const group groups[] = {{"foveated nn", "foveated", "nn", 0}, {"foveated shepard", "foveated", "shepard", 1},
-                          {"foveated rbf", "foveated", "rbf", 2}, {"uniform", "uniform", "", 3}, {"full resolution", "full", "", 4}};
+  const group groups[] = {{"foveated nn", row_kind::foveated, "nn", 0},
+                          {"foveated shepard", row_kind::foveated, "shepard", 1},
+                          {"foveated rbf", row_kind::foveated, "rbf", 2},
+                          {"uniform", row_kind::uniform, "", 3},
+                          {"full resolution", row_kind::full, "", 4}};
   for (const group& g : groups) {
     plot_series s;
     s.name = g.name;
@@ -183,7 +189,7 @@ void write_bench_figures(const std::vector<result_row>& rows, const bench_option
     const std::string gaze = mine.empty() ? "" : mine[0]->text("gaze");
     double lo_scale = 1e9, hi_scale = 0, top_spp = 0;
     for (const result_row* r : mine) {
-      if (r->text("kind") == "foveated")
+      if (r->kind() == row_kind::foveated)
         lo_scale = std::min(lo_scale, r->number("scale")), hi_scale = std::max(hi_scale, r->number("scale"));
       top_spp = std::max(top_spp, r->number("spp"));
     }
@@ -193,9 +199,9 @@ void write_bench_figures(const std::vector<result_row>& rows, const bench_option
     std::set<std::string> drawn;
     for (const result_row* r : mine) {
       const double s = r->number("scale");
-      const bool full = r->text("kind") == "full";
+      const bool full = r->kind() == row_kind::full;
       if (r->text("gaze") != gaze || r->number("spp") != top_spp) continue;
-      if (!full && (r->text("kind") != "foveated" || (s != lo_scale && s != hi_scale))) continue;
+      if (!full && (r->kind() != row_kind::foveated || (s != lo_scale && s != hi_scale))) continue;
       const std::string id = r->text("kind") + "|" + r->text("method") + "|" + r->text("scale");
       if (drawn.count(id) || (!full && r->text("method") != "nn" && r->text("k") != std::to_string(o.ks.empty() ? 5 : o.ks[0])))
         continue;
@@ -220,7 +226,7 @@ void write_bench_figures(const std::vector<result_row>& rows, const bench_option
     const std::string first_k = std::to_string(o.ks.empty() ? 5 : o.ks[0]);
     std::map<std::string, std::map<double, const knob_mean*>> curves;
     for (const knob_mean& m : means) {
-      if (m.kind != "foveated" || (m.method != "nn" && m.k != first_k)) continue;
+      if (m.kind != row_kind::foveated || (m.method != "nn" && m.k != first_k)) continue;
       curves[fmt::format("{} k={} spp={:>2}", m.method, m.k, m.spp)][std::stod(m.scale)] = &m;
     }
     int c = 0;
@@ -344,11 +350,11 @@ void write_bench_report(const std::vector<result_row>& rows, const bench_options
     md += fmt::format("\n### Pareto fronts ({} against frame time, means over the gazes)\n\n", metric);
     md += "| kind | configuration | frame ms (min-max) | same-spp speedup (min-max) | PSNR | PSNR < 5° | FLIP | FLIP < 5° | "
           "foveated FLIP | worst band | foveated error |\n|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
-    for (const std::set<std::string>& kinds : {foveated_kind, baseline_kinds})
+    for (const std::set<row_kind>& kinds : {foveated_kind, baseline_kinds})
       for (size_t i : front_of(means, kinds, metric)) {
         const knob_mean& m = means[i];
         md += fmt::format("| {} | {} | {:.1f} ({:.1f}-{:.1f}) | {:.2f} ({:.2f}-{:.2f}) | {} | {} | {} | {} | {} | {} | {:.4f} |\n",
-                          m.kind, m.label(), m.frame_ms, m.frame_lo, m.frame_hi, m.speedup, m.speedup_lo, m.speedup_hi,
+                          row_kind_name(m.kind), m.label(), m.frame_ms, m.frame_lo, m.frame_hi, m.speedup, m.speedup_lo, m.speedup_hi,
                           fmt_db(m.psnr), fmt_db(m.psnr_fovea), fmt_err(m.flip), fmt_err(m.flip_fovea), fmt_err(m.foveated_flip),
                           fmt_err(m.foveated_flip_worst_band), m.foveated_error);
       }
@@ -365,7 +371,7 @@ void write_bench_report(const std::vector<result_row>& rows, const bench_options
                                          : fmt::format("foveated error <= {}", o.budget_foveated);
       md += fastest ? fmt::format("\n**Fastest within the budget ({}, means over the gazes)**: {} ({}): {:.1f} ms, "
                                   "{:.2f}x full resolution at its spp, PSNR {} dB, foveated error {:.4f}.\n",
-                                  budget, fastest->label(), fastest->kind, fastest->frame_ms, fastest->speedup,
+                                  budget, fastest->label(), row_kind_name(fastest->kind), fastest->frame_ms, fastest->speedup,
                                   fmt_db(fastest->psnr), fastest->foveated_error)
                     : fmt::format("\n**No configuration meets the budget ({}).**\n", budget);
     }
@@ -373,7 +379,7 @@ void write_bench_report(const std::vector<result_row>& rows, const bench_options
     md += "\n### Against the thesis's claims (same-spp speedups)\n\n| scale | method | k | spp | rays / full-resolution rays | "
           "measured speedup (min-max) | PSNR |\n|---:|---|---:|---:|---:|---:|---:|\n";
     for (const result_row* r : mine) {
-      if (r->text("kind") != "foveated" || r->text("gaze") != mine[0]->text("gaze")) continue;
+      if (r->kind() != row_kind::foveated || r->text("gaze") != mine[0]->text("gaze")) continue;
       const double s = r->number("scale");
       if (std::fabs(s - 1.0) > 1e-6 && std::fabs(s - 1.75) > 1e-6) continue;
       md += fmt::format("| {} | {} | {} | {} | {:.3f} | {:.2f} ({:.2f}-{:.2f}) | {} |\n", r->text("scale"), r->text("method"),

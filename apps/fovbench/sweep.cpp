@@ -49,6 +49,12 @@ const std::string& result_row::text(const std::string& column) const {
   return it == cells.end() ? empty : it->second;
 }
 
+row_kind result_row::kind() const {
+  row_kind k{};
+  if (!parse_label(row_kind_labels, text("kind"), k)) throw std::logic_error("a results row of no kind: " + printable(text("kind")));
+  return k;
+}
+
 double result_row::number(const std::string& column) const {
   const std::string& t = text(column);
   if (t == "inf") return std::numeric_limits<double>::infinity();
@@ -89,13 +95,13 @@ std::vector<std::string> split_csv(const std::string& line) {
 }  // namespace
 
 std::string result_row_problem(const result_row& row) {
-  const std::string& kind = row.text("kind");
-  if (kind != "foveated" && kind != "uniform" && kind != "full")
-    return fmt::format("kind '{}' is not foveated, uniform or full", printable(kind));
+  row_kind kind{};
+  if (!parse_label(row_kind_labels, row.text("kind"), kind))
+    return fmt::format("kind '{}' is not {}", printable(row.text("kind")), label_alternatives(row_kind_labels));
   const std::string& how = row.text("method");
   method m{};
-  if (kind == "full" ? how != "full" : !parse_label(method_labels, how, m))
-    return fmt::format("method '{}' is not one a {} row has", printable(how), kind);
+  if (kind == row_kind::full ? how != "full" : !parse_label(method_labels, how, m))
+    return fmt::format("method '{}' is not one a {} row has", printable(how), row_kind_name(kind));
   {
     std::stringstream profile(row.text("error_profile"));
     std::string v;

@@ -8,16 +8,26 @@
 #include <vector>
 
 #include "../common/line_log.h"
+#include "fov/labels.h"
 #include "fov/pareto.h"
 
 namespace fov {
 
 // A row of results.csv: every knob and every figure, by column name. Numbers are kept as
 // text exactly as written, so a round trip changes nothing.
+// What a results.csv row measures: a foveated set, or a baseline (a uniform set of a
+// fraction of the pixels, or full resolution). Its label is the `kind` column.
+enum class row_kind { foveated, uniform, full };
+inline constexpr std::pair<const char*, row_kind> row_kind_labels[] = {
+    {"foveated", row_kind::foveated}, {"uniform", row_kind::uniform}, {"full", row_kind::full}};
+inline const char* row_kind_name(row_kind k) { return label_of(row_kind_labels, k); }
+
 struct result_row {
   std::map<std::string, std::string> cells;
   std::string key() const;  // scene|gaze|kind|scale|pixel_fraction|method|k|spp: what --resume skips on
   double number(const std::string& column) const;  // NaN when empty or not a number
+  // The kind column; std::logic_error for a row that result_row_problem would refuse.
+  row_kind kind() const;
   const std::string& text(const std::string& column) const;
 };
 
