@@ -1,399 +1,46 @@
 // fovgen: generates, inspects and plots foveated point sets (thesis Sec. 4.1).
-#include <sys/stat.h>
-#include <unistd.h>
-
-#include <chrono>
-#include <cmath>
-#include <cstdio>
-#include <filesystem>
-#include <fstream>
-#include <thread>
-#include <iostream>
-#include <optional>
-
 #include <CLI/CLI.hpp>
-#include <fmt/format.h>
-#include <nlohmann/json.hpp>
 
-#include "fov/dart_throwing.h"
-#include "fov/knn_table.h"
-#include "fov/pointset_io.h"
 #include "../common/cli.h"
-#include "plots.h"
-
-namespace {
-
-using json = nlohmann::json;
-using clock_type = std::chrono::steady_clock;
-
-using fov::usage_error;
-
-struct generate_options {
-  std::string display;  // preset name, or empty
-  int width = 1280, height = 1440;
-  double viewing_distance = 1.0;
-  double scale = 1.0;
-  uint32_t k = 20;
-  uint32_t group = 4;
-  uint64_t seed = 1;
-  uint32_t saturation = fov::dart_params{}.saturation_rejections;
-  std::string encoding = "ref-left-zstd";
-  fov::fovea_layout fovea = fov::dart_params{}.fovea;
-  double grid_spacing = fov::dart_params{}.grid_spacing;
-  bool json = false;
-};
-
-void add_generate_flags(CLI::App& app, generate_options& o) {
-  app.add_option("--display", o.display, "Preset screen: fove (1280x1440), vive (1080x1200), desktop1080; v = 1");
-  app.add_option("--width", o.width, "Screen width W in pixels (canvas is 2W)");
-  app.add_option("--height", o.height, "Screen height H in pixels (canvas is 2H)");
-  app.add_option("--viewing-distance,-v", o.viewing_distance, "Viewing distance in display widths");
-  app.add_option("--k", o.k, "Neighbours stored per canvas pixel, 1..32");
-  app.add_option("--group", o.group, "Neighbour ranks per table plane group (layout; see docs)");
-  app.add_option("--seed", o.seed, "Random seed; same flags + seed give a byte-identical file");
-  app.add_option("--saturation", o.saturation, "Consecutive rejected darts that end a tile's dart throwing");
-  app.add_option("--encoding", o.encoding, "Table encoding on disk: ref-left-zstd (compact) or raw (mmap-able)");
-  fov::add_label_option(app, "--fovea", o.fovea, fov::fovea_layout_labels,
-                        "darts: Poisson-disc darts everywhere (the thesis); grid: one point per pixel centre "
-                        "where the model's spacing is at most --grid-spacing, darts outside");
-  app.add_option("--grid-spacing", o.grid_spacing,
-                 "With --fovea grid: the largest model spacing (pixels, 0.5..4) that still gets grid points");
-  app.add_flag("--json", o.json, "Print a JSON summary on stdout");
-}
-
-fov::spacing_model model_from(const generate_options& o, CLI::App& app) {
-  fov::spacing_model m;
-  if (!o.display.empty()) {
-    if (!fov::display_preset(o.display, m.display))
-      throw usage_error(fmt::format("--display: unknown preset '{}' (fove, vive, desktop1080)", o.display));
-  }
-  if (o.display.empty() || app.count("--width")) m.display.width = o.width;
-  if (o.display.empty() || app.count("--height")) m.display.height = o.height;
-  if (o.display.empty() || app.count("--viewing-distance")) m.display.viewing_distance = o.viewing_distance;
-  m.scale = o.scale;
-  if (o.width <= 0 && app.count("--width")) throw usage_error(fmt::format("--width must be positive (got {})", o.width));
-  if (o.height <= 0 && app.count("--height")) throw usage_error(fmt::format("--height must be positive (got {})", o.height));
-  if (const std::string why = fov::viewing_distance_problem(m.display.viewing_distance); !why.empty())
-    throw usage_error("--viewing-distance: " + why);
-  if (!(o.scale > 0) || !std::isfinite(o.scale))
-    throw usage_error(fmt::format("--scale must be positive (got {})", o.scale));
-  if (o.k < 1 || o.k > fov::max_knn) throw usage_error(fmt::format("--k must lie in 1..{} (got {})", fov::max_knn, o.k));
-  if (o.group < 1) throw usage_error("--group must be at least 1");
-  if (o.saturation < 1) throw usage_error("--saturation must be at least 1");
-  if (!fov::valid_grid_spacing(o.grid_spacing))
-    throw usage_error(fmt::format("--grid-spacing must lie in {}..{} pixels (got {})", fov::min_grid_spacing,
-                                  fov::max_grid_spacing, o.grid_spacing));
-  if (app.count("--grid-spacing") && o.fovea != fov::fovea_layout::grid)
-    throw usage_error("--grid-spacing needs --fovea grid");
-  fov::table_encoding e;
-  if (!fov::parse_table_encoding(o.encoding, e))
-    throw usage_error(fmt::format("--encoding: unknown '{}' (ref-left-zstd, raw)", o.encoding));
-  if (const std::string why = fov::validate(m); !why.empty()) throw usage_error(why);
-  return m;
-}
-
-json summary(const fov::pointset& set, const std::string& path) {
-  json j;
-  j["file"] = path;
-  j["width"] = set.model.display.width;
-  j["height"] = set.model.display.height;
-  j["viewing_distance"] = set.model.display.viewing_distance;
-  j["scale"] = set.model.scale;
-  j["acuity_model"] = fov::acuity_model_name(set.model.acuity.model);
-  j["csf"] = {{"ct0", set.model.acuity.ct0}, {"alpha", set.model.acuity.alpha}, {"e2", set.model.acuity.e2}};
-  j["k"] = set.table.k;
-  j["table_group"] = set.table.group;
-  j["seed"] = set.darts.seed;
-  j["saturation_rejections"] = set.darts.saturation_rejections;
-  j["fovea"] = fov::label_of(fov::fovea_layout_labels, set.darts.fovea);
-  if (set.darts.fovea == fov::fovea_layout::grid) j["grid_spacing"] = set.darts.grid_spacing;
-  j["points_total"] = set.points.size();
-  j["grid_points"] = set.stats.grid_points;
-  j["phase1_points"] = set.stats.phase1_points;
-  j["phase2_points"] = set.stats.phase2_points;
-  j["darts_thrown"] = set.stats.darts_thrown;
-  j["free_fraction"] = set.stats.free_fraction;
-  std::error_code ec;
-  const auto bytes = std::filesystem::file_size(path, ec);
-  if (!ec) j["file_bytes"] = bytes;
-  return j;
-}
-
-// Wall-clock provenance lives beside the set, so the set itself stays byte-identical.
-std::string provenance_path(const std::string& set_path) { return set_path + ".gen.json"; }
-
-void add_timings(json& j, const fov::pointset& set) {
-  j["dart_seconds"] = set.stats.seconds;
-  j["knn_seconds"] = set.knn_seconds;
-  j["generation_seconds"] = set.stats.seconds + set.knn_seconds;
-}
-
-void write_provenance(const fov::pointset& set, const std::string& path) {
-  json j;
-  add_timings(j, set);
-  j["threads"] = std::thread::hardware_concurrency();
-  j["command"] = "fovgen";
-  const std::string text = j.dump(2) + "\n";
-  fov::write_file_atomic(provenance_path(path), text.data(), text.size());
-}
-
-// Timings from the provenance file, or nulls when it is missing or unreadable.
-void read_timings(json& j, const std::string& set_path) {
-  j["generation_seconds"] = nullptr;
-  // The sidecar is optional: one that is not a small regular file is passed over.
-  const std::string sidecar = provenance_path(set_path);
-  std::string text;
-  try {
-    text = fov::read_input_file(sidecar, 1u << 20, "provenance file");
-  } catch (const fov::file_error&) {
-    return;
-  }
-  const json p = json::parse(text, nullptr, false);
-  if (p.is_discarded()) return;
-  for (const char* key : {"dart_seconds", "knn_seconds", "generation_seconds"})
-    if (p.contains(key) && p[key].is_number()) j[key] = p[key];
-}
-
-// Generates one set and writes it; the table goes to disk band by band.
-fov::pointset generate_file(const fov::spacing_model& model, const generate_options& o, const std::string& path) {
-  fov::pointset set;
-  set.model = model;
-  set.darts.seed = o.seed;
-  set.darts.saturation_rejections = o.saturation;
-  set.darts.fovea = o.fovea;
-  set.darts.grid_spacing = o.grid_spacing;
-  set.points = fov::throw_darts(model, set.darts, &set.stats);
-  if (set.points.size() < o.k)
-    throw usage_error(fmt::format("--k {} exceeds the {} points of this set; use --k {} or less", o.k,
-                                  set.points.size(), set.points.size()));
-  const auto start = clock_type::now();
-  fov::knn_builder builder(set.points, set.canvas_width(), set.canvas_height(), o.k);
-  fov::save_params save;
-  fov::parse_table_encoding(o.encoding, save.encoding);
-  fov::save_pointset(
-      path, set, o.k, o.group,
-      [&](uint32_t y0, uint32_t y1, uint32_t* out) {
-        builder.rows(y0, y1, out);
-        set.knn_seconds = std::chrono::duration<double>(clock_type::now() - start).count();
-      },
-      save);
-  write_provenance(set, path);
-  set.table.k = o.k;
-  set.table.group = std::clamp<uint32_t>(o.group, 1, o.k);
-  return set;
-}
-
-std::vector<double> parse_scales(const std::string& text) {
-  std::vector<double> out;
-  const auto colon = text.find(':');
-  auto number = [&](const std::string& s) {
-    char* end = nullptr;
-    const double v = std::strtod(s.c_str(), &end);
-    if (end == s.c_str() || *end != '\0' || !(v > 0)) throw usage_error(fmt::format("--scales: bad number '{}'", s));
-    return v;
-  };
-  if (colon != std::string::npos) {
-    const auto colon2 = text.find(':', colon + 1);
-    if (colon2 == std::string::npos) throw usage_error("--scales: expected START:END:STEP or a comma list");
-    const double a = number(text.substr(0, colon)), b = number(text.substr(colon + 1, colon2 - colon - 1));
-    const double step = number(text.substr(colon2 + 1));
-    if (b < a) throw usage_error("--scales: END is below START");
-    const long n = std::lround(std::floor((b - a) / step + 1e-6));
-    if (n > 1000) throw usage_error("--scales: more than 1000 values");
-    for (long i = 0; i <= n; ++i) out.push_back(std::round((a + i * step) * 1e9) / 1e9);
-  } else {
-    size_t at = 0;
-    while (at <= text.size()) {
-      const auto comma = text.find(',', at);
-      out.push_back(number(text.substr(at, comma == std::string::npos ? std::string::npos : comma - at)));
-      if (comma == std::string::npos) break;
-      at = comma + 1;
-    }
-  }
-  return out;
-}
-
-std::string format_duration(double seconds) {
-  const long s = std::lround(seconds);
-  return s >= 60 ? fmt::format("{}m{:02}s", s / 60, s % 60) : fmt::format("{}s", s);
-}
-
-void progress(size_t done, size_t total, double elapsed, const std::string& label) {
-  const int width = 30;
-  const int filled = int(width * done / std::max<size_t>(1, total));
-  const std::string eta = done ? format_duration(elapsed / done * (total - done)) : "?";
-  if (!isatty(fileno(stderr))) {  // a log, not a terminal: a plain line per set, no bar
-    fmt::print(stderr, "fovgen: {}/{} {}, elapsed {}\n", done, total, label, format_duration(elapsed));
-    return;
-  }
-  fmt::print(stderr, "\r[{}{}] {}/{} {} elapsed {} ETA {}", std::string(filled, '#'), std::string(width - filled, ' '), done,
-             total, label, format_duration(elapsed), eta);
-  if (done == total) fmt::print(stderr, "\n");
-}
-
-int run_generate(CLI::App& app, const generate_options& o, const std::string& output) {
-  if (output.empty()) throw usage_error("-o: an output file is required");
-  const fov::spacing_model model = model_from(o, app);
-  fov::require_output("-o", output);  // fail before minutes of work, as a usage error
-  const fov::pointset set = generate_file(model, o, output);
-  json j = summary(set, output);
-  add_timings(j, set);
-  j["spacing_violations"] = fov::count_spacing_violations(set.points, set.canvas_width(), set.canvas_height());
-  if (o.json) {
-    std::cout << j.dump(2) << "\n";
-  } else {
-    fmt::print("{}: {} points ({} on the foveal grid, {} + {} darts in phase 2), free area {:.2e}, {} spacing violations, "
-               "darts {:.1f} s + table {:.1f} s, {:.1f} MB\n",
-               output, set.points.size(), set.stats.grid_points, set.stats.phase1_points, set.stats.phase2_points, set.stats.free_fraction,
-               j["spacing_violations"].get<uint64_t>(), set.stats.seconds, set.knn_seconds,
-               j.value("file_bytes", 0.0) / 1e6);
-  }
-  return 0;
-}
-
-int run_info(const std::string& file, const std::string& gaze_text, uint32_t k_used, bool as_json) {
-  const fov::pointset set = fov::load_pointset(file);  // the whole file, table too: info vouches for it
-  if (k_used > set.table.k) throw usage_error(fmt::format("--k {}: {} stores {} neighbours per pixel", k_used, file, set.table.k));
-  json j = summary(set, file);
-  read_timings(j, file);
-  j["spacing_violations"] = fov::count_spacing_violations(set.points, set.canvas_width(), set.canvas_height());
-  if (!gaze_text.empty()) {
-    const fov::gaze_point gaze = fov::require_gaze("--gaze", gaze_text, set.model.display);
-    const uint32_t k = k_used ? std::min(k_used, set.table.k) : set.table.k;
-    const fov::traced_set t = fov::count_traced_points(set, gaze, k);
-    j["gaze"] = {gaze.x, gaze.y};
-    j["k_used"] = k;
-    j["points_on_screen"] = t.on_screen;
-    j["points_referenced_off_screen"] = t.referenced_off_screen;
-    j["points_traced"] = t.total();
-    j["knn_max_radius"] = set.table.max_radius;  // farthest k-th neighbour of any canvas pixel
-    j["traced_fraction"] = double(t.total()) / double(set.points.size());
-    // The thesis's rule for comparison: on-screen points plus a fixed 10-pixel margin.
-    const fov::canvas_offset o = fov::offset_for_gaze(set.model.display, gaze);
-    const int w = set.model.display.width, h = set.model.display.height;
-    uint64_t margin10 = 0;
-    for (const fov::point& p : set.points)
-      margin10 += p.x >= o.x - 10 && p.x < o.x + w + 10 && p.y >= o.y - 10 && p.y < o.y + h + 10;
-    j["points_thesis_margin10"] = margin10;
-  }
-  if (as_json) {
-    std::cout << j.dump(2) << "\n";
-    return 0;
-  }
-  for (auto& [key, value] : j.items()) fmt::print("{:>30}: {}\n", key, value.dump());
-  return 0;
-}
-
-}  // namespace
+#include "commands.h"
 
 int main(int argc, char** argv) {
   CLI::App app{"fovgen: foveated Poisson-disc point sets with k-NN tables (thesis Sec. 4.1)"};
   app.set_help_all_flag("--help-all");
-  generate_options gen;
-  std::string output;
-  add_generate_flags(app, gen);
+  fov::generate_options gen;
+  fov::add_generate_flags(app, gen);
   app.add_option("--scale,-s", gen.scale, "Eccentricity scale s (thesis 1.0 .. 3.0); larger is sparser");
-  app.add_option("-o,--output", output, "Output .fovset file");
+  app.add_option("-o,--output", gen.output, "Output .fovset file");
 
   CLI::App* info = app.add_subcommand("info", "Describe a point-set file");
-  std::string info_file, info_gaze;
-  uint32_t info_k = 0;
-  bool info_json = false;
-  info->add_option("file", info_file, "Point-set file")->required();
-  info->add_option("--gaze", info_gaze, "X,Y in screen pixels (or centre, corner): count the points to trace");
-  info->add_option("--k", info_k, "Neighbours the renderer reads (default: all stored)")->check(CLI::Range(1u, fov::max_knn));
-  info->add_flag("--json", info_json, "Print JSON");
+  fov::info_options io;
+  info->add_option("file", io.file, "Point-set file")->required();
+  info->add_option("--gaze", io.gaze, "X,Y in screen pixels (or centre, corner): count the points to trace");
+  info->add_option("--k", io.k, "Neighbours the renderer reads (default: all stored)")->check(CLI::Range(1u, fov::max_knn));
+  info->add_flag("--json", io.json, "Print JSON");
 
   CLI::App* plot = app.add_subcommand("plot", "Draw every point of a set (thesis Fig. 12)");
-  std::string plot_file, plot_out, plot_gaze;
-  uint32_t plot_k = 0;
-  plot->add_option("file", plot_file, "Point-set file")->required();
-  plot->add_option("-o,--output", plot_out, "Output PNG")->required();
-  plot->add_option("--gaze", plot_gaze, "Outline the screen for this gaze and colour the traced points");
-  plot->add_option("--k", plot_k, "Neighbours the renderer reads (default: all stored)")->check(CLI::Range(1u, fov::max_knn));
+  fov::plot_options po;
+  plot->add_option("file", po.file, "Point-set file")->required();
+  plot->add_option("-o,--output", po.output, "Output PNG")->required();
+  plot->add_option("--gaze", po.gaze, "Outline the screen for this gaze and colour the traced points");
+  plot->add_option("--k", po.k, "Neighbours the renderer reads (default: all stored)")->check(CLI::Range(1u, fov::max_knn));
 
   CLI::App* sweep = app.add_subcommand("sweep", "Generate a family of sets over scales (the staircase)");
-  generate_options sweep_gen;
-  std::string sweep_scales = "1.0:3.0:0.1", sweep_dir;
-  bool skip_existing = false;
-  add_generate_flags(*sweep, sweep_gen);
-  sweep->add_option("--scales", sweep_scales, "START:END:STEP or a comma list");
-  sweep->add_option("-o,--output", sweep_dir, "Output directory")->required();
-  sweep->add_flag("--skip-existing", skip_existing, "Keep sets already in the directory that load cleanly");
+  fov::sweep_options so;
+  fov::add_generate_flags(*sweep, so.generate);
+  sweep->add_option("--scales", so.scales, "START:END:STEP or a comma list");
+  sweep->add_option("-o,--output", so.dir, "Output directory")->required();
+  sweep->add_flag("--skip-existing", so.skip_existing, "Keep sets already in the directory that load cleanly");
 
   return fov::run_tool("fovgen", app, argc, argv, [&] {
-    if (*info) return run_info(info_file, info_gaze, info_k, info_json);
-    if (*plot) {
-      const fov::pointset set = fov::load_pointset(plot_file);  // checked whole, as info does
-      if (plot_k > set.table.k)
-        throw usage_error(fmt::format("--k {}: {} stores {} neighbours per pixel", plot_k, plot_file, set.table.k));
-      std::optional<fov::gaze_point> gaze;
-      if (!plot_gaze.empty()) gaze = fov::require_gaze("--gaze", plot_gaze, set.model.display);
-      fov::require_output("-o", plot_out, {plot_file});
-      fov::plot_points(set, plot_out, gaze, plot_k ? plot_k : set.table.k);
-      return 0;
-    }
+    if (*info) return fov::run_info(io);
+    if (*plot) return fov::run_plot(po);
     if (*sweep) {
-      const fov::spacing_model base = model_from(sweep_gen, *sweep);
-      const std::vector<double> scales = parse_scales(sweep_scales);
-      std::error_code ec;
-      std::filesystem::create_directories(sweep_dir, ec);
-      if (ec) throw usage_error(fmt::format("-o {}: cannot create directory: {}", sweep_dir, ec.message()));
-      const std::string prefix = !sweep_gen.display.empty()
-          ? sweep_gen.display
-          : fmt::format("{}x{}-v{}", base.display.width, base.display.height, base.display.viewing_distance);
-      fov::line_plot counts{"Points in the set against scale s", "scale factor s", "points", {}};
-      counts.series = {{"total", {}, {}}, {"traced, centred gaze", {}, {}}, {"traced, corner gaze", {}, {}}};
-      std::string csv = "scale,points_total,points_traced_centre,points_traced_corner,free_fraction,generation_seconds,file_bytes\n";
-      const auto start = clock_type::now();
-      for (size_t i = 0; i < scales.size(); ++i) {
-        const double s = scales[i];
-        fov::dart_params layout;
-        layout.fovea = sweep_gen.fovea, layout.grid_spacing = sweep_gen.grid_spacing;
-        const std::string suffix = layout.fovea == fov::fovea_layout::grid ? "-" + fov::fovea_label(layout) : "";
-        const std::string path = fmt::format("{}/{}-s{:.2f}{}.fovset", sweep_dir, prefix, s, suffix);
-        progress(i, scales.size(), std::chrono::duration<double>(clock_type::now() - start).count(),
-                 fmt::format("s={:.2f}", s));
-        fov::spacing_model m = base;
-        m.scale = s;
-        if (const std::string why = fov::validate(m); !why.empty()) throw usage_error(fmt::format("scale {}: {}", s, why));
-        bool reuse = false;
-        if (skip_existing && std::filesystem::exists(path)) {
-          try {
-            fov::load_params lp;
-            lp.table = false;
-            const fov::pointset old = fov::load_pointset(path, lp);
-            // Reuse only a set these exact flags would write again (the file is deterministic).
-            reuse = old.model.scale == s && old.darts.seed == sweep_gen.seed &&
-                    old.darts.saturation_rejections == sweep_gen.saturation && old.table.k == sweep_gen.k &&
-                    fov::fovea_label(old.darts) == fov::fovea_label(layout) &&
-                    old.table.group == std::clamp<uint32_t>(sweep_gen.group, 1, sweep_gen.k) &&
-                    old.model.display.width == m.display.width && old.model.display.height == m.display.height &&
-                    old.model.display.viewing_distance == m.display.viewing_distance;
-          } catch (const fov::file_error&) {
-          }
-        }
-        double gen_seconds = NAN;
-        if (!reuse) {
-          const fov::pointset made = generate_file(m, sweep_gen, path);
-          gen_seconds = made.stats.seconds + made.knn_seconds;
-        }
-        const fov::pointset set = fov::load_pointset(path);
-        const fov::traced_set centre = fov::count_traced_points(set, fov::screen_centre(m.display), set.table.k);
-        const fov::traced_set corner = fov::count_traced_points(set, {double(m.display.width), double(m.display.height)}, set.table.k);
-        counts.series[0].x.push_back(s), counts.series[0].y.push_back(double(set.points.size()));
-        counts.series[1].x.push_back(s), counts.series[1].y.push_back(double(centre.total()));
-        counts.series[2].x.push_back(s), counts.series[2].y.push_back(double(corner.total()));
-        csv += fmt::format("{:.2f},{},{},{},{:.3e},{:.2f},{}\n", s, set.points.size(), centre.total(), corner.total(),
-                           set.stats.free_fraction, gen_seconds,
-                           std::filesystem::file_size(path));
-      }
-      progress(scales.size(), scales.size(), std::chrono::duration<double>(clock_type::now() - start).count(), "done");
-      fov::write_file_atomic(sweep_dir + "/point-counts.csv", csv.data(), csv.size());
-      fov::write_line_plot(counts, sweep_dir + "/point-counts.png");
-      std::cout << csv;
-      return 0;
+      fov::note_given_flags(*sweep, so.generate);
+      return fov::run_sweep(so);
     }
-    return run_generate(app, gen, output);
+    fov::note_given_flags(app, gen);
+    return fov::run_generate(gen);
   });
 }

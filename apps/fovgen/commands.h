@@ -1,0 +1,58 @@
+// fovgen's commands: generate a set, describe it (info), draw it (plot), generate a family
+// over scales (sweep). main() binds the flags into these structs and calls one of them.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+#include "fov/dart_throwing.h"
+#include "fov/knn_table.h"
+
+namespace fov {
+
+struct generate_options {
+  std::string display;  // preset name, or empty
+  int width = 1280, height = 1440;
+  double viewing_distance = 1.0;
+  double scale = 1.0;
+  uint32_t k = 20;
+  uint32_t group = 4;
+  uint64_t seed = 1;
+  uint32_t saturation = dart_params{}.saturation_rejections;
+  std::string encoding = "ref-left-zstd";
+  fovea_layout fovea = dart_params{}.fovea;
+  double grid_spacing = dart_params{}.grid_spacing;
+  bool json = false;
+  std::string output;  // the set's file (generate only)
+  // Which flags were given (with --display, only given ones replace the preset's).
+  bool width_given = false, height_given = false, distance_given = false, grid_spacing_given = false;
+};
+// Binds the flags every generating command takes (not --scale and -o, which differ).
+void add_generate_flags(CLI::App& app, generate_options& o);
+// Fills the *_given fields from a parsed command line.
+void note_given_flags(const CLI::App& app, generate_options& o);
+
+struct info_options {
+  std::string file, gaze;
+  uint32_t k = 0;  // neighbours the renderer reads (0: all stored)
+  bool json = false;
+};
+struct plot_options {
+  std::string file, output, gaze;
+  uint32_t k = 0;
+};
+struct sweep_options {
+  generate_options generate;
+  std::string scales = "1.0:3.0:0.1", dir;
+  bool skip_existing = false;
+};
+
+// Each returns the exit code; usage_error for flags, file_error and runtime_error otherwise.
+int run_generate(const generate_options& o);
+int run_info(const info_options& o);
+int run_plot(const plot_options& o);
+int run_sweep(const sweep_options& o);
+
+}  // namespace fov
