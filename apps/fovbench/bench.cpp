@@ -346,228 +346,295 @@ void put_timing(result_row& row, const paired_timing& t, double spread_limit) {
 
 }  // namespace
 
-size_t run_bench(const bench_options& o, const bench_reporter& report) {
-  const display_geometry display = check_bench_options(o);
-  require_output_dir("-o", o.out);
-  const std::vector<named_gaze> gazes = parse_gazes(o.gazes, display, o.render.seed);
-  const std::string footprint = texture_footprint_name(o.render.footprint);
-  const std::string fovea = fovea_text(o);
-  const std::string settings = render_settings_label(o.render);
-  const std::string results_path = (fs::path(o.out) / "results.csv").string();
+namespace {
+
+// The configurations results.csv already holds (--resume), after checking that its rows were
+// measured the way this run would measure them: one footprint, fovea, render setting and
+// reference per file.
+std::set<std::string> resumed_keys(const bench_options& o, const std::string& results_path) {
   std::set<std::string> done;
-  if (fs::exists(results_path)) {
-    if (!o.resume)
-      throw std::runtime_error(fmt::format("{} exists: add --resume to continue that sweep, or choose another -o", results_path));
-    for (const result_row& r : read_results(results_path)) {
-      // One footprint, setting and reference per results.csv: they are not in the key.
-      if (r.text("texture_footprint") != footprint)
-        throw std::runtime_error(fmt::format("{}: its rows were traced with --texture-footprint {}, not {}; use another -o",
-                                             results_path, r.text("texture_footprint"), footprint));
-      if (r.text("fovea") != fovea)
-        throw std::runtime_error(fmt::format("{}: its foveated sets have --fovea {}, not {}; use another -o", results_path,
-                                             r.text("fovea"), fovea));
-      if (r.text("render_settings") != settings)
-        throw std::runtime_error(fmt::format("{}: its rows were measured with {}, not {}; use another -o", results_path,
-                                             r.text("render_settings"), settings));
-      if (r.text("reference_spp") != std::to_string(o.reference_spp))
-        throw std::runtime_error(fmt::format("{}: its rows were measured against a {}-spp reference, not {}; use another -o",
-                                             results_path, r.text("reference_spp"), o.reference_spp));
-      done.insert(r.key());
-    }
+  std::error_code ec;
+  if (!fs::exists(results_path, ec)) return done;
+  if (!o.resume)
+    throw std::runtime_error(fmt::format("{} exists: add --resume to continue that sweep, or choose another -o", results_path));
+  const std::string footprint = texture_footprint_name(o.render.footprint), fovea = fovea_text(o),
+                    settings = render_settings_label(o.render);
+  for (const result_row& r : read_results(results_path)) {
+    if (r.text("texture_footprint") != footprint)
+      throw std::runtime_error(fmt::format("{}: its rows were traced with --texture-footprint {}, not {}; use another -o",
+                                           results_path, r.text("texture_footprint"), footprint));
+    if (r.text("fovea") != fovea)
+      throw std::runtime_error(fmt::format("{}: its foveated sets have --fovea {}, not {}; use another -o", results_path,
+                                           r.text("fovea"), fovea));
+    if (r.text("render_settings") != settings)
+      throw std::runtime_error(fmt::format("{}: its rows were measured with {}, not {}; use another -o", results_path,
+                                           r.text("render_settings"), settings));
+    if (r.text("reference_spp") != std::to_string(o.reference_spp))
+      throw std::runtime_error(fmt::format("{}: its rows were measured against a {}-spp reference, not {}; use another -o",
+                                           results_path, r.text("reference_spp"), o.reference_spp));
+    done.insert(r.key());
   }
-  const std::vector<config> all = all_configs(o, gazes);
-  size_t todo = 0;
-  for (const config& c : all) todo += !done.count(c.key);
-  size_t measured_rows = 0;
-  const std::function<void(const std::string&)> say = [&](const std::string& what) {
-    report.progress(measured_rows, todo, what);
-  };
-  auto needed = [&](auto&& match) {
+  return done;
+}
+
+// What the sweep shares while it measures: the options, the configurations, the rows done
+// and the writer (made with the first row: a run that fails before leaves no results.csv).
+struct sweep_state {
+  sweep_state(const bench_options& options, const bench_reporter& reporter, display_geometry d)
+      : o(options), report(reporter), display(d) {}
+  const bench_options& o;
+  const bench_reporter& report;
+  display_geometry display;
+  std::vector<named_gaze> gazes;
+  std::vector<config> all;
+  std::set<std::string> done;
+  std::string results_path;
+  size_t todo = 0, measured_rows = 0;
+  std::optional<results_writer> writer;
+
+  void say(const std::string& what) const { report.progress(measured_rows, todo, what); }
+  std::function<void(const std::string&)> sayer() const {
+    return [this](const std::string& what) { say(what); };
+  }
+  bool needed(const std::function<bool(const config&)>& match) const {
     return std::any_of(all.begin(), all.end(), [&](const config& c) { return match(c) && !done.count(c.key); });
-  };
-
-  // Every scene the sweep needs is loaded, and its camera set up, before anything is
-  // measured: a broken scene listed last fails now, not after an hour of the others.
-  std::vector<std::shared_ptr<const scene>> scenes(o.scenes.size());
-  for (size_t sc = 0; sc < o.scenes.size(); ++sc) {
-    if (!needed([&](const config& c) { return c.scene == sc; })) continue;
-    say("loading " + o.scenes[sc]);
-    scenes[sc] = load_scene(o.scenes[sc]);
-    for (const std::string& w : scenes[sc]->warnings()) report.line("warning: " + w);
-    setup_camera(*scenes[sc], o.render.view);
   }
-  // Only now is anything written.
-  report.line(fmt::format("{} configurations, {} already in {}, {} to measure", all.size(), all.size() - todo, results_path, todo));
-  make_output_dir((fs::path(o.out) / "references").string());
-  std::optional<results_writer> writer;  // made with the first row: a run that fails before leaves no results.csv
-  const auto [seed_a, seed_b] = converged_seeds(o.render.seed);
-  uint32_t widest_k = 1;
-  for (uint32_t k : o.ks) widest_k = std::max(widest_k, k);
-  for (size_t sc = 0; sc < o.scenes.size() && measured_rows < todo; ++sc) {
-    if (!scenes[sc]) continue;
-    std::shared_ptr<const scene> scn = std::move(scenes[sc]);
-    renderer r(scn, o.render);
-    r.warm_up_reference(display.width, display.height, o.render);  // textures read and MIP-mapped on first use
-    reference_cache references((fs::path(o.out) / "references").string(), o.scenes[sc], display);
-    const frame& truth = references.get(r, o.render, o.reference_spp, seed_a, say).image;
-    const frame& second = references.get(r, o.render, o.reference_spp, seed_b, say).image;
-    // The eye the errors are judged by: the thesis's acuity, at true eccentricity.
-    const spacing_model eye{display, 1.0, acuity_params{}};
-    std::map<size_t, comparison> floors;  // the second reference against the first, per gaze
-    auto floor_at = [&](size_t g) -> const comparison& {
-      if (!floors.count(g)) {
-        say(fmt::format("noise floor at {}", gazes[g].name));
-        floors[g] = compare_images(second, truth, eye, gazes[g].at, o.flip);
-      }
-      return floors[g];
-    };
-    auto row_for = [&](const config& c) {
-      result_row row = identity_row(o, gazes, c);
-      const named_gaze& gp = gazes[c.gaze];
-      row.cells.insert({{"gaze_x", number(gp.at.x)}, {"gaze_y", number(gp.at.y)}, {"texture_footprint", footprint},
-                        {"fovea", fovea}, {"device", r.device()}, {"frames", std::to_string(o.frames)}, {"render_settings", settings},
-                        {"full_rays", std::to_string(uint64_t(display.width) * display.height * c.spp)}});
-      put_floor(row, floor_at(c.gaze), o.reference_spp);
-      return row;
-    };
-    auto finish = [&](const config& c, result_row& row) {
-      if (!writer) writer.emplace(results_path);
-      writer->append(row);
-      done.insert(c.key);
-      ++measured_rows;
-    };
-    // Full-resolution frames at each spp: the image (deterministic) and every timing of it.
-    struct full_frame {
-      frame image;
-      std::vector<double> ms;
-    };
-    std::map<uint32_t, full_frame> fulls;
-    auto time_full = [&](uint32_t spp) {
-      render_params p = o.render;
-      p.spp = spp;
-      frame_timing t;
-      reference_trace traced = r.reference(display.width, display.height, p, &t);
-      full_frame& f = fulls[spp];
-      if (f.image.rgb.empty()) f.image = std::move(traced.image);
-      f.ms.push_back(t.trace_ms);
-      return t.trace_ms;
-    };
+  void finish(const config& c, const result_row& row) {
+    if (!writer) writer.emplace(results_path);
+    writer->append(row);
+    done.insert(c.key);
+    ++measured_rows;
+  }
+};
 
-    // Foveated sets, then the uniform baseline's: traced and reconstructed the same way.
-    for (const row_kind kind : {row_kind::foveated, row_kind::uniform}) {
-      const size_t sets = kind == row_kind::foveated ? o.scales.size() : o.uniform_fractions.size();
-      for (size_t si = 0; si < sets; ++si) {
-        if (!needed([&](const config& c) { return c.scene == sc && c.kind == kind && c.set == si; })) continue;
-        if (kind == row_kind::foveated) {
-          r.use_pointset(bench_pointset(o, display, o.scales[si], say));
-        } else {
-          say(fmt::format("uniform set of {} of the pixels", fraction_text(o.uniform_fractions[si])));
-          knn_params kp;
-          kp.k = widest_k;
-          r.use_pointset(std::make_shared<const pointset>(uniform_pointset(display, o.uniform_fractions[si], kp)));
-        }
-        if (const std::string warning = r.device_warning(); !warning.empty()) report.line(warning);
-        const std::string what = kind == row_kind::foveated ? fmt::format("s={:.2f}", o.scales[si])
-                                                                   : fmt::format("uniform {}", fraction_text(o.uniform_fractions[si]));
-        for (size_t g = 0; g < gazes.size(); ++g)
-          for (uint32_t spp : o.spps) {
-            std::vector<const config*> here;
-            for (const config& c : all)
-              if (c.scene == sc && c.kind == kind && c.set == si && c.gaze == g && c.spp == spp && !done.count(c.key))
-                here.push_back(&c);
-            if (here.empty()) continue;
-            const named_gaze& gp = gazes[g];
-            render_params p = o.render;
-            p.spp = spp;
-            // One untimed trace at the largest k read gives every method its colours (a
-            // point's rays do not depend on k); each method's first launch is untimed too.
-            uint32_t widest = 0;
-            std::vector<uint32_t> ks;
-            for (const config* c : here) {
-              widest = std::max(widest, c->k);
-              if (std::find(ks.begin(), ks.end(), c->k) == ks.end()) ks.push_back(c->k);
-            }
-            say(fmt::format("tracing {} {} {} spp={}", slug(o.scenes[sc]), what, gp.name, spp));
-            p.reconstruct.k = widest;
-            frame_timing untimed;
-            const point_samples samples = r.trace(gp.at, p, untimed).samples;
-            for (const config* c : here) {
-              p.reconstruct.how = c->how, p.reconstruct.k = c->k;
-              r.prepare(samples, p);
-            }
-            // Interleaved: each repetition times the full-resolution frame, every k's trace
-            // and every method's reconstruction once, so slow phases of a shared machine
-            // hit all of them alike and each speedup is a ratio of neighbouring runs.
-            std::vector<double> full_ms;
-            std::map<uint32_t, std::vector<double>> trace_ms;
-            std::map<uint32_t, uint64_t> rays, points;
-            std::map<const config*, std::vector<double>> frame_ms;
-            for (uint32_t f = 0; f < o.frames; ++f) {
-              say(fmt::format("timing {} {} {} spp={} ({}/{})", slug(o.scenes[sc]), what, gp.name, spp, f + 1, o.frames));
-              full_ms.push_back(time_full(spp));
-              for (uint32_t k : ks) {
-                p.reconstruct.k = k;
-                frame_timing t;
-                r.trace(gp.at, p, t);
-                trace_ms[k].push_back(t.trace_ms);
-                rays[k] = t.rays, points[k] = t.points_traced;
-              }
-              for (const config* c : here) {
-                p.reconstruct.how = c->how, p.reconstruct.k = c->k;
-                frame_timing t;
-                r.reconstruct(samples, gp.at, p, t);
-                frame_ms[c].push_back(trace_ms[c->k].back() + t.reconstruct_ms);
-              }
-            }
-            for (const config* c : here) {
-              say(fmt::format("measuring {} {} {} {} k={} spp={}", slug(o.scenes[sc]), what, gp.name, method_name(c->how),
-                              c->k, spp));
-              p.reconstruct.how = c->how, p.reconstruct.k = c->k;
-              frame_timing t;
-              const frame image = r.reconstruct(samples, gp.at, p, t);
-              result_row row = row_for(*c);
-              std::vector<double> traces = trace_ms[c->k];
-              row.cells["points_traced"] = std::to_string(points[c->k]), row.cells["rays"] = std::to_string(rays[c->k]);
-              row.cells["trace_ms"] = number(summarise(traces).median);
-              std::vector<double> rec;
-              for (size_t f = 0; f < traces.size(); ++f) rec.push_back(frame_ms[c][f] - traces[f]);
-              row.cells["reconstruct_ms"] = number(summarise(rec).median);
-              put_timing(row, pair_timings(frame_ms[c], full_ms), o.spread_limit);
-              put_errors(row, compare_images(image, truth, eye, gp.at, o.flip));
-              if (o.temporal_frames >= 2) {
-                say(fmt::format("temporal {} {} {} k={} spp={}", slug(o.scenes[sc]), what, method_name(c->how), c->k, spp));
-                flicker_params fp;
-                fp.frames = o.temporal_frames;
-                const flicker_report fl = measure_flicker(r, gp.at, p, fp);
-                row.cells["flicker"] = number(fl.raw);
-                row.cells["flicker_taa"] = number(fl.taa);
-                row.cells["flicker_reference"] = number(fl.reference);
-              }
-              finish(*c, row);
-            }
-          }
-      }
+// Every scene the sweep still needs, loaded and its camera set up before anything is
+// measured: a broken scene listed last fails now, not after an hour of the others.
+std::vector<std::shared_ptr<const scene>> load_needed_scenes(const sweep_state& st) {
+  std::vector<std::shared_ptr<const scene>> scenes(st.o.scenes.size());
+  for (size_t sc = 0; sc < st.o.scenes.size(); ++sc) {
+    if (!st.needed([&](const config& c) { return c.scene == sc; })) continue;
+    st.say("loading " + st.o.scenes[sc]);
+    scenes[sc] = load_scene(st.o.scenes[sc]);
+    for (const std::string& w : scenes[sc]->warnings()) st.report.line("warning: " + w);
+    setup_camera(*scenes[sc], st.o.render.view);
+  }
+  return scenes;
+}
+
+// One scene's measurements: its renderer, converged references and noise floors, and the
+// full-resolution frames timed beside the foveated and uniform ones.
+class scene_sweep {
+ public:
+  scene_sweep(sweep_state& st, size_t sc, std::shared_ptr<const scene> scn)
+      : st_(st), o_(st.o), sc_(sc), r_(std::move(scn), st.o.render),
+        references_((fs::path(st.o.out) / "references").string(), st.o.scenes[sc], st.display),
+        eye_{st.display, 1.0, acuity_params{}} {
+    r_.warm_up_reference(st.display.width, st.display.height, o_.render);  // textures read and MIP-mapped on first use
+    const auto [seed_a, seed_b] = converged_seeds(o_.render.seed);
+    truth_ = &references_.get(r_, o_.render, o_.reference_spp, seed_a, st.sayer()).image;
+    second_ = &references_.get(r_, o_.render, o_.reference_spp, seed_b, st.sayer()).image;
+  }
+
+  // The foveated sets, then the uniform baseline's: traced and reconstructed the same way.
+  void measure_sets(row_kind kind) {
+    const size_t sets = kind == row_kind::foveated ? o_.scales.size() : o_.uniform_fractions.size();
+    for (size_t si = 0; si < sets; ++si) {
+      if (!st_.needed([&](const config& c) { return c.scene == sc_ && c.kind == kind && c.set == si; })) continue;
+      use_set(kind, si);
+      for (size_t g = 0; g < st_.gazes.size(); ++g)
+        for (uint32_t spp : o_.spps) measure_group(kind, si, g, spp);
     }
-    // The full-resolution baseline: every timing of its frames gathered above (more when
-    // none was), errors at each gaze.
-    for (const config& c : all) {
-      if (c.scene != sc || c.kind != row_kind::full || done.count(c.key)) continue;
-      full_frame& f = fulls[c.spp];
-      while (f.ms.size() < o.frames) {
-        say(fmt::format("timing full resolution spp={}", c.spp));
+  }
+
+  // The full-resolution baseline: every timing of its frames gathered while the sets were
+  // measured (more when none was), errors at each gaze.
+  void measure_full() {
+    for (const config& c : st_.all) {
+      if (c.scene != sc_ || c.kind != row_kind::full || st_.done.count(c.key)) continue;
+      full_frame& f = fulls_[c.spp];
+      while (f.ms.size() < o_.frames) {
+        st_.say(fmt::format("timing full resolution spp={}", c.spp));
         time_full(c.spp);
       }
-      say(fmt::format("measuring full resolution {} spp={}", gazes[c.gaze].name, c.spp));
+      st_.say(fmt::format("measuring full resolution {} spp={}", st_.gazes[c.gaze].name, c.spp));
       result_row row = row_for(c);
       row.cells["points_traced"] = "", row.cells["rays"] = std::to_string(f.image.rays);
       row.cells["trace_ms"] = number(summarise(f.ms).median), row.cells["reconstruct_ms"] = "0";
-      put_timing(row, pair_timings(f.ms, f.ms), o.spread_limit);
-      put_errors(row, compare_images(f.image, truth, eye, gazes[c.gaze].at, o.flip));
-      finish(c, row);
+      put_timing(row, pair_timings(f.ms, f.ms), o_.spread_limit);
+      put_errors(row, compare_images(f.image, *truth_, eye_, st_.gazes[c.gaze].at, o_.flip));
+      st_.finish(c, row);
     }
   }
-  say("done");
-  return measured_rows;
+
+ private:
+  // Full-resolution frames at each spp: the image (deterministic) and every timing of it.
+  struct full_frame {
+    frame image;
+    std::vector<double> ms;
+  };
+
+  void use_set(row_kind kind, size_t si) {
+    if (kind == row_kind::foveated) {
+      r_.use_pointset(bench_pointset(o_, st_.display, o_.scales[si], st_.sayer()));
+    } else {
+      st_.say(fmt::format("uniform set of {} of the pixels", fraction_text(o_.uniform_fractions[si])));
+      knn_params kp;  // every k the sweep reads
+      kp.k = 1;
+      for (uint32_t k : o_.ks) kp.k = std::max(kp.k, k);
+      r_.use_pointset(std::make_shared<const pointset>(uniform_pointset(st_.display, o_.uniform_fractions[si], kp)));
+    }
+    if (const std::string warning = r_.device_warning(); !warning.empty()) st_.report.line(warning);
+  }
+
+  // The second reference against the first, per gaze.
+  const comparison& floor_at(size_t g) {
+    if (!floors_.count(g)) {
+      st_.say(fmt::format("noise floor at {}", st_.gazes[g].name));
+      floors_[g] = compare_images(*second_, *truth_, eye_, st_.gazes[g].at, o_.flip);
+    }
+    return floors_[g];
+  }
+
+  result_row row_for(const config& c) {
+    result_row row = identity_row(o_, st_.gazes, c);
+    const named_gaze& gp = st_.gazes[c.gaze];
+    row.cells.insert({{"gaze_x", number(gp.at.x)}, {"gaze_y", number(gp.at.y)},
+                      {"texture_footprint", texture_footprint_name(o_.render.footprint)}, {"fovea", fovea_text(o_)},
+                      {"device", r_.device()}, {"frames", std::to_string(o_.frames)},
+                      {"render_settings", render_settings_label(o_.render)},
+                      {"full_rays", std::to_string(uint64_t(st_.display.width) * st_.display.height * c.spp)}});
+    put_floor(row, floor_at(c.gaze), o_.reference_spp);
+    return row;
+  }
+
+  double time_full(uint32_t spp) {
+    render_params p = o_.render;
+    p.spp = spp;
+    frame_timing t;
+    reference_trace traced = r_.reference(st_.display.width, st_.display.height, p, &t);
+    full_frame& f = fulls_[spp];
+    if (f.image.rgb.empty()) f.image = std::move(traced.image);
+    f.ms.push_back(t.trace_ms);
+    return t.trace_ms;
+  }
+
+  // Every configuration of one set, gaze and spp still to do: one trace, every method timed
+  // interleaved with the full-resolution frame, then each measured and written.
+  void measure_group(row_kind kind, size_t si, size_t g, uint32_t spp) {
+    std::vector<const config*> here;
+    for (const config& c : st_.all)
+      if (c.scene == sc_ && c.kind == kind && c.set == si && c.gaze == g && c.spp == spp && !st_.done.count(c.key))
+        here.push_back(&c);
+    if (here.empty()) return;
+    const std::string what = kind == row_kind::foveated ? fmt::format("s={:.2f}", o_.scales[si])
+                                                        : fmt::format("uniform {}", fraction_text(o_.uniform_fractions[si]));
+    const std::string scene = slug(o_.scenes[sc_]);
+    const named_gaze& gp = st_.gazes[g];
+    render_params p = o_.render;
+    p.spp = spp;
+    // One untimed trace at the largest k read gives every method its colours (a point's
+    // rays do not depend on k); each method's first launch is untimed too.
+    uint32_t widest = 0;
+    std::vector<uint32_t> ks;
+    for (const config* c : here) {
+      widest = std::max(widest, c->k);
+      if (std::find(ks.begin(), ks.end(), c->k) == ks.end()) ks.push_back(c->k);
+    }
+    st_.say(fmt::format("tracing {} {} {} spp={}", scene, what, gp.name, spp));
+    p.reconstruct.k = widest;
+    frame_timing untimed;
+    const point_samples samples = r_.trace(gp.at, p, untimed).samples;
+    for (const config* c : here) {
+      p.reconstruct.how = c->how, p.reconstruct.k = c->k;
+      r_.prepare(samples, p);
+    }
+    // Interleaved: each repetition times the full-resolution frame, every k's trace and
+    // every method's reconstruction once, so slow phases of a shared machine hit all of
+    // them alike and each speedup is a ratio of neighbouring runs.
+    std::vector<double> full_ms;
+    std::map<uint32_t, std::vector<double>> trace_ms;
+    std::map<uint32_t, uint64_t> rays, points;
+    std::map<const config*, std::vector<double>> frame_ms;
+    for (uint32_t f = 0; f < o_.frames; ++f) {
+      st_.say(fmt::format("timing {} {} {} spp={} ({}/{})", scene, what, gp.name, spp, f + 1, o_.frames));
+      full_ms.push_back(time_full(spp));
+      for (uint32_t k : ks) {
+        p.reconstruct.k = k;
+        frame_timing t;
+        r_.trace(gp.at, p, t);
+        trace_ms[k].push_back(t.trace_ms);
+        rays[k] = t.rays, points[k] = t.points_traced;
+      }
+      for (const config* c : here) {
+        p.reconstruct.how = c->how, p.reconstruct.k = c->k;
+        frame_timing t;
+        r_.reconstruct(samples, gp.at, p, t);
+        frame_ms[c].push_back(trace_ms[c->k].back() + t.reconstruct_ms);
+      }
+    }
+    for (const config* c : here) {
+      st_.say(fmt::format("measuring {} {} {} {} k={} spp={}", scene, what, gp.name, method_name(c->how), c->k, spp));
+      p.reconstruct.how = c->how, p.reconstruct.k = c->k;
+      frame_timing t;
+      const frame image = r_.reconstruct(samples, gp.at, p, t);
+      result_row row = row_for(*c);
+      const std::vector<double>& traces = trace_ms[c->k];
+      row.cells["points_traced"] = std::to_string(points[c->k]), row.cells["rays"] = std::to_string(rays[c->k]);
+      row.cells["trace_ms"] = number(summarise(traces).median);
+      std::vector<double> rec;
+      for (size_t f = 0; f < traces.size(); ++f) rec.push_back(frame_ms[c][f] - traces[f]);
+      row.cells["reconstruct_ms"] = number(summarise(rec).median);
+      put_timing(row, pair_timings(frame_ms[c], full_ms), o_.spread_limit);
+      put_errors(row, compare_images(image, *truth_, eye_, gp.at, o_.flip));
+      if (o_.temporal_frames >= 2) {
+        st_.say(fmt::format("temporal {} {} {} k={} spp={}", scene, what, method_name(c->how), c->k, spp));
+        flicker_params fp;
+        fp.frames = o_.temporal_frames;
+        const flicker_report fl = measure_flicker(r_, gp.at, p, fp);
+        row.cells["flicker"] = number(fl.raw);
+        row.cells["flicker_taa"] = number(fl.taa);
+        row.cells["flicker_reference"] = number(fl.reference);
+      }
+      st_.finish(*c, row);
+    }
+  }
+
+  sweep_state& st_;
+  const bench_options& o_;
+  size_t sc_;
+  renderer r_;
+  reference_cache references_;
+  const spacing_model eye_;  // the eye errors are judged by: the thesis's acuity, at true eccentricity
+  const frame* truth_ = nullptr;
+  const frame* second_ = nullptr;
+  std::map<size_t, comparison> floors_;
+  std::map<uint32_t, full_frame> fulls_;
+};
+
+}  // namespace
+
+size_t run_bench(const bench_options& o, const bench_reporter& report) {
+  sweep_state st{o, report, check_bench_options(o)};
+  st.results_path = (fs::path(o.out) / "results.csv").string();
+  require_output_dir("-o", o.out);
+  st.gazes = parse_gazes(o.gazes, st.display, o.render.seed);
+  st.done = resumed_keys(o, st.results_path);
+  st.all = all_configs(o, st.gazes);
+  for (const config& c : st.all) st.todo += !st.done.count(c.key);
+  std::vector<std::shared_ptr<const scene>> scenes = load_needed_scenes(st);
+  // Only now is anything written.
+  report.line(fmt::format("{} configurations, {} already in {}, {} to measure", st.all.size(), st.all.size() - st.todo,
+                          st.results_path, st.todo));
+  make_output_dir((fs::path(o.out) / "references").string());
+  for (size_t sc = 0; sc < o.scenes.size() && st.measured_rows < st.todo; ++sc) {
+    if (!scenes[sc]) continue;
+    scene_sweep sweep(st, sc, std::move(scenes[sc]));
+    sweep.measure_sets(row_kind::foveated);
+    sweep.measure_sets(row_kind::uniform);
+    sweep.measure_full();
+  }
+  st.say("done");
+  return st.measured_rows;
 }
 
 }  // namespace fov
