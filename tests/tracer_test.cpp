@@ -641,6 +641,33 @@ TEST(Tracer, EnvironmentImagesAreCheckedBeforeUse) {
   out->close();
   const auto s = load_scene("env:" + path);
   ASSERT_EQ(s->warnings().size(), 1u);
+  {
+    // The same file rewritten at another size, read again in this process: its new pixels,
+    // read at their own size (OpenImageIO's shared cache kept the old header by name, and the
+    // read overflowed a buffer of the old size: the env_image fuzz target's finding).
+    const std::string again = (dir / "again.hdr").string();
+    auto write = [&](int iw, int ih) {  // a ramp in u: texel x holds (x + 0.5) / width
+      std::vector<float> p(size_t(iw) * ih * 3);
+      for (size_t i = 0; i < p.size(); ++i) p[i] = (float((i / 3) % size_t(iw)) + 0.5f) / float(iw);
+      auto o = OIIO::ImageOutput::create(again);
+      o->open(again, OIIO::ImageSpec(iw, ih, 3, OIIO::TypeDesc::FLOAT));
+      o->write_image(OIIO::TypeDesc::FLOAT, p.data());
+      o->close();
+    };
+    write(2, 1);
+    const auto small = load_scene("env:" + again);
+    write(256, 128);
+    const auto large = load_scene("env:" + again);
+    trace_params flat;
+    flat.spp = 1;
+    const frame f = trace_reference(*large, large->default_camera(90), 64, 8, flat).image;
+    // Looking along -z the view spans u = 0.375 .. 0.625 (docs/tracer.md's mapping): the
+    // ramp of the 256-texel image, not two texels of a stale 2 x 1 header.
+    const glm::vec3 left = f.rgb[4 * 64 + 1], centre = f.rgb[4 * 64 + 32], right = f.rgb[4 * 64 + 62];
+    EXPECT_NEAR(centre.g, 0.5f, 0.02f);
+    EXPECT_NEAR(left.g, 0.38f, 0.02f);
+    EXPECT_NEAR(right.g, 0.62f, 0.02f);
+  }
   EXPECT_NE(s->warnings()[0].find("2 texel values are NaN or infinite; read as 0"), std::string::npos) << s->warnings()[0];
   trace_params tp;
   tp.spp = 4;

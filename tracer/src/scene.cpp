@@ -186,21 +186,32 @@ glm::vec3 env_pyramid::lookup(float s, float t, float ds, float dt) const {
 }
 
 env_pyramid load_env_pyramid(const std::string& file) {
-  OIIO::ImageBuf image(file);
+  // Read through an ImageInput of its own, never OpenImageIO's shared image cache: the cache
+  // keeps a file's header by name, so an image rewritten with another size in the same
+  // process was read into a buffer sized by the stale header (a heap overflow the env_image
+  // fuzz target found).
+  std::unique_ptr<OIIO::ImageInput> in;
+  OIIO::ImageBuf image;
   bool read = false;
   {
     const stderr_silenced quiet;  // libpng prints its own line for what OpenImageIO reports below
-    read = image.read(0, 0, true, OIIO::TypeDesc::FLOAT);
+    in = OIIO::ImageInput::open(file);
+    if (in) {
+      const OIIO::ImageSpec& s = in->spec();
+      image.reset(OIIO::ImageSpec(s.width, s.height, s.nchannels, OIIO::TypeDesc::FLOAT));
+      read = in->read_image(0, 0, 0, s.nchannels, OIIO::TypeDesc::FLOAT, image.localpixels());
+    }
   }
   if (!read)
-    throw std::runtime_error(fmt::format("{}: cannot read environment image: {}", file, first_line(image.geterror())));
-  const OIIO::ImageSpec& spec = image.spec();
+    throw std::runtime_error(fmt::format("{}: cannot read environment image: {}", file,
+                                         first_line(in ? in->geterror() : OIIO::geterror())));
+  const OIIO::ImageSpec& spec = in->spec();  // the file's: its pixel format says sRGB or linear
   const bool srgb = !(spec.format == OIIO::TypeDesc::FLOAT || spec.format == OIIO::TypeDesc::HALF ||
                       spec.format == OIIO::TypeDesc::DOUBLE);
   env_pyramid out;
-  OIIO::ImageBuf current = image;
+  OIIO::ImageBuf current = image;  // (float, from here on)
   for (;;) {
-    const OIIO::ImageSpec& cs = current.spec();
+    const OIIO::ImageSpec cs = current.spec();  // a copy: `current` is replaced below
     env_pyramid::level l;
     l.width = cs.width, l.height = cs.height;
     l.texels.resize(size_t(l.width) * l.height);
