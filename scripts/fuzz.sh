@@ -32,7 +32,12 @@ printf '%-14s %8s %12s %8s %8s %8s  %s\n' target seconds executions exec/s edges
 for t in "${targets[@]}"; do
   work="$build/corpus/$t" findings="$build/findings/$t" log="$build/logs/$t.log"
   mkdir -p "$work" "$findings" "$(dirname "$log")"
+  # Sanitizer reports go to files of their own: the loaders silence stderr around some
+  # library reads, and a report printed there would be lost (docs/fuzzing.md).
+  report="$build/logs/$t.sanitizer"
+  rm -f "$report".*
   set +e
+  ASAN_OPTIONS="$ASAN_OPTIONS:log_path=$report" UBSAN_OPTIONS="$UBSAN_OPTIONS:log_path=$report" \
   "$build/tests/fuzz/fuzz_$t" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=3072 -malloc_limit_mb=2048 \
     -print_final_stats=1 -artifact_prefix="$findings/" "$work" "$root/tests/fuzz/corpus/$t" >"$log" 2>&1
   rc=$?
@@ -48,6 +53,7 @@ for t in "${targets[@]}"; do
   fi
   printf '%-14s %8s %12s %8s %8s %8s  %s\n' "$t" "$seconds" "${runs:--}" "${rate:--}" "${edges:--}" "${units:--}" "$result"
   if (( rc != 0 )); then
+    cat "$report".* >>"$log" 2>/dev/null
     grep -E 'ERROR|fuzz finding|runtime error|SUMMARY|Test unit written' "$log" | head -n 8 | sed 's/^/    /' >&2
   fi
 done
