@@ -196,6 +196,14 @@ TEST(ResultsCsv, AppendsRefuseSymbolicLinks) {
   std::ifstream in(dir + "/elsewhere.csv");
   std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   EXPECT_EQ(text, "precious\n");
+  // A FIFO is refused at once (no reader: never waited on), as every input is.
+  ASSERT_EQ(mkfifo((dir + "/fifo.csv").c_str(), 0600), 0);
+  try {
+    results_writer w(dir + "/fifo.csv");
+    ADD_FAILURE() << "appended to a FIFO";
+  } catch (const std::runtime_error& e) {
+    EXPECT_EQ(std::string(e.what()), dir + "/fifo.csv: not a regular file (a FIFO, device or socket): refused");
+  }
 }
 
 // A reference is traced once per scene, size and spp, and read back from its files after

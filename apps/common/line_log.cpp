@@ -1,14 +1,15 @@
 #include "line_log.h"
 
 #include <fcntl.h>
-#include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
-#include <algorithm>
 
 #include <fmt/format.h>
+
+#include "fov/files.h"
 
 namespace fov {
 
@@ -32,10 +33,9 @@ line_log::line_log(const std::string& path, mode m) : path_(path) {
       throw std::runtime_error(fmt::format("{}: a symbolic link: give the file it points to (appends are refused through links)", path));
     fail_io(path, m == mode::open_existing ? "cannot open for appending" : "cannot create");
   }
-  struct stat st {};
-  if (::fstat(fd_, &st) != 0 || !S_ISREG(st.st_mode)) {
+  if (const std::string why = open_file_problem(fd_); !why.empty()) {  // a FIFO, device or socket
     ::close(fd_);
-    throw std::runtime_error(fmt::format("{}: not a regular file (a FIFO, device or socket): refused", path));
+    throw std::runtime_error(fmt::format("{}: {}", path, why));
   }
   if (m == mode::create_new) {  // the new name must survive a crash too: sync the directory entry
     const std::string dir = path.find('/') == std::string::npos ? "." : path.substr(0, path.rfind('/') + 1);
@@ -45,7 +45,8 @@ line_log::line_log(const std::string& path, mode m) : path_(path) {
   // Keep complete lines only: cut a torn last line (after the last newline).
   size_t keep = 0;
   char buffer[4096];
-  for (off_t end = st.st_size; end > 0 && keep == 0;) {
+  const off_t size = ::lseek(fd_, 0, SEEK_END);
+  for (off_t end = size; end > 0 && keep == 0;) {
     const size_t n = size_t(std::min<off_t>(end, off_t(sizeof buffer)));
     end -= off_t(n);
     if (::pread(fd_, buffer, n, end) != ssize_t(n)) {
@@ -58,7 +59,7 @@ line_log::line_log(const std::string& path, mode m) : path_(path) {
         break;
       }
   }
-  if (keep < size_t(st.st_size) && ::ftruncate(fd_, off_t(keep)) != 0) {
+  if (off_t(keep) < size && ::ftruncate(fd_, off_t(keep)) != 0) {
     ::close(fd_);
     fail_io(path, "cannot cut the torn last line");
   }

@@ -36,6 +36,12 @@ std::string input_file_problem(const std::string& path, uintmax_t max_bytes, con
   return stat_problem(st, max_bytes, what);
 }
 
+std::string open_file_problem(int fd, uintmax_t max_bytes, const std::string& what) {
+  struct stat st {};
+  if (::fstat(fd, &st) != 0) return fmt::format("cannot read: {}", std::strerror(errno));
+  return stat_problem(st, max_bytes, what);
+}
+
 std::string read_input_file(const std::string& path, uintmax_t max_bytes, const std::string& what) {
   const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
   if (fd < 0) throw file_error(fmt::format("{}: cannot open: {}", path, std::strerror(errno)));

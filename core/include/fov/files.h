@@ -22,6 +22,10 @@ class file_error : public std::runtime_error {
 // `what` may hold at most MAX"). Symbolic links are followed.
 std::string input_file_problem(const std::string& path, uintmax_t max_bytes = 0, const std::string& what = "file");
 
+// The same check on a file already open (descriptor `fd`): what input_file_problem says of
+// the file it is, or "cannot read: ..." when it cannot be examined.
+std::string open_file_problem(int fd, uintmax_t max_bytes = 0, const std::string& what = "file");
+
 // Reads the whole of an input file: refused as input_file_problem(path, max_bytes, what)
 // says (with max_bytes 0, the machine's memory bounds it), checked on the
 // descriptor it reads, which is opened without blocking, so a FIFO or device put in the
