@@ -38,7 +38,7 @@ scene_description emitter(std::vector<glm::vec3> corners, glm::vec3 colour, mate
   m.uvs.assign(m.positions.size(), glm::vec2(0.5f));
   for (uint32_t i = 2; i < m.positions.size(); ++i) m.triangles.push_back({0, i - 1, i});
   d.meshes.push_back(m);
-  d.instances.push_back({0, glm::mat4(1.0f)});
+  d.instances.push_back({0, glm::mat4(1.0f), ""});
   d.sun.colour = glm::vec3(0);
   d.env.colour = glm::vec3(0);
   return d;
@@ -90,7 +90,7 @@ TEST(Tracer, AlphaMaskDropsHitsBelowTheCutoff) {
     for (glm::vec3& p : m.positions) p = glm::vec3(4 * p.x, 4 * p.y, -4);
     m.material = 1;
     d.meshes.push_back(m);
-    d.instances.push_back({1, glm::mat4(1.0f)});
+    d.instances.push_back({1, glm::mat4(1.0f), ""});
     scene s(std::move(d));
     trace_params tp;
     tp.spp = 2;
@@ -321,7 +321,7 @@ TEST(Lighting, DefaultLightDoesNotClipWhiteAndExposureScales) {
   m.uvs.assign(4, glm::vec2(0.5f));
   m.triangles = {{0, 1, 2}, {0, 2, 3}};
   d.meshes.push_back(m);
-  d.instances.push_back({0, glm::mat4(1.0f)});
+  d.instances.push_back({0, glm::mat4(1.0f), ""});
   d.sun.direction = {0, 0, 1};  // straight at the quad: the brightest it can be
   const scene s(d);
   const camera cam = look_at({0, 0, 0}, {0, 0, -1}, 60);

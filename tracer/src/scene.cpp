@@ -419,6 +419,20 @@ namespace {
 bool finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 }  // namespace
 
+placement_scale classify_placement(const glm::mat4& t) {
+  const glm::mat3 linear(t), inverse = glm::inverse(linear);
+  bool finite = true, linear_within = true, inverse_within = true;  // (NaN fails each)
+  for (int c = 0; c < 3; ++c)
+    for (int r = 0; r < 3; ++r) {
+      finite = finite && std::isfinite(linear[c][r]);
+      linear_within = linear_within && std::fabs(linear[c][r]) <= max_transform_scale;
+      inverse_within = inverse_within && std::fabs(inverse[c][r]) <= max_transform_scale;
+    }
+  if (!finite) return placement_scale::out_of_range;
+  if (!inverse_within) return placement_scale::vanishing;
+  return linear_within ? placement_scale::within : placement_scale::out_of_range;
+}
+
 std::string geometry_problem(const scene_description& d) {
   auto point_problem = [](const glm::vec3& p) { return world_point_problem(p.x, p.y, p.z); };
   for (size_t m = 0; m < d.meshes.size(); ++m)
@@ -435,12 +449,7 @@ std::string geometry_problem(const scene_description& d) {
     if (!ok) return fmt::format("{}: its transform is not finite (refused)", name);
     if (t[0][3] != 0 || t[1][3] != 0 || t[2][3] != 0 || t[3][3] != 1)
       return fmt::format("{}: its transform is projective, not affine (refused)", name);
-    const glm::mat3 linear(t), inverse = glm::inverse(linear);
-    bool within = true;  // (NaN fails)
-    for (int c = 0; c < 3; ++c)
-      for (int r = 0; r < 3; ++r)
-        within = within && std::fabs(linear[c][r]) <= max_transform_scale && std::fabs(inverse[c][r]) <= max_transform_scale;
-    if (!within)
+    if (classify_placement(t) != placement_scale::within)
       return fmt::format("{}: its transform scales its mesh by more than {:g} or less than {:g} (refused)", name,
                          max_transform_scale, 1 / max_transform_scale);
     for (const glm::vec3& p : d.meshes[in.mesh].positions)

@@ -18,7 +18,7 @@ uint32_t add_material(scene_description& d, material m) {
 
 void add(scene_description& d, mesh m, const glm::mat4& transform = glm::mat4(1.0f)) {
   d.meshes.push_back(std::move(m));
-  d.instances.push_back({uint32_t(d.meshes.size() - 1), transform});
+  d.instances.push_back({uint32_t(d.meshes.size() - 1), transform, ""});
 }
 
 // A quad with corner `o` and edges `a`, `b`; UVs in world units along a and b.
@@ -118,7 +118,7 @@ scene_description builtin_scene() {
   d.meshes.push_back(box({0.02f, 4, 0.02f}, metal));
   const uint32_t pole = uint32_t(d.meshes.size() - 1);
   for (int i = 0; i < 10; ++i)
-    d.instances.push_back({pole, glm::translate(glm::mat4(1), {-4.5f + i, 2, -8})});
+    d.instances.push_back({pole, glm::translate(glm::mat4(1), {-4.5f + i, 2, -8}), "pole"});
   for (float y : {3.2f, 3.5f, 3.8f}) add(d, box({9, 0.01f, 0.01f}, metal), glm::translate(glm::mat4(1), {0, y, -8}));
 
   // An alpha-masked plant: 24 leaves around a stem, tilted outwards.

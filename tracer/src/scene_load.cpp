@@ -74,12 +74,7 @@ void flatten(const aiNode* root, std::vector<instance>& out, const std::vector<i
              std::vector<std::string>& warnings) {
   walk_nodes(root, [&](const aiNode* node, int) {
     const glm::mat4 t = world_transform(node);
-    const glm::mat3 linear(t), inverse = glm::inverse(linear);
-    bool finite = true, inverse_within = true;  // (NaN fails both)
-    for (int c = 0; c < 3; ++c)
-      for (int r = 0; r < 3; ++r)
-        finite = finite && std::isfinite(linear[c][r]), inverse_within = inverse_within && std::fabs(inverse[c][r]) <= max_transform_scale;
-    const bool vanishes = finite && !inverse_within;
+    const bool vanishes = classify_placement(t) == placement_scale::vanishing;
     for (unsigned i = 0; i < node->mNumMeshes; ++i) {
       if (node->mMeshes[i] >= mesh_map.size() || mesh_map[node->mMeshes[i]] < 0) continue;
       if (vanishes) {
@@ -171,7 +166,7 @@ std::string gltf_structure_problem(const std::string& path, const std::string& e
       if (parent[n] < 0) break;
       n = size_t(parent[n]);
     }
-    int d = depth[n] == 0 ? 0 : depth[n];
+    int d = depth[n];  // 0 when the walk stopped at the root (which is in the chain)
     for (size_t c = chain.size(); c-- > 0;) depth[chain[c]] = ++d;
     if (d > max_node_depth) return fmt::format("node {}: nested deeper than {} levels (refused)", i, max_node_depth);
   }
@@ -371,7 +366,6 @@ scene_description load_file(const std::string& path) {
   flatten(ai->mRootNode, d.instances, mesh_map, d.warnings);
   if (d.instances.empty())
     throw std::runtime_error(fmt::format("{}: the scene has no triangles{}", path, d.warnings.empty() ? "" : " (" + d.warnings.back() + ")"));
-  if (const std::string why = geometry_problem(d); !why.empty()) throw std::runtime_error(fmt::format("{}: {}", path, why));
 
   if (ai->mNumCameras > 0) {
     const aiCamera* c = ai->mCameras[0];
@@ -449,7 +443,11 @@ std::unique_ptr<scene> load_scene_checked(const std::string& spec) {
     d.scene_camera = look_at({0, 0, 0}, {0, 0, -1}, 90);
     return std::make_unique<scene>(std::move(d));
   }
-  return std::make_unique<scene>(load_file(spec));
+  try {
+    return std::make_unique<scene>(load_file(spec));
+  } catch (const std::invalid_argument& e) {  // the scene refuses geometry Embree must not see (geometry_problem)
+    throw std::runtime_error(fmt::format("{}: {}", spec, e.what()));
+  }
 }
 
 }  // namespace

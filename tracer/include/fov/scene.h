@@ -81,6 +81,13 @@ struct scene_description {
   std::vector<std::string> files;      // every file it was read from (scene, buffers, images)
 };
 
+// How a placement (an instance's transform) scales its mesh, from its linear part and that
+// part's inverse: within max_transform_scale either way; vanishing (finite, but shrinking the
+// mesh below 1 / max_transform_scale: the loader skips such a node); or out of range (not
+// finite, or growing the mesh beyond max_transform_scale).
+enum class placement_scale { within, vanishing, out_of_range };
+placement_scale classify_placement(const glm::mat4& transform);
+
 // "" when Embree may be given the description's geometry, else why not (naming the mesh or
 // node): every vertex finite and within max_world_coordinate (fov/camera.h) in its mesh and
 // placed in the world; every placement finite, affine, and scaling its mesh by at most
