@@ -119,18 +119,15 @@ int main(int argc, char** argv) {
     outputs.emplace_back("--debug-output", o.debug_output);
     outputs.emplace_back("--flip-map", o.flip_map);
     outputs.emplace_back("--foveated-flip-map", o.foveated_flip_map);
-    std::vector<std::string> inputs = {o.compare, o.points, o.scene.rfind("env:", 0) == 0 ? o.scene.substr(4) : o.scene};
-    auto check_outputs = [&] {
-      for (size_t i = 0; i < outputs.size(); ++i) {
-        const auto& [flag, out] = outputs[i];
-        if (out.empty()) continue;
-        if (const std::string why = fov::image_format_problem(out); !why.empty()) throw usage_error(fmt::format("{} {}: {}", flag, out, why));
-        fov::require_output(flag, out, inputs);
-        for (size_t j = 0; j < i; ++j)
-          if (outputs[j].second == out) throw usage_error(fmt::format("{} {}: also given to {}", flag, out, outputs[j].first));
-      }
-    };
-    check_outputs();
+    const std::vector<std::string> inputs = {o.compare, o.points, o.scene.rfind("env:", 0) == 0 ? o.scene.substr(4) : o.scene};
+    for (size_t i = 0; i < outputs.size(); ++i) {
+      const auto& [flag, out] = outputs[i];
+      if (out.empty()) continue;
+      if (const std::string why = fov::image_format_problem(out); !why.empty()) throw usage_error(fmt::format("{} {}: {}", flag, out, why));
+      fov::require_output(flag, out, inputs);
+      for (size_t j = 0; j < i; ++j)
+        if (outputs[j].second == out) throw usage_error(fmt::format("{} {}: also given to {}", flag, out, outputs[j].first));
+    }
 
     fov::require_valid(p);  // what does not depend on the set, before loading it
     std::shared_ptr<const fov::pointset> set;
@@ -155,8 +152,10 @@ int main(int argc, char** argv) {
     const auto loading = std::chrono::steady_clock::now();
     std::shared_ptr<const fov::scene> scene = fov::load_scene(o.scene);
     j["scene_load_ms"] = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - loading).count();
-    inputs.insert(inputs.end(), scene->description().files.begin(), scene->description().files.end());
-    check_outputs();
+    for (const auto& [flag, out] : outputs)  // the rest was checked above: only the files the scene was read from
+      if (!out.empty())
+        if (const std::string why = fov::output_file_problem(out, scene->description().files); !why.empty())
+          throw usage_error(fmt::format("{} {}: {}", flag, out, why));
     for (const std::string& w : scene->warnings()) std::cerr << "fovrender: warning: " << w << "\n";
     fov::renderer r(scene, p);
     fov::frame image;
