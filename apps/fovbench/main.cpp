@@ -15,6 +15,7 @@
 
 #include "../common/cli.h"
 #include "../common/compare_command.h"
+#include "../common/jod_validation.h"
 #include "../common/render_flags.h"
 #include "bench.h"
 #include "report.h"
@@ -95,10 +96,25 @@ int main(int argc, char** argv) {
   compare->add_option("--flip-map", co.flip_map, "Write the FLIP map (grey = 255 x error)");
   compare->add_option("--foveated-flip-map", co.foveated_flip_map, "Write the foveated FLIP map");
 
+  // fovbench validate-jod DIR: the JOD metric against the published implementation's values.
+  std::string validation_dir;
+  CLI::App* validate = app.add_subcommand(
+      "validate-jod", "FovVideoVDP here against the published implementation's values (a table; exit 1 beyond 0.1 JOD)");
+  validate->add_option("dir", validation_dir, "A folder like ../shared/metric-validation (jod-reference.json and images)")
+      ->required();
+
   return fov::run_tool("fovbench", app, argc, argv, [&]() -> int {
     if (compare->parsed()) {
       std::cout << fov::run_compare(co);
       return 0;
+    }
+    if (validate->parsed()) {
+      const fov::jod_validation v = fov::validate_jod(validation_dir);
+      std::cout << fov::jod_validation_markdown(v);
+      if (v.worst <= 0.1) return 0;
+      std::cerr << fmt::format("fovbench: {}: a value differs from the published one by {:.3f} JOD (more than 0.1)\n",
+                               validation_dir, v.worst);
+      return 1;
     }
     o.gazes = split_gazes(o.gazes);
     if (o.scenes.empty()) o.scenes = {"builtin"};
