@@ -49,7 +49,8 @@ kinds = [r["kind"] for r in rows]
 assert kinds.count("foveated") == 16 and kinds.count("uniform") == 8 and kinds.count("full") == 4, kinds
 need = ("scene gaze kind method spp rays frame_ms frame_ms_lo frame_ms_hi full_ms speedup speedup_lo speedup_hi psnr ssim "
         "psnr_fovea foveated_error flip flip_fovea foveated_flip foveated_flip_p99 foveated_flip_worst_band reference_spp "
-        "noise_floor_psnr noise_floor_flip noise_floor_foveated_flip geometry_fovea").split()
+        "noise_floor_psnr noise_floor_flip noise_floor_foveated_flip geometry_fovea jod jod_nonfoveated noise_floor_jod "
+        "noise_floor_jod_nonfoveated").split()
 for r in rows:
     for c in need:
         assert r[c] != "", (c, r)
@@ -59,6 +60,7 @@ for r in rows:
     assert 0 <= float(r["foveated_error"]) < 1 and 0 <= float(r["flip"]) <= 1 and 0 <= float(r["foveated_flip"]) <= 1
     assert r["reference_spp"] == "16"
     assert 0 < float(r["noise_floor_flip"]) < float(r["flip"]), "the reference must be better than what it measures"
+    assert float(r["jod"]) <= 10 and float(r["jod_nonfoveated"]) <= 10 and float(r["noise_floor_jod"]) > float(r["jod"]), r
     if r["kind"] == "full":
         assert r["method"] == "full" and float(r["speedup"]) == 1 and r["scale"] == "" and r["pixel_fraction"] == "1.0000", r
     else:
@@ -107,7 +109,40 @@ python3 - "$same" <<'PY' || fail "compare of identical images: $same"
 import json, sys
 j = json.loads(sys.argv[1])
 assert j["psnr"] is None and j["flip"] == 0 and j["foveated_flip"] == 0 and j["display"]["viewing_distance"] == 2, j
+assert j["jod"] == 10 and j["jod_nonfoveated"] == 10 and j["photometry"]["peak_luminance"] == 100, j
 PY
+check "compare bad peak"  2 -- "$fovbench" compare "${refs[0]}" "${refs[1]}" --peak-luminance 0
+check "compare bad contrast" 2 -- "$fovbench" compare "${refs[0]}" "${refs[1]}" --contrast nan
+check "compare bad ambient" 2 -- "$fovbench" compare "${refs[0]}" "${refs[1]}" --ambient -1
+check "sweep bad peak"    2 -- "$fovbench" "${common[@]}" --peak-luminance inf -o "$dir/x"
+# Less light, less sensitivity: the same pair scores higher on a dimmer display (seen from
+# 20 widths: 22 pixels per degree, the FOVE's).
+far=(--viewing-distance 20 --no-flip --json)
+bright=$("$fovbench" compare "${refs[0]}" "${refs[1]}" "${far[@]}")
+dim=$("$fovbench" compare "${refs[0]}" "${refs[1]}" "${far[@]}" --peak-luminance 1)
+nojod=$("$fovbench" compare "${refs[0]}" "${refs[1]}" "${far[@]}" --no-jod)
+python3 - "$bright" "$dim" "$nojod" <<'PY' || fail "compare's JOD against the display's light"
+import json, sys
+b, d, n = (json.loads(a) for a in sys.argv[1:])
+assert b["jod"] < d["jod"] <= 10 and b["jod_nonfoveated"] < d["jod_nonfoveated"], (b["jod"], d["jod"])
+assert "jod" not in n and "photometry" not in n, n
+PY
+# A row of the validation set, from the command line (../shared absent: skipped).
+val=$(dirname "$0")/../../shared/metric-validation
+if [[ -f "$val/jod-reference.json" ]]; then
+  row=$("$fovbench" compare "$val/images/forest--blur-3.png" "$val/images/forest.png" --display 512x512 \
+        --viewing-distance 2.5 --gaze 256,256 --json)
+  python3 - "$row" "$val/jod-reference.json" <<'PY' || fail "compare does not reproduce a validation row"
+import json, sys
+j = json.loads(sys.argv[1])
+ref = [r for r in json.load(open(sys.argv[2]))["rows"] if r["test"] == "images/forest--blur-3.png"][0]
+assert abs(j["jod"] - ref["jod_foveated_centre"]) < 0.1 and abs(j["jod_nonfoveated"] - ref["jod_nonfoveated"]) < 0.1, (j, ref)
+PY
+  check "validate-jod"    0 -- "$fovbench" validate-jod "$val"
+else
+  echo "skip: ../shared/metric-validation is absent"
+fi
+check "validate-jod none" 1 -- "$fovbench" validate-jod "$dir"
 
 check "exists without --resume" 1 -- "${sweep[@]}"
 out=$("${sweep[@]}" --resume 2>&1)

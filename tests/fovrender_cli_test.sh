@@ -82,6 +82,10 @@ check "mismatch, -o"       2 -- "$fovrender" --reference --width 32 --height 32 
 [[ -e "$dir/never.png" ]] && { echo "FAIL -o written although --compare failed"; failures=$((failures + 1)); }
 check "flip map alone"     2 -- "$fovrender" "${set[@]}" --spp 1 -o "$dir/a.png" --flip-map "$dir/f.png"
 check "no-flip and map"    2 -- "$fovrender" "${set[@]}" --spp 1 --compare "$dir/ref.exr" --no-flip --flip-map "$dir/f.png"
+check "no-jod alone"       2 -- "$fovrender" "${set[@]}" --spp 1 -o "$dir/a.png" --no-jod
+check "peak alone"         2 -- "$fovrender" "${set[@]}" --spp 1 -o "$dir/a.png" --peak-luminance 200
+check "no-jod and peak"    2 -- "$fovrender" "${set[@]}" --spp 1 --compare "$dir/ref.exr" --no-jod --peak-luminance 200
+check "bad contrast"       2 -- "$fovrender" "${set[@]}" --spp 1 --compare "$dir/ref.exr" --contrast 1
 check "flip maps"          0 -- "$fovrender" "${set[@]}" --spp 4 --compare "$dir/ref.exr" --flip-map "$dir/flip.png" \
   --foveated-flip-map "$dir/fflip.png"
 [[ -s "$dir/flip.png" && -s "$dir/fflip.png" ]] || { echo "FAIL FLIP maps not written"; failures=$((failures + 1)); }
@@ -101,6 +105,7 @@ python3 - "$conv" <<'PY' || { echo "FAIL --reference-spp JSON: $conv"; failures=
 import json, sys
 j = json.loads(sys.argv[1])
 assert j["reference_spp"] == 8 and j["metrics"]["flip"] > 0 and j["noise_floor"]["flip"] > 0, j
+assert j["noise_floor"]["jod"] > j["metrics"]["jod"] and j["noise_floor"]["jod_nonfoveated"] > j["metrics"]["jod_nonfoveated"], j
 assert j["noise_floor"]["flip"] < j["metrics"]["flip"], "the 8-spp references must differ less than a 1-spp frame from them"
 PY
 check "speedup, reference" 2 -- "$fovrender" --reference "${set[@]}" --spp 1 --speedup 2 -o "$dir/a.png"

@@ -1,6 +1,8 @@
 #include "compare_command.h"
 
 #include <algorithm>
+#include <cmath>
+#include <cstdlib>
 
 #include <fmt/format.h>
 
@@ -38,17 +40,43 @@ std::string run_compare(const compare_options& o) {
   const gaze_point gaze = require_gaze("--gaze", o.gaze, display);
   spacing_model eye;
   eye.display = display;
-  const comparison c = compare_images(test, reference, eye, gaze, o.flip, !o.flip_map.empty() || !o.foveated_flip_map.empty());
+  comparison_params what;
+  what.flip = o.flip, what.jod = o.jod, what.photometry = o.photometry;
+  what.keep_maps = !o.flip_map.empty() || !o.foveated_flip_map.empty();
+  const comparison c = compare_images(test, reference, eye, gaze, what);
   if (!o.flip_map.empty()) write_error_map(c.flip.flip_map, o.flip_map);
   if (!o.foveated_flip_map.empty()) write_error_map(c.flip.foveated_map, o.foveated_flip_map);
   if (!o.json) return comparison_text(c, o.reference) + "\n";
   json j = comparison_json(c);
   j["test"] = o.test, j["reference"] = o.reference;
   j["display"] = {{"width", display.width}, {"height", display.height}, {"viewing_distance", display.viewing_distance}};
+  if (c.has_jod)
+    j["photometry"] = {{"peak_luminance", o.photometry.peak}, {"contrast", o.photometry.contrast},
+                       {"ambient_lux", o.photometry.ambient_lux}, {"black_level", o.photometry.black()}};
   j["gaze"] = {gaze.x, gaze.y};
   return j.dump(2) + "\n";
 }
 
+void add_photometry_flags(CLI::App& app, display_photometry& p) {
+  auto in_range = [](double lo, double hi) {
+    return CLI::Validator(
+        [lo, hi](std::string& text) -> std::string {
+          const double v = std::strtod(text.c_str(), nullptr);
+          if (std::isfinite(v) && v >= lo && v <= hi) return "";
+          return fmt::format("must lie in {:g}..{:g}", lo, hi);
+        },
+        fmt::format("{:g}..{:g}", lo, hi));
+  };
+  app.add_option("--peak-luminance", p.peak, "JOD: the display's peak luminance, cd/m^2")
+      ->check(in_range(0.1, 10000))
+      ->capture_default_str();
+  app.add_option("--contrast", p.contrast, "JOD: the display's contrast, peak : black in the dark")
+      ->check(in_range(2, 1e6))
+      ->capture_default_str();
+  app.add_option("--ambient", p.ambient_lux, "JOD: ambient light on the screen, lux (reflected at 0.5 %)")
+      ->check(in_range(0, 1e5))
+      ->capture_default_str();
+}
 
 void write_error_map(const error_map& map, const std::string& path) {
   frame f;

@@ -3,6 +3,8 @@
 
 #include <string>
 
+#include <CLI/CLI.hpp>
+
 #include "fov/comparison.h"
 
 namespace fov {
@@ -13,9 +15,14 @@ struct compare_options {
   std::string display;             // a preset or WxH, 8..8192 (parse_display; empty: the images' size)
   double viewing_distance = 0;     // display widths (0: the display's, 1 for WxH)
   std::string gaze = "centre";
-  bool json = false, flip = true;
+  bool json = false, flip = true, jod = true;
+  display_photometry photometry;
   std::string flip_map, foveated_flip_map;
 };
+
+// --peak-luminance, --contrast, --ambient: the display's light for JOD (fov/fvvdp.h), bound
+// to `p`, each refused (exit 2, naming the flag and its range) outside photometry_problem's ranges.
+void add_photometry_flags(CLI::App& app, display_photometry& p);
 // Reads both, checks sizes (usage_error for flags, file_error for files), compares and
 // writes the maps; returns what to print (JSON or the two lines).
 std::string run_compare(const compare_options& o);

@@ -312,6 +312,7 @@ void put_errors(result_row& row, const comparison& m) {
   std::string profile;
   for (double v : e.profile_rmse) profile += (profile.empty() ? "" : ";") + fmt::format("{:.5f}", v);
   row.cells["error_profile"] = profile;
+  if (m.has_jod) row.cells["jod"] = number(m.jod.jod), row.cells["jod_nonfoveated"] = number(m.jod.jod_nonfoveated);
   if (!m.has_flip) return;
   row.cells["flip"] = number(m.flip.flip.mean), row.cells["flip_p99"] = number(m.flip.flip.p99);
   row.cells["foveated_flip"] = number(m.flip.foveated.mean);
@@ -328,6 +329,10 @@ void put_floor(result_row& row, const comparison& floor, uint32_t reference_spp)
     row.cells["noise_floor_flip"] = number(floor.flip.flip.mean);
     row.cells["noise_floor_flip_fovea"] = number(floor.flip.flip.bands[0]);
     row.cells["noise_floor_foveated_flip"] = number(floor.flip.foveated.mean);
+  }
+  if (floor.has_jod) {
+    row.cells["noise_floor_jod"] = number(floor.jod.jod);
+    row.cells["noise_floor_jod_nonfoveated"] = number(floor.jod.jod_nonfoveated);
   }
   for (size_t b = 0; b < 5; ++b) row.cells[std::string("geometry_") + band_suffix[b]] = number(floor.geometry[b]);
 }
@@ -461,7 +466,7 @@ class scene_sweep {
       row.cells["points_traced"] = "", row.cells["rays"] = std::to_string(f.image.rays);
       row.cells["trace_ms"] = number(summarise(f.ms).median), row.cells["reconstruct_ms"] = "0";
       put_timing(row, pair_timings(f.ms, f.ms), o_.spread_limit);
-      put_errors(row, compare_images(f.image, *truth_, eye_, st_.gazes[c.gaze].at, o_.flip));
+      put_errors(row, compare_images(f.image, *truth_, eye_, st_.gazes[c.gaze].at, o_.judging()));
       st_.finish(c, row);
     }
   }
@@ -490,7 +495,7 @@ class scene_sweep {
   const comparison& floor_at(size_t g) {
     if (!floors_.count(g)) {
       st_.say(fmt::format("noise floor at {}", st_.gazes[g].name));
-      floors_[g] = compare_images(*second_, *truth_, eye_, st_.gazes[g].at, o_.flip);
+      floors_[g] = compare_images(*second_, *truth_, eye_, st_.gazes[g].at, o_.judging());
     }
     return floors_[g];
   }
@@ -585,7 +590,7 @@ class scene_sweep {
       for (size_t f = 0; f < traces.size(); ++f) rec.push_back(frame_ms[c][f] - traces[f]);
       row.cells["reconstruct_ms"] = number(summarise(rec).median);
       put_timing(row, pair_timings(frame_ms[c], full_ms), o_.spread_limit);
-      put_errors(row, compare_images(image, *truth_, eye_, gp.at, o_.flip));
+      put_errors(row, compare_images(image, *truth_, eye_, gp.at, o_.judging()));
       if (o_.temporal_frames >= 2) {
         st_.say(fmt::format("temporal {} {} {} k={} spp={}", scene, what, method_name(c->how), c->k, spp));
         flicker_params fp;

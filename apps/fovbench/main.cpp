@@ -73,6 +73,8 @@ int main(int argc, char** argv) {
   app.add_option("--uniform-fractions", o.uniform_fractions, "Pixel fractions of the uniform sets, e.g. 0.5,0.25")
       ->delimiter(',');
   app.add_flag("--no-flip", [&o](int64_t) { o.flip = false; }, "Skip FLIP and the foveated FLIP (seconds per row)");
+  app.add_flag("--no-jod", [&o](int64_t) { o.jod = false; }, "Skip JOD (FovVideoVDP; a third of a second per FOVE row)");
+  fov::add_photometry_flags(app, o.photometry);
   app.add_option("--spread-limit", o.spread_limit, "Flag rows whose timing spread exceeds this fraction of the median")
       ->capture_default_str();
   app.add_option("--temporal-frames", o.temporal_frames, "Frames of the camera path for flicker (0: skip)");
@@ -85,14 +87,17 @@ int main(int argc, char** argv) {
 
   // fovbench compare TEST REFERENCE: every metric of two images, without a sweep.
   fov::compare_options co;
-  CLI::App* compare = app.add_subcommand("compare", "Compare two images: PSNR/SSIM, FLIP and foveated FLIP by eccentricity band");
+  CLI::App* compare = app.add_subcommand(
+      "compare", "Compare two images: JOD (FovVideoVDP), PSNR/SSIM, FLIP and foveated FLIP by eccentricity band");
   compare->add_option("test", co.test, "Test image")->required();
   compare->add_option("reference", co.reference, "Reference image")->required();
   compare->add_option("--display", co.display, "fove, vive, desktop1080 or WxH (default: the images' size, v = 1)");
   compare->add_option("--viewing-distance", co.viewing_distance, "Eye-to-screen distance in display widths");
   compare->add_option("--gaze", co.gaze, "X,Y in pixels, centre or corner")->capture_default_str();
   compare->add_flag("--json", co.json, "Print JSON");
-  compare->add_flag("--no-flip", [&co](int64_t) { co.flip = false; }, "PSNR/SSIM only");
+  compare->add_flag("--no-flip", [&co](int64_t) { co.flip = false; }, "Skip FLIP and the foveated FLIP");
+  compare->add_flag("--no-jod", [&co](int64_t) { co.jod = false; }, "Skip JOD (FovVideoVDP)");
+  fov::add_photometry_flags(*compare, co.photometry);
   compare->add_option("--flip-map", co.flip_map, "Write the FLIP map (grey = 255 x error)");
   compare->add_option("--foveated-flip-map", co.foveated_flip_map, "Write the foveated FLIP map");
 

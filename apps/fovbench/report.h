@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "fov/comparison.h"
 #include "fov/renderer.h"
 #include "sweep.h"
 
@@ -43,6 +44,13 @@ struct bench_options {
   std::vector<baseline> baselines{baseline::full};
   std::vector<double> uniform_fractions{0.5, 0.25};
   bool flip = true;  // FLIP and the foveated FLIP (seconds per row on a large screen)
+  bool jod = true;   // JOD (FovVideoVDP), foveated at the row's gaze and not
+  display_photometry photometry;  // the display's light, for JOD
+  comparison_params judging() const {
+    comparison_params p;
+    p.flip = flip, p.jod = jod, p.photometry = photometry;
+    return p;
+  }
   uint32_t frames = 3;
   // A row whose timing spread (max - min) exceeds this fraction of its median is flagged
   // "noisy" in results.csv and counted in the report.

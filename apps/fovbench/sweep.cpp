@@ -28,11 +28,11 @@ const std::vector<std::string>& result_columns() {
       "psnr", "ssim", "psnr_fovea", "ssim_fovea", "psnr_5_10", "ssim_5_10", "psnr_10_20", "ssim_10_20", "psnr_20_30",
       "ssim_20_30", "psnr_periphery", "ssim_periphery", "foveated_error", "foveated_psnr", "flip", "flip_fovea",
       "flip_5_10", "flip_10_20", "flip_20_30", "flip_periphery", "flip_p99", "foveated_flip", "foveated_flip_p99",
-      "foveated_flip_worst_band",
+      "foveated_flip_worst_band", "jod", "jod_nonfoveated",
       // The converged reference's own error (a second one, another seed, against it) and
       // the share of each band's pixels that hit geometry.
       "reference_spp", "noise_floor_psnr", "noise_floor_psnr_fovea", "noise_floor_foveated_error", "noise_floor_flip",
-      "noise_floor_flip_fovea", "noise_floor_foveated_flip", "geometry_fovea", "geometry_5_10", "geometry_10_20",
+      "noise_floor_flip_fovea", "noise_floor_foveated_flip", "noise_floor_jod", "noise_floor_jod_nonfoveated", "geometry_fovea", "geometry_5_10", "geometry_10_20",
       "geometry_20_30", "geometry_periphery",
       "flicker", "flicker_taa", "flicker_reference", "error_profile", "device", "frames", "render_settings"};
   return columns;
@@ -125,6 +125,7 @@ std::string result_row_problem(const result_row& row) {
         c == "reference_spp")
       return range{0, big, true, false};
     if (c == "scale") return range{0, 10, true, false};
+    if (starts("jod") || starts("noise_floor_jod")) return range{-big, 10, false, false};
     if (c == "k") return range{1, 32, false, false};
     if (c == "gaze_x" || c == "gaze_y" || c == "points_traced" || c == "rays" || c == "full_rays" || c == "trace_ms" ||
         c == "reconstruct_ms" || c == "foveated_error" || c == "noise_floor_foveated_error" || starts("flicker"))

@@ -31,7 +31,9 @@ struct render_options {
   std::vector<std::string> outputs;
   fov::debug_view debug = fov::debug_view::points;
   bool debug_asked = false;  // --debug-view given
-  bool reference = false, no_warmup = false, json = false, no_flip = false;
+  bool reference = false, no_warmup = false, json = false, no_flip = false, no_jod = false;
+  bool photometry_given = false;  // --peak-luminance, --contrast or --ambient given
+  fov::display_photometry photometry;
   bool size_given = false;  // --width or --height given
   int width = 1280, height = 1440;  // without --points
   uint32_t taa_frames = 0;
@@ -64,6 +66,9 @@ void check_options(const render_options& o, const fov::render_params& p) {
     throw usage_error("--no-flip, --flip-map and --foveated-flip-map need --compare or --reference-spp");
   if (o.no_flip && !(o.flip_map.empty() && o.foveated_flip_map.empty()))
     throw usage_error("--no-flip leaves no FLIP map to write");
+  if (!comparing && (o.no_jod || o.photometry_given))
+    throw usage_error("--no-jod, --peak-luminance, --contrast and --ambient need --compare or --reference-spp");
+  if (o.no_jod && o.photometry_given) throw usage_error("--no-jod: the display's light is for JOD only");
 }
 
 }  // namespace
@@ -96,13 +101,16 @@ int main(int argc, char** argv) {
                  "Compare against a converged reference of N Sobol rays per pixel traced here, with its noise floor "
                  "(a second one, another seed) in JSON noise_floor")
       ->check(CLI::Range(1u, fov::max_spp));
-  app.add_flag("--no-flip", o.no_flip, "With --compare: PSNR/SSIM only (FLIP takes seconds on a large frame)");
+  app.add_flag("--no-flip", o.no_flip, "With --compare: skip FLIP and the foveated FLIP (seconds on a large frame)");
+  app.add_flag("--no-jod", o.no_jod, "With --compare: skip JOD (FovVideoVDP, a third of a second on a FOVE frame)");
+  fov::add_photometry_flags(app, o.photometry);
   app.add_option("--flip-map", o.flip_map, "With --compare: write the FLIP map (grey = 255 x error)");
   app.add_option("--foveated-flip-map", o.foveated_flip_map, "With --compare: write the foveated FLIP map");
   app.add_flag("--json", o.json, "Print JSON");
   return fov::run_tool("fovrender", app, argc, argv, [&] {
     o.debug_asked = debug->count() > 0;
     o.size_given = app.count("--width") + app.count("--height") > 0;
+    o.photometry_given = app.count("--peak-luminance") + app.count("--contrast") + app.count("--ambient") > 0;
     check_options(o, p);
     p.taa = o.taa_frames > 0;
     if (o.debug_asked && o.debug_output.empty()) {
@@ -216,10 +224,12 @@ int main(int argc, char** argv) {
       fov::spacing_model eye;  // the viewer's eye: the set's acuity model at its true eccentricity
       eye.display = display;
       if (set) eye.acuity = set->model.acuity;
-      const bool maps = !o.flip_map.empty() || !o.foveated_flip_map.empty();
+      fov::comparison_params what;
+      what.flip = !o.no_flip, what.jod = !o.no_jod, what.photometry = o.photometry;
+      what.keep_maps = !o.flip_map.empty() || !o.foveated_flip_map.empty();
       fov::comparison c;
       if (o.reference_spp > 0) {
-        const fov::converged_comparison cc = fov::compare_converged(r, image, eye, gaze, p, o.reference_spp, !o.no_flip, maps);
+        const fov::converged_comparison cc = fov::compare_converged(r, image, eye, gaze, p, o.reference_spp, what);
         c = cc.against;
         j["noise_floor"] = fov::comparison_json(cc.floor);
         j["reference_spp"] = o.reference_spp;
@@ -227,7 +237,7 @@ int main(int argc, char** argv) {
         compared = fov::comparison_text(c, fmt::format("a {}-spp converged reference", o.reference_spp)) +
                    "\nnoise floor, a second reference " + fov::comparison_text(cc.floor, "the first");
       } else {
-        c = fov::compare_images(image, compare_to, eye, gaze, !o.no_flip, maps);
+        c = fov::compare_images(image, compare_to, eye, gaze, what);
         compared = fov::comparison_text(c, o.compare);
       }
       j["metrics"] = fov::comparison_json(c);

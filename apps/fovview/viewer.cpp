@@ -257,10 +257,12 @@ int run_viewer(const viewer_options& o, render_params settings) {
                 {"points_traced", timing.points_traced}};
       if (!reference_image.rgb.empty()) {
         // The schema every tool writes (fovrender --compare's "metrics"); PSNR/SSIM only: FLIP
-        // takes seconds on a large frame, and a screenshot is taken live.
+        // takes seconds on a large frame, JOD a third of one, and a screenshot is taken live.
         fov::spacing_model eye;
         eye.display = display;
-        j["metrics"] = fov::comparison_json(fov::compare_images(image, reference_image, eye, g, false));
+        fov::comparison_params psnr_only;
+        psnr_only.flip = psnr_only.jod = false;
+        j["metrics"] = fov::comparison_json(fov::compare_images(image, reference_image, eye, g, psnr_only));
       }
       const std::string text = j.dump(2) + "\n";
       fov::write_file_atomic(file + ".json", text.data(), text.size());

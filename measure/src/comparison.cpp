@@ -7,11 +7,16 @@ namespace fov {
 using json = nlohmann::json;
 
 comparison compare_images(const frame& test, const frame& reference, const spacing_model& eye, gaze_point gaze,
-                          bool flip, bool keep_maps) {
+                          const comparison_params& p) {
   comparison c;
   c.error = measure_error(test, reference, eye, gaze);
   c.geometry = geometry_coverage(reference, eye.display, gaze, c.error.edges_deg);
-  if (flip) c.flip = measure_flip(test, reference, eye, gaze, c.error.edges_deg, keep_maps), c.has_flip = true;
+  if (p.flip) c.flip = measure_flip(test, reference, eye, gaze, c.error.edges_deg, p.keep_maps), c.has_flip = true;
+  if (p.jod && test.width >= 8 && test.height >= 8) {
+    display_geometry d = eye.display;
+    d.width = test.width, d.height = test.height;
+    c.jod = fvvdp_image(test, reference, d, gaze, p.photometry), c.has_jod = true;
+  }
   return c;
 }
 
@@ -71,6 +76,7 @@ json comparison_json(const comparison& c) {
          {"foveated_error", e.foveated_error},
          {"foveated_psnr", db_json(e.foveated_psnr)},
          {"bands", bands}};
+  if (c.has_jod) j["jod"] = c.jod.jod, j["jod_nonfoveated"] = c.jod.jod_nonfoveated;
   if (c.has_flip) {
     j["ppd"] = c.flip.ppd;
     j["flip"] = c.flip.flip.mean;
@@ -86,8 +92,13 @@ json comparison_json(const comparison& c) {
 std::string comparison_text(const comparison& c, const std::string& against) {
   auto db = [](double v) { return std::isfinite(v) ? fmt::format("{:.2f}", v) : std::string("identical"); };
   const error_report& e = c.error;
-  std::string s = fmt::format("vs {}: PSNR {} dB, SSIM {:.4f}, foveated PSNR {} dB |", against, db(e.overall.psnr),
-                              e.overall.ssim, db(e.foveated_psnr));
+  std::string s;
+  if (c.has_jod)
+    s = fmt::format("vs {}: JOD {:.3f} foveated at the gaze, {:.3f} non-foveated (FovVideoVDP: 10 = no visible "
+                    "difference, 1 JOD apart = 75 % of observers prefer the better)\n",
+                    against, c.jod.jod, c.jod.jod_nonfoveated);
+  s += fmt::format("vs {}: PSNR {} dB, SSIM {:.4f}, foveated PSNR {} dB |", against, db(e.overall.psnr),
+                   e.overall.ssim, db(e.foveated_psnr));
   for (size_t b = 0; b < e.bands.size(); ++b)
     if (e.bands[b].pixels)
       s += fmt::format(" {} deg {} dB {:.4f}", band_name(e.edges_deg, b), db(e.bands[b].psnr), e.bands[b].ssim);
@@ -104,7 +115,7 @@ std::string comparison_text(const comparison& c, const std::string& against) {
 
 
 converged_comparison compare_converged(renderer& r, const frame& image, const spacing_model& eye, gaze_point gaze,
-                                       const render_params& p, uint32_t spp, bool flip, bool keep_maps) {
+                                       const render_params& p, uint32_t spp, const comparison_params& what) {
   const auto [seed_a, seed_b] = converged_seeds(p.seed);
   render_params q = p;
   q.spp = spp;
@@ -116,8 +127,10 @@ converged_comparison compare_converged(renderer& r, const frame& image, const sp
   const frame second = r.reference(image.width, image.height, q).image;
   converged_comparison c;
   c.reference_ms = t.trace_ms;
-  c.against = compare_images(image, truth, eye, gaze, flip, keep_maps);
-  c.floor = compare_images(second, truth, eye, gaze, flip, false);
+  c.against = compare_images(image, truth, eye, gaze, what);
+  comparison_params floor = what;
+  floor.keep_maps = false;
+  c.floor = compare_images(second, truth, eye, gaze, floor);
   return c;
 }
 
