@@ -23,6 +23,7 @@ check "bad eye"         2 -- "$fovbench" "${common[@]}" --eye 1,2 -o "$dir/x"
 check "bad baseline"    2 -- "$fovbench" "${common[@]}" --baselines lowres -o "$dir/x"
 check "bad fraction"    2 -- "$fovbench" "${common[@]}" --baselines uniform --uniform-fractions 0.3 -o "$dir/x"
 check "weak reference"  2 -- "$fovbench" "${common[@]}" --spp 4 --reference-spp 4 -o "$dir/x"
+check "bad temporal fps" 2 -- "$fovbench" "${common[@]}" --temporal-frames 2 --temporal-fps 4 -o "$dir/x"
 check "bad spread"      2 -- "$fovbench" "${common[@]}" --spread-limit 0 -o "$dir/x"
 check "budget nan"      2 -- "$fovbench" "${common[@]}" --budget-psnr nan -o "$dir/x"
 check "foveated budget inf" 2 -- "$fovbench" "${common[@]}" --budget-foveated inf -o "$dir/x"
@@ -65,6 +66,9 @@ for r in rows:
         assert r["method"] == "full" and float(r["speedup"]) == 1 and r["scale"] == "" and r["pixel_fraction"] == "1.0000", r
     else:
         assert float(r["flicker"]) >= 0
+        v = {c: float(r[c]) for c in ("video_jod", "video_jod_taa", "video_jod_full", "noise_floor_video_jod",
+                                      "video_jod_nonfoveated", "noise_floor_video_jod_nonfoveated")}
+        assert max(v.values()) <= 10 and v["noise_floor_video_jod"] > v["video_jod"], v
     if r["kind"] == "uniform":
         assert r["pixel_fraction"] == "0.2500" and r["scale"] == "", r
 # One full frame at 2 spp against the 16-spp reference errs less than at 1 spp.

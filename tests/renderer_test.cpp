@@ -243,6 +243,34 @@ TEST_F(pipeline, FlickerFallsWithTaaAndTheViewIsRestored) {
   EXPECT_THROW(measure_flicker(r, {32, 24}, params, f), std::invalid_argument);
 }
 
+// The video JOD along the path: against converged frames, the sequences score below 10 and
+// below the converged path's own floor (a second seed against the first).
+TEST_F(pipeline, VideoJodAlongThePathAgainstConvergedFrames) {
+  renderer r(scn, params);
+  r.use_pointset(set);
+  const camera before = r.cam();
+  flicker_params f;
+  f.frames = 4;
+  const auto [seed_a, seed_b] = converged_seeds(params.seed);
+  const std::vector<frame> first = converged_path(r, params, 64, seed_a, f), second = converged_path(r, params, 64, seed_b, f);
+  ASSERT_EQ(first.size(), 4u);
+  EXPECT_TRUE(same_view(r.cam(), before));
+  EXPECT_NE(first[0].rgb, first[3].rgb);  // the camera turned
+  const fvvdp_result floor = converged_path_floor(second, first, {32, 24}, set->model.display, f);
+  const flicker_report fl = measure_flicker(r, {32, 24}, params, f, first);
+  ASSERT_TRUE(fl.has_jod);
+  std::cout << "video JOD raw " << fl.jod_raw.jod << ", TAA " << fl.jod_taa.jod << ", full " << fl.jod_full.jod << ", floor "
+            << floor.jod << "\n";
+  EXPECT_EQ(fl.jod_raw.frames, 4);
+  for (const fvvdp_result* j : {&fl.jod_raw, &fl.jod_taa, &fl.jod_full}) {
+    EXPECT_LT(j->jod, 10.0);
+    EXPECT_LT(j->jod, floor.jod);
+  }
+  EXPECT_FALSE(measure_flicker(r, {32, 24}, params, f).has_jod);
+  EXPECT_THROW(measure_flicker(r, {32, 24}, params, f, std::vector<frame>(first.begin(), first.begin() + 3)),
+               std::invalid_argument);
+}
+
 // The device path (OpenCL kernels, TAA kernel) gives the C++ path's frames within float
 // rounding, for every method, with and without TAA; the timing says which path ran.
 TEST_F(pipeline, TheDevicePathGivesTheCppFrames) {

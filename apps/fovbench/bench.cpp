@@ -275,11 +275,19 @@ display_geometry check_bench_options(const bench_options& o) {
     throw usage_error("--baselines uniform needs at least one --uniform-fractions value");
   if (!(o.spread_limit > 0 && o.spread_limit <= 10)) throw usage_error("--spread-limit must lie in (0, 10]");
   if (o.temporal_frames == 1 || o.temporal_frames > 200) throw usage_error("--temporal-frames must be 0 or 2..200");
+  if (!(o.temporal_fps >= 8 && o.temporal_fps <= 1000)) throw usage_error("--temporal-fps must lie in 8..1000");
   if (!std::isnan(o.budget_psnr) && !std::isnan(o.budget_foveated)) throw usage_error("give one budget");
   const std::string problem = validate(o.render);
   if (!problem.empty()) throw usage_error(problem);
   const display_geometry display = parse_display(o.display);
-  parse_gazes(o.gazes, display, o.render.seed);
+  const size_t gazes = parse_gazes(o.gazes, display, o.render.seed).size();
+  // The video JOD keeps the converged path of every gaze (colour, 12 bytes a pixel).
+  if (o.temporal_frames >= 2 && o.jod)
+    if (const std::string why = memory_problem(uint64_t(gazes) * o.temporal_frames * uint64_t(display.width) * display.height * 12,
+                                               fmt::format("the converged temporal paths ({} gazes x {} frames)", gazes,
+                                                           o.temporal_frames));
+        !why.empty())
+      throw usage_error("--temporal-frames: " + why + " (fewer frames, or --no-jod)");
   // Sets that will be generated need a --points-dir this process can write in: known now,
   // not after the references are traced.
   for (double s : o.scales)
@@ -593,15 +601,45 @@ class scene_sweep {
       put_errors(row, compare_images(image, *truth_, eye_, gp.at, o_.judging()));
       if (o_.temporal_frames >= 2) {
         st_.say(fmt::format("temporal {} {} {} k={} spp={}", scene, what, method_name(c->how), c->k, spp));
-        flicker_params fp;
-        fp.frames = o_.temporal_frames;
-        const flicker_report fl = measure_flicker(r_, gp.at, p, fp);
+        const flicker_params fp = temporal_path();
+        const flicker_report fl = measure_flicker(r_, gp.at, p, fp, o_.jod ? path_at(c->gaze).frames : std::vector<frame>{});
         row.cells["flicker"] = number(fl.raw);
         row.cells["flicker_taa"] = number(fl.taa);
         row.cells["flicker_reference"] = number(fl.reference);
+        if (fl.has_jod) {
+          const fvvdp_result* seq[] = {&fl.jod_raw, &fl.jod_taa, &fl.jod_full, &path_at(c->gaze).floor};
+          const char* name[] = {"video_jod", "video_jod_taa", "video_jod_full", "noise_floor_video_jod"};
+          for (int i = 0; i < 4; ++i)
+            row.cells[name[i]] = number(seq[i]->jod), row.cells[std::string(name[i]) + "_nonfoveated"] = number(seq[i]->jod_nonfoveated);
+        }
       }
       st_.finish(*c, row);
     }
+  }
+
+  flicker_params temporal_path() const {
+    flicker_params fp;
+    fp.frames = o_.temporal_frames, fp.fps = o_.temporal_fps, fp.photometry = o_.photometry;
+    return fp;
+  }
+
+  // Converged frames along the temporal path from gaze g, and the noise floor of the video
+  // JOD measured against them (a second path, the other seed): traced once per gaze.
+  struct path_truth {
+    std::vector<frame> frames;
+    fvvdp_result floor;
+  };
+  const path_truth& path_at(size_t g) {
+    if (!paths_.count(g)) {
+      st_.say(fmt::format("converged temporal path at {} ({} frames, twice)", st_.gazes[g].name, o_.temporal_frames));
+      const auto [seed_a, seed_b] = converged_seeds(o_.render.seed);
+      path_truth t;
+      t.frames = converged_path(r_, o_.render, o_.reference_spp, seed_a, temporal_path());
+      t.floor = converged_path_floor(converged_path(r_, o_.render, o_.reference_spp, seed_b, temporal_path()), t.frames,
+                                     st_.gazes[g].at, st_.display, temporal_path());
+      paths_[g] = std::move(t);
+    }
+    return paths_[g];
   }
 
   sweep_state& st_;
@@ -613,6 +651,7 @@ class scene_sweep {
   const frame* truth_ = nullptr;
   const frame* second_ = nullptr;
   std::map<size_t, comparison> floors_;
+  std::map<size_t, path_truth> paths_;
   std::map<uint32_t, full_frame> fulls_;
 };
 

@@ -77,7 +77,10 @@ int main(int argc, char** argv) {
   fov::add_photometry_flags(app, o.photometry);
   app.add_option("--spread-limit", o.spread_limit, "Flag rows whose timing spread exceeds this fraction of the median")
       ->capture_default_str();
-  app.add_option("--temporal-frames", o.temporal_frames, "Frames of the camera path for flicker (0: skip)");
+  app.add_option("--temporal-frames", o.temporal_frames,
+                 "Frames of the camera path for flicker and its video JOD against converged frames (0: skip)");
+  app.add_option("--temporal-fps", o.temporal_fps, "The display's frame rate along that path, for the video JOD")
+      ->capture_default_str();
   app.add_flag("--resume", o.resume, "Skip configurations already in results.csv");
   const CLI::Validator finite(
       [](std::string& text) { return std::isfinite(std::strtod(text.c_str(), nullptr)) ? "" : "must be a finite number"; },

@@ -56,6 +56,7 @@ struct bench_options {
   // "noisy" in results.csv and counted in the report.
   double spread_limit = 0.25;
   uint32_t temporal_frames = 0;
+  double temporal_fps = 60;  // the display's frame rate along the temporal path, for its video JOD
   bool resume = false;
   double budget_psnr = std::numeric_limits<double>::quiet_NaN();
   double budget_foveated = std::numeric_limits<double>::quiet_NaN();

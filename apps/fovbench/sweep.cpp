@@ -34,7 +34,13 @@ const std::vector<std::string>& result_columns() {
       "reference_spp", "noise_floor_psnr", "noise_floor_psnr_fovea", "noise_floor_foveated_error", "noise_floor_flip",
       "noise_floor_flip_fovea", "noise_floor_foveated_flip", "noise_floor_jod", "noise_floor_jod_nonfoveated", "geometry_fovea", "geometry_5_10", "geometry_10_20",
       "geometry_20_30", "geometry_periphery",
-      "flicker", "flicker_taa", "flicker_reference", "error_profile", "device", "frames", "render_settings"};
+      "flicker", "flicker_taa", "flicker_reference",
+      // Video JOD along the temporal path against converged frames, gaze per frame: the
+      // foveated frames raw and with TAA, full resolution at the row's spp, and the
+      // converged path's own floor (a second one, another seed).
+      "video_jod", "video_jod_nonfoveated", "video_jod_taa", "video_jod_taa_nonfoveated", "video_jod_full",
+      "video_jod_full_nonfoveated", "noise_floor_video_jod", "noise_floor_video_jod_nonfoveated",
+      "error_profile", "device", "frames", "render_settings"};
   return columns;
 }
 
@@ -125,7 +131,8 @@ std::string result_row_problem(const result_row& row) {
         c == "reference_spp")
       return range{0, big, true, false};
     if (c == "scale") return range{0, 10, true, false};
-    if (starts("jod") || starts("noise_floor_jod")) return range{-big, 10, false, false};
+    if (starts("jod") || starts("noise_floor_jod") || starts("video_jod") || starts("noise_floor_video_jod"))
+      return range{-big, 10, false, false};
     if (c == "k") return range{1, 32, false, false};
     if (c == "gaze_x" || c == "gaze_y" || c == "points_traced" || c == "rays" || c == "full_rays" || c == "trace_ms" ||
         c == "reconstruct_ms" || c == "foveated_error" || c == "noise_floor_foveated_error" || starts("flicker"))

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
+#include <string>
 #include <stdexcept>
 
 #include <glm/gtc/constants.hpp>
@@ -10,11 +12,53 @@
 
 namespace fov {
 
-flicker_report measure_flicker(renderer& r, gaze_point start, const render_params& p, const flicker_params& f) {
-  if (f.frames < 2) throw std::invalid_argument("flicker needs at least 2 frames");
+camera path_camera(const camera& still, const flicker_params& f, uint32_t n) {
+  const float yaw = glm::radians(f.yaw_deg_per_frame * float(n));
+  const glm::vec3 right = glm::normalize(glm::cross(still.forward, still.up));
+  camera c = still;
+  c.forward = glm::normalize(still.forward * std::cos(yaw) + right * std::sin(yaw));
+  return c;
+}
+
+gaze_point path_gaze(gaze_point start, const display_geometry& d, const flicker_params& f, uint32_t n) {
+  return {std::clamp(start.x + f.gaze_px_per_frame * n, 0.0, double(d.width)), start.y};
+}
+
+namespace {
+
+const display_geometry& display_in_use(const renderer& r) {
   const pointset* set = r.current_set();
-  if (!set) throw std::logic_error("measure_flicker: no point set in use");
-  const display_geometry& d = set->model.display;
+  if (!set) throw std::logic_error("the flicker path: no point set in use");
+  return set->model.display;
+}
+
+}  // namespace
+
+std::vector<frame> converged_path(renderer& r, const render_params& p, uint32_t spp, uint64_t seed,
+                                  const flicker_params& f) {
+  if (f.frames < 2) throw std::invalid_argument("the flicker path needs at least 2 frames");
+  const display_geometry& d = display_in_use(r);
+  const camera still = r.cam();
+  render_params q = p;
+  q.spp = spp, q.seed = seed, q.reference_sampler = pixel_sampler::sobol;
+  std::vector<frame> out;
+  for (uint32_t n = 0; n < f.frames; ++n) {
+    r.cam() = path_camera(still, f, n);
+    frame image = r.reference(d.width, d.height, q).image;
+    image.depth = {};  // colour is all JOD reads
+    out.push_back(std::move(image));
+  }
+  r.cam() = still;
+  return out;
+}
+
+flicker_report measure_flicker(renderer& r, gaze_point start, const render_params& p, const flicker_params& f,
+                               const std::vector<frame>& converged) {
+  if (f.frames < 2) throw std::invalid_argument("flicker needs at least 2 frames");
+  const display_geometry& d = display_in_use(r);
+  if (!converged.empty() && converged.size() != f.frames)
+    throw std::invalid_argument("measure_flicker: " + std::to_string(converged.size()) + " converged frames for a path of " +
+                                std::to_string(f.frames));
   const camera still = r.cam();
   render_params raw = p, blended = p;
   raw.taa = false;
@@ -22,12 +66,12 @@ flicker_report measure_flicker(renderer& r, gaze_point start, const render_param
   r.reset_history();
   frame previous_raw, previous_taa, previous_ref;
   flicker_report out;
+  std::vector<std::unique_ptr<fvvdp>> jod;  // raw, TAA, full resolution
+  if (!converged.empty())
+    for (int i = 0; i < 3; ++i) jod.push_back(std::make_unique<fvvdp>(d, f.fps, f.photometry));
   for (uint32_t n = 0; n < f.frames; ++n) {
-    const float yaw = glm::radians(f.yaw_deg_per_frame * float(n));
-    const glm::vec3 right = glm::normalize(glm::cross(still.forward, still.up));
-    r.cam() = still;
-    r.cam().forward = glm::normalize(still.forward * std::cos(yaw) + right * std::sin(yaw));
-    const gaze_point g{std::clamp(start.x + f.gaze_px_per_frame * n, 0.0, double(d.width)), start.y};
+    r.cam() = path_camera(still, f, n);
+    const gaze_point g = path_gaze(start, d, f, n);
     frame_timing t;
     const points_trace traced = r.trace(g, raw, t);
     frame now = r.reconstruct(traced.samples, g, raw, t);  // copies: the renderer reuses its frame
@@ -38,13 +82,27 @@ flicker_report measure_flicker(renderer& r, gaze_point start, const render_param
       out.taa += mean_luminance_change(now_taa, previous_taa);
       out.reference += mean_luminance_change(now_ref, previous_ref);
     }
+    if (!jod.empty()) {
+      jod[0]->add(now, converged[n], g);
+      jod[1]->add(now_taa, converged[n], g);
+      jod[2]->add(now_ref, converged[n], g);
+    }
     previous_raw = std::move(now), previous_taa = std::move(now_taa), previous_ref = std::move(now_ref);
   }
   const double pairs = double(f.frames - 1);
   out.raw /= pairs, out.taa /= pairs, out.reference /= pairs;
+  if (!jod.empty()) out.has_jod = true, out.jod_raw = jod[0]->result(), out.jod_taa = jod[1]->result(), out.jod_full = jod[2]->result();
   r.cam() = still;
   r.reset_history();
   return out;
+}
+
+fvvdp_result converged_path_floor(const std::vector<frame>& second, const std::vector<frame>& first, gaze_point start,
+                                  const display_geometry& d, const flicker_params& f) {
+  if (second.size() != first.size()) throw std::invalid_argument("converged_path_floor: paths of different lengths");
+  fvvdp m(d, f.fps, f.photometry);
+  for (uint32_t n = 0; n < first.size(); ++n) m.add(second[n], first[n], path_gaze(start, d, f, n));
+  return m.result();
 }
 
 }  // namespace fov

@@ -1,10 +1,14 @@
 // The flicker experiment: how much a foveated frame changes from one frame to the next
 // along a slow camera turn with a drifting gaze, raw and with TAA, beside what the
-// full-resolution reference itself changes.
+// full-resolution reference itself changes; and, against converged frames along the same
+// path, how visible the moving sequences' differences are (FovVideoVDP's video JOD, the
+// gaze following the drift frame by frame).
 #pragma once
 
 #include <cstdint>
+#include <vector>
 
+#include "fov/fvvdp.h"
 #include "fov/renderer.h"
 
 namespace fov {
@@ -13,19 +17,42 @@ struct flicker_params {
   uint32_t frames = 8;               // 2 or more
   float yaw_deg_per_frame = 0.15f;   // the camera turns right about its up axis
   double gaze_px_per_frame = 3;      // the gaze drifts right (clamped to the screen)
+  double fps = 60;                   // the display's frame rate, for the video JOD (8..1000)
+  display_photometry photometry;     // the display's light, for the video JOD
 };
+
+// Frame n of the path: the camera `still` turned right by n x yaw, the gaze moved from `start`.
+camera path_camera(const camera& still, const flicker_params& f, uint32_t n);
+gaze_point path_gaze(gaze_point start, const display_geometry& d, const flicker_params& f, uint32_t n);
+
+// Converged frames along the path (colour only; the gaze does not change them): `spp` Sobol rays per pixel with the seed
+// `seed` (compare_converged's are converged_seeds(p.seed)), at the size of the set in use.
+// The renderer's camera is restored afterwards.
+std::vector<frame> converged_path(renderer& r, const render_params& p, uint32_t spp, uint64_t seed,
+                                  const flicker_params& f = {});
 
 // Mean frame-to-frame change of display luminance (mean_luminance_change), over frames - 1 pairs.
 struct flicker_report {
   double raw = 0;        // the reconstructed frames
   double taa = 0;        // the same samples blended by TAA (p.temporal)
   double reference = 0;  // full-resolution frames at p.spp rays per pixel
+  // Video JOD of the three sequences against the converged frames, when given.
+  bool has_jod = false;
+  fvvdp_result jod_raw, jod_taa, jod_full;
 };
 
 // Each frame is traced once with the pattern fixed (p.seed: the rays move only with the
 // camera) and reconstructed twice, without and with TAA, from the same samples; the
 // reference is traced with the same seed. The renderer's camera and TAA history are
-// restored afterwards.
-flicker_report measure_flicker(renderer& r, gaze_point start, const render_params& p, const flicker_params& f = {});
+// restored afterwards. With `converged` (converged_path's frames, one per frame of the
+// path), each sequence's video JOD against it too. Throws std::invalid_argument for a
+// `converged` of another length or frame size.
+flicker_report measure_flicker(renderer& r, gaze_point start, const render_params& p, const flicker_params& f = {},
+                               const std::vector<frame>& converged = {});
+
+// Video JOD of one converged path against another (converged_path with the two seeds of
+// converged_seeds): the noise floor of every video JOD measured against the first.
+fvvdp_result converged_path_floor(const std::vector<frame>& second, const std::vector<frame>& first, gaze_point start,
+                                  const display_geometry& d, const flicker_params& f = {});
 
 }  // namespace fov
