@@ -57,6 +57,14 @@ for r in rows:
         assert r[c] != "", (c, r)
     lo, mid, hi = float(r["frame_ms_lo"]), float(r["frame_ms"]), float(r["frame_ms_hi"])
     assert 0 < lo <= mid <= hi, r
+    assert float(r["trace_cpu_ms"]) >= 0 and float(r["full_cpu_ms"]) >= 0, r
+    if r["kind"] != "full":
+        samples = [float(x) for x in r["speedup_samples"].split(";")]
+        assert len(samples) == 1 and samples[0] > 0 and r["ladder_samples"] == "", r  # --frames 1
+    else:
+        assert r["speedup_samples"] == "", r
+        ladder = [float(x) for x in r["ladder_samples"].split(";")]
+        assert len(ladder) == 1 and (r["spp"] != "1" or ladder == [1.0]), r
     assert float(r["speedup_lo"]) <= float(r["speedup"]) <= float(r["speedup_hi"]), r
     assert 0 <= float(r["foveated_error"]) < 1 and 0 <= float(r["flip"]) <= 1 and 0 <= float(r["foveated_flip"]) <= 1
     assert r["reference_spp"] == "16"
@@ -94,6 +102,9 @@ for spp in ("1", "2"):
     assert fov[0]["flip"] == full[0]["flip"] and fov[0]["psnr"] == full[0]["psnr"], (fov[0]["flip"], full[0]["flip"])
 PY
 grep -q "Equal-error speedup over the best baseline" "$dir/out/report.md" || fail "report.md has no equal-error speedup"
+grep -q "^## Verdict (JOD" "$dir/out/report.md" || fail "report.md opens with no verdict"
+grep -Eq "^\*\*builtin\*\*: (Foveation|Inconclusive|No verdict)" "$dir/out/report.md" || fail "report.md has no verdict sentence"
+grep -Eq "^- (At [0-9.]+ JOD|No foveated configuration reaches)" "$dir/out/report.md" || fail "report.md has no verdict line"
 grep -q "noise floor" "$dir/out/report.md" || fail "report.md states no noise floor"
 grep -q "Timing noise" "$dir/out/report.md" || fail "report.md states no timing noise"
 grep -q "Fastest within the budget" "$dir/out/report.md" || fail "report.md names no fastest configuration"

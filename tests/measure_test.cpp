@@ -9,6 +9,7 @@
 
 #include "fov/metrics.h"
 #include "fov/pareto.h"
+#include "fov/speedup.h"
 
 namespace fov {
 namespace {
@@ -206,6 +207,38 @@ TEST(EqualError, SpeedupAlongBothFronts) {
   EXPECT_TRUE(std::isnan(time_at_error(fov, 0.01)));  // better than its best
   // 0.05 lies two thirds of the way from 0.1 to 0.025: log time two thirds of the way from 40 to 160 ms.
   EXPECT_NEAR(equal_error_speedup(fov, base, 0.05), std::pow(40.0, 1 / 3.0) * std::pow(160.0, 2 / 3.0) / 20, 1e-9);
+}
+
+
+TEST(ChainedSpeedup, ConstantSamplesGiveAnExactInterval) {
+  const speedup_interval a = chained_speedup({2, 2, 2}, {1.5, 1.5});
+  EXPECT_DOUBLE_EQ(a.estimate, 3.0);
+  EXPECT_DOUBLE_EQ(a.lo, 3.0);
+  EXPECT_DOUBLE_EQ(a.hi, 3.0);
+  EXPECT_FALSE(a.contains_one());
+  EXPECT_DOUBLE_EQ(chained_speedup({0.5, 0.5}).estimate, 0.5);  // no ladder: the same frame
+  EXPECT_TRUE(std::isnan(chained_speedup({}).estimate));
+}
+
+TEST(ChainedSpeedup, SpreadWidensTheIntervalAroundTheMedians) {
+  // Paired ratios spread around 1.2, ladder around 1: the interval holds the estimate and,
+  // with ratios on both sides of 1, contains 1.
+  const std::vector<double> paired{0.9, 1.1, 1.2, 1.3, 1.6}, ladder{0.95, 1.0, 1.05};
+  const speedup_interval s = chained_speedup(paired, ladder);
+  EXPECT_DOUBLE_EQ(s.estimate, 1.2);
+  EXPECT_LT(s.lo, s.estimate);
+  EXPECT_GT(s.hi, s.estimate);
+  EXPECT_TRUE(s.contains_one());
+  EXPECT_GE(s.lo, 0.9 * 0.95);
+  EXPECT_LE(s.hi, 1.6 * 1.05);
+  // Seeded: the same samples give the same interval; more samples of the same spread narrow it.
+  const speedup_interval again = chained_speedup(paired, ladder);
+  EXPECT_EQ(again.lo, s.lo);
+  EXPECT_EQ(again.hi, s.hi);
+  std::vector<double> many;
+  for (int i = 0; i < 8; ++i) many.insert(many.end(), paired.begin(), paired.end());
+  const speedup_interval narrow = chained_speedup(many, ladder);
+  EXPECT_LT(narrow.hi - narrow.lo, s.hi - s.lo);
 }
 
 }  // namespace

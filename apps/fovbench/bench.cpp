@@ -308,6 +308,13 @@ namespace {
 
 const char* band_suffix[5] = {"fovea", "5_10", "10_20", "20_30", "periphery"};
 
+// Per-repetition values joined by ';' (speedup_samples, ladder_samples).
+std::string samples_text(const std::vector<double>& v) {
+  std::string out;
+  for (double x : v) out += (out.empty() ? "" : ";") + fmt::format("{:.6g}", x);
+  return out;
+}
+
 void put_errors(result_row& row, const comparison& m) {
   const error_report& e = m.error;
   row.cells["psnr"] = number(e.overall.psnr), row.cells["ssim"] = number(e.overall.ssim);
@@ -474,6 +481,9 @@ class scene_sweep {
       row.cells["points_traced"] = "", row.cells["rays"] = std::to_string(f.image.rays);
       row.cells["trace_ms"] = number(summarise(f.ms).median), row.cells["reconstruct_ms"] = "0";
       put_timing(row, pair_timings(f.ms, f.ms), o_.spread_limit);
+      row.cells["trace_cpu_ms"] = number(summarise(f.cpu_ms).median), row.cells["reconstruct_cpu_ms"] = "0";
+      row.cells["full_cpu_ms"] = row.cells["trace_cpu_ms"];
+      row.cells["ladder_samples"] = samples_text(ladder().at(c.spp));
       put_errors(row, compare_images(f.image, *truth_, eye_, st_.gazes[c.gaze].at, o_.judging()));
       st_.finish(c, row);
     }
@@ -483,7 +493,7 @@ class scene_sweep {
   // Full-resolution frames at each spp: the image (deterministic) and every timing of it.
   struct full_frame {
     frame image;
-    std::vector<double> ms;
+    std::vector<double> ms, cpu_ms;  // wall and process CPU time of every timing
   };
 
   void use_set(row_kind kind, size_t si) {
@@ -524,11 +534,34 @@ class scene_sweep {
     render_params p = o_.render;
     p.spp = spp;
     frame_timing t;
+    const double cpu = process_cpu_ms();
     reference_trace traced = r_.reference(st_.display.width, st_.display.height, p, &t);
     full_frame& f = fulls_[spp];
+    f.cpu_ms.push_back(process_cpu_ms() - cpu);
     if (f.image.rgb.empty()) f.image = std::move(traced.image);
     f.ms.push_back(t.trace_ms);
     return t.trace_ms;
+  }
+
+  // The ladder: --frames repetitions, each timing the full-resolution frame at every spp of
+  // the sweep back to back (ascending); per repetition, each spp's time over the lowest's.
+  // Chained with a configuration's paired ratio, it prices the configuration against a
+  // full-resolution frame at another spp without comparing times taken minutes apart.
+  const std::map<uint32_t, std::vector<double>>& ladder() {
+    if (ladder_.empty()) {
+      std::vector<uint32_t> spps = o_.spps;
+      std::sort(spps.begin(), spps.end());
+      for (uint32_t f = 0; f < o_.frames; ++f) {
+        st_.say(fmt::format("timing the full-resolution ladder ({}/{})", f + 1, o_.frames));
+        double lowest = 0;
+        for (uint32_t spp : spps) {
+          const double ms = time_full(spp);
+          if (spp == spps.front()) lowest = ms;
+          ladder_[spp].push_back(ms / lowest);
+        }
+      }
+    }
+    return ladder_;
   }
 
   // Every configuration of one set, gaze and spp still to do: one trace, every method timed
@@ -564,24 +597,30 @@ class scene_sweep {
     // Interleaved: each repetition times the full-resolution frame, every k's trace and
     // every method's reconstruction once, so slow phases of a shared machine hit all of
     // them alike and each speedup is a ratio of neighbouring runs.
-    std::vector<double> full_ms;
-    std::map<uint32_t, std::vector<double>> trace_ms;
+    std::vector<double> full_ms, full_cpu;
+    std::map<uint32_t, std::vector<double>> trace_ms, trace_cpu;
+    std::map<const config*, std::vector<double>> reconstruct_cpu;
     std::map<uint32_t, uint64_t> rays, points;
     std::map<const config*, std::vector<double>> frame_ms;
     for (uint32_t f = 0; f < o_.frames; ++f) {
       st_.say(fmt::format("timing {} {} {} spp={} ({}/{})", scene, what, gp.name, spp, f + 1, o_.frames));
       full_ms.push_back(time_full(spp));
+      full_cpu.push_back(fulls_[spp].cpu_ms.back());
       for (uint32_t k : ks) {
         p.reconstruct.k = k;
         frame_timing t;
+        const double cpu = process_cpu_ms();
         r_.trace(gp.at, p, t);
+        trace_cpu[k].push_back(process_cpu_ms() - cpu);
         trace_ms[k].push_back(t.trace_ms);
         rays[k] = t.rays, points[k] = t.points_traced;
       }
       for (const config* c : here) {
         p.reconstruct.how = c->how, p.reconstruct.k = c->k;
         frame_timing t;
+        const double cpu = process_cpu_ms();
         r_.reconstruct(samples, gp.at, p, t);
+        reconstruct_cpu[c].push_back(process_cpu_ms() - cpu);
         frame_ms[c].push_back(trace_ms[c->k].back() + t.reconstruct_ms);
       }
     }
@@ -598,6 +637,12 @@ class scene_sweep {
       for (size_t f = 0; f < traces.size(); ++f) rec.push_back(frame_ms[c][f] - traces[f]);
       row.cells["reconstruct_ms"] = number(summarise(rec).median);
       put_timing(row, pair_timings(frame_ms[c], full_ms), o_.spread_limit);
+      std::vector<double> ratios;
+      for (size_t f = 0; f < full_ms.size(); ++f) ratios.push_back(full_ms[f] / frame_ms[c][f]);
+      row.cells["speedup_samples"] = samples_text(ratios);
+      row.cells["trace_cpu_ms"] = number(summarise(trace_cpu[c->k]).median);
+      row.cells["reconstruct_cpu_ms"] = number(summarise(reconstruct_cpu[c]).median);
+      row.cells["full_cpu_ms"] = number(summarise(full_cpu).median);
       put_errors(row, compare_images(image, *truth_, eye_, gp.at, o_.judging()));
       if (o_.temporal_frames >= 2) {
         st_.say(fmt::format("temporal {} {} {} k={} spp={}", scene, what, method_name(c->how), c->k, spp));
@@ -653,6 +698,7 @@ class scene_sweep {
   std::map<size_t, comparison> floors_;
   std::map<size_t, path_truth> paths_;
   std::map<uint32_t, full_frame> fulls_;
+  std::map<uint32_t, std::vector<double>> ladder_;
 };
 
 }  // namespace

@@ -10,6 +10,7 @@
 #include <fmt/format.h>
 
 #include "fov/pointset_io.h"
+#include "fov/speedup.h"
 #include "plot.h"
 
 namespace fov {
@@ -34,11 +35,14 @@ std::string short_scene(const std::string& s) {
 // A configuration of knobs (kind, scale or pixel fraction, method, k, spp) averaged over
 // the gazes of the sweep: the gaze is not a knob, so the trade is judged on the average.
 struct knob_mean {
-  row_kind kind;
+  row_kind kind{};
   std::string method, k, scale, fraction, spp;
   double frame_ms = 0, frame_lo = 0, frame_hi = 0, full_ms = 0, speedup = 0, speedup_lo = 0, speedup_hi = 0;
   double psnr = 0, psnr_fovea = 0, foveated_error = 0;
   double flip = 0, flip_fovea = 0, flip_p99 = 0, foveated_flip = 0, foveated_flip_p99 = 0, foveated_flip_worst_band = 0;
+  double jod = 0, jod_nonfoveated = 0;
+  std::vector<double> paired;  // per-repetition full / frame ratios of every gaze
+  std::vector<double> ladder;  // full rows: per repetition, this spp's time over the lowest's
   int gazes = 0;
   std::string label() const {
     if (kind == row_kind::full) return fmt::format("full {}spp", spp);
@@ -62,7 +66,9 @@ std::vector<knob_mean> knob_means(const std::vector<const result_row*>& rows) {
   std::vector<knob_mean> out;
   auto mse = [](double psnr) { return std::isinf(psnr) ? 0.0 : 255.0 * 255.0 / std::pow(10.0, psnr / 10); };
   for (const result_row* r : rows) {
-    const knob_mean id{r->kind(), r->text("method"), r->text("k"), r->text("scale"), r->text("pixel_fraction"), r->text("spp")};
+    knob_mean id;
+    id.kind = r->kind(), id.method = r->text("method"), id.k = r->text("k"), id.scale = r->text("scale");
+    id.fraction = r->text("pixel_fraction"), id.spp = r->text("spp");
     auto it = std::find_if(out.begin(), out.end(), [&](const knob_mean& m) {
       return m.kind == id.kind && m.method == id.method && m.k == id.k && m.scale == id.scale && m.fraction == id.fraction &&
              m.spp == id.spp;
@@ -77,13 +83,21 @@ std::vector<knob_mean> knob_means(const std::vector<const result_row*>& rows) {
     it->flip += r->number("flip"), it->flip_fovea += r->number("flip_fovea"), it->flip_p99 += r->number("flip_p99");
     it->foveated_flip += r->number("foveated_flip"), it->foveated_flip_p99 += r->number("foveated_flip_p99");
     it->foveated_flip_worst_band += r->number("foveated_flip_worst_band");
+    it->jod += r->number("jod"), it->jod_nonfoveated += r->number("jod_nonfoveated");
+    for (const char* column : {"speedup_samples", "ladder_samples"}) {
+      std::vector<double>& to = std::string(column) == "speedup_samples" ? it->paired : it->ladder;
+      if (column[0] == 'l' && !to.empty()) continue;  // the ladder is the scene's: one gaze's copy
+      std::stringstream in(r->text(column));
+      std::string v;
+      while (std::getline(in, v, ';')) to.push_back(std::stod(v));
+    }
     ++it->gazes;
   }
   for (knob_mean& m : out) {
     const double n = m.gazes;
     for (double* v : {&m.frame_ms, &m.frame_lo, &m.frame_hi, &m.full_ms, &m.speedup, &m.speedup_lo, &m.speedup_hi,
                       &m.foveated_error, &m.flip, &m.flip_fovea, &m.flip_p99, &m.foveated_flip, &m.foveated_flip_p99,
-                      &m.foveated_flip_worst_band})
+                      &m.foveated_flip_worst_band, &m.jod, &m.jod_nonfoveated})
       *v /= n;
     auto psnr = [](double mse) { return mse > 0 ? 10 * std::log10(255.0 * 255.0 / mse) : INFINITY; };
     m.psnr = psnr(m.psnr / n), m.psnr_fovea = psnr(m.psnr_fovea / n);
@@ -251,6 +265,7 @@ namespace {
 
 std::string fmt_db(double v) { return std::isfinite(v) ? fmt::format("{:.2f}", v) : std::string("inf"); }
 std::string fmt_err(double v) { return std::isnan(v) ? std::string("-") : fmt::format("{:.4f}", v); }
+std::string fmt_jod(double v) { return std::isnan(v) ? std::string("-") : fmt::format("{:.2f}", v); }
 
 // min / median / max of a column over rows, as text.
 std::string spread_of(const std::vector<const result_row*>& rows, const std::string& column, const char* format) {
@@ -295,6 +310,69 @@ std::string equal_error_table(const std::vector<knob_mean>& means, const std::st
   return md;
 }
 
+// The verdict in JOD: at the quality of each full-resolution frame (its mean JOD over the
+// gazes), the fastest foveated configuration that reaches it, priced by chaining its paired
+// ratios with the ladder's (fov::chained_speedup), with a 95 % bootstrap interval.
+struct jod_verdict {
+  std::vector<std::string> lines;
+  int pays = 0, loses = 0, inconclusive = 0, unreached = 0;
+};
+
+jod_verdict verdict_in_jod(const std::vector<knob_mean>& means) {
+  jod_verdict v;
+  std::vector<const knob_mean*> fulls, foveated;
+  for (const knob_mean& m : means) {
+    if (m.kind == row_kind::full && !std::isnan(m.jod)) fulls.push_back(&m);
+    if (m.kind == row_kind::foveated && !std::isnan(m.jod)) foveated.push_back(&m);
+  }
+  std::sort(fulls.begin(), fulls.end(), [](const knob_mean* a, const knob_mean* b) { return std::stoi(a->spp) < std::stoi(b->spp); });
+  auto ladder_of = [&](const std::string& spp) -> const std::vector<double>* {
+    for (const knob_mean* f : fulls)
+      if (f->spp == spp) return &f->ladder;
+    return nullptr;
+  };
+  for (const knob_mean* b : fulls) {
+    const knob_mean* best = nullptr;
+    speedup_interval best_iv;
+    const knob_mean* closest = nullptr;  // the best JOD short of the target
+    for (const knob_mean* c : foveated) {
+      if (c->jod < b->jod) {
+        if (!closest || c->jod > closest->jod) closest = c;
+        continue;
+      }
+      const std::vector<double>* lb = ladder_of(b->spp);
+      const std::vector<double>* lc = ladder_of(c->spp);
+      if (!lb || !lc || lb->size() != lc->size() || lb->empty() || c->paired.empty()) continue;
+      std::vector<double> rung;
+      for (size_t i = 0; i < lb->size(); ++i) rung.push_back((*lb)[i] / (*lc)[i]);
+      const speedup_interval iv = chained_speedup(c->paired, rung);
+      if (!best || iv.estimate > best_iv.estimate) best = c, best_iv = iv;
+    }
+    if (!best) {
+      ++v.unreached;
+      v.lines.push_back(fmt::format("No foveated configuration reaches {:.2f} JOD (full resolution, {} spp){}.", b->jod, b->spp,
+                                    closest ? fmt::format("; the best reaches {:.2f} ({})", closest->jod, closest->label()) : ""));
+      continue;
+    }
+    std::string judgement;
+    if (best_iv.contains_one()) judgement = "inconclusive on this machine: the interval contains 1", ++v.inconclusive;
+    else if (best_iv.lo > 1) judgement = "faster", ++v.pays;
+    else judgement = "slower", ++v.loses;
+    v.lines.push_back(fmt::format("At {:.2f} JOD (full resolution, {} spp) the best foveated configuration, {} ({:.2f} JOD), is "
+                                  "{:.2f}x as fast (95 % interval {:.2f}-{:.2f}): {}.",
+                                  b->jod, b->spp, best->label(), best->jod, best_iv.estimate, best_iv.lo, best_iv.hi, judgement));
+  }
+  return v;
+}
+
+std::string verdict_sentence(const jod_verdict& v) {
+  if (v.lines.empty()) return "No verdict: the sweep has no full-resolution rows with JOD (--baselines full, without --no-jod).";
+  if (v.pays) return fmt::format("Foveation pays at {} of {} full-resolution quality levels.", v.pays, v.lines.size());
+  if (v.inconclusive) return fmt::format("Inconclusive on this machine at {} of {} quality levels; foveation pays at none.",
+                                         v.inconclusive, v.lines.size());
+  return "Foveation does not pay: at every quality level it is slower or never reaches it.";
+}
+
 }  // namespace
 
 void write_bench_report(const std::vector<result_row>& rows, const bench_options& o, const std::string& path, int argc,
@@ -308,6 +386,28 @@ void write_bench_report(const std::vector<result_row>& rows, const bench_options
                     "configuration (speedups are per-repetition ratios: median, min, max). FLIP is LDR-FLIP at the display's "
                     "pixels per degree; the foveated FLIP widens its filters as acuity falls (docs/metrics.md).\n\n",
                     rows.size(), o.reference_spp, o.frames);
+  // The verdicts first: one per scene, in JOD.
+  md += "## Verdict (JOD: FovVideoVDP foveated at each row's gaze, means over the gazes)\n\n";
+  for (const std::string& scene : scenes_of(rows)) {
+    const std::vector<knob_mean> means = knob_means(rows_of(rows, scene));
+    const jod_verdict v = verdict_in_jod(means);
+    double floor = 0;
+    int n = 0;
+    std::set<std::string> seen;
+    for (const result_row* r : rows_of(rows, scene))
+      if (seen.insert(r->text("gaze")).second) floor += r->number("noise_floor_jod"), ++n;
+    md += fmt::format("**{}**: {}{}\n\n", short_scene(scene), verdict_sentence(v),
+                      n && !std::isnan(floor) ? fmt::format(" (The reference's noise floor: a second reference scores {:.2f} JOD "
+                                                            "against it; no configuration can be shown better than that.)",
+                                                            floor / n)
+                                              : "");
+    for (const std::string& line : v.lines) md += "- " + line + "\n";
+    md += "\n";
+  }
+  md += "Speedups chain each configuration's per-repetition ratios to the full-resolution frame timed beside it (same spp) with "
+        "the ladder's ratios of full-resolution frames at two spp timed back to back; intervals are 95 % bootstrap percentile "
+        "intervals over both. The best configuration is chosen by its estimate, so its interval is optimistic when many come "
+        "close.\n\n";
   // How noisy the machine was: the timing spreads of every row.
   std::vector<const result_row*> all;
   for (const result_row& r : rows) all.push_back(&r);
@@ -329,13 +429,16 @@ void write_bench_report(const std::vector<result_row>& rows, const bench_options
     const std::string metric = headline_metric(means);
     md += fmt::format("## {}\n\n", short_scene(scene));
     // The reference's own error and where the scene has content, per gaze.
-    md += "### The reference: noise floor and content\n\n| gaze | floor PSNR | floor PSNR < 5° | floor FLIP | floor FLIP < 5° | "
-          "floor foveated FLIP | geometry < 5° | 5-10° | 10-20° | 20-30° | > 30° |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+    md += "### The reference: noise floor and content\n\n| gaze | floor JOD | floor JOD non-foveated | floor PSNR | floor PSNR < 5° | "
+          "floor FLIP | floor FLIP < 5° | floor foveated FLIP | geometry < 5° | 5-10° | 10-20° | 20-30° | > 30° |\n"
+          "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
     std::set<std::string> gazes_seen;
     for (const result_row* r : mine) {
       if (!gazes_seen.insert(r->text("gaze")).second) continue;
       auto share = [&](const char* c) { return std::isnan(r->number(c)) ? std::string("-") : fmt::format("{:.0f} %", 100 * r->number(c)); };
-      md += fmt::format("| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |\n", r->text("gaze"), fmt_db(r->number("noise_floor_psnr")),
+      md += fmt::format("| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |\n", r->text("gaze"),
+                        fmt_jod(r->number("noise_floor_jod")), fmt_jod(r->number("noise_floor_jod_nonfoveated")),
+                        fmt_db(r->number("noise_floor_psnr")),
                         fmt_db(r->number("noise_floor_psnr_fovea")), fmt_err(r->number("noise_floor_flip")),
                         fmt_err(r->number("noise_floor_flip_fovea")), fmt_err(r->number("noise_floor_foveated_flip")),
                         share("geometry_fovea"), share("geometry_5_10"), share("geometry_10_20"), share("geometry_20_30"),
@@ -348,14 +451,14 @@ void write_bench_report(const std::vector<result_row>& rows, const bench_options
       for (const std::string other : {"foveated_flip_worst_band", "foveated_flip_p99", "flip", "flip_fovea"})
         md += fmt::format("\nPooled as `{}`:\n\n", other) + equal_error_table(means, other);
     md += fmt::format("\n### Pareto fronts ({} against frame time, means over the gazes)\n\n", metric);
-    md += "| kind | configuration | frame ms (min-max) | same-spp speedup (min-max) | PSNR | PSNR < 5° | FLIP | FLIP < 5° | "
-          "foveated FLIP | worst band | foveated error |\n|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+    md += "| kind | configuration | frame ms (min-max) | same-spp speedup (min-max) | JOD | JOD non-foveated | PSNR | PSNR < 5° | "
+          "FLIP | FLIP < 5° | foveated FLIP | worst band | foveated error |\n|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
     for (const std::set<row_kind>& kinds : {foveated_kind, baseline_kinds})
       for (size_t i : front_of(means, kinds, metric)) {
         const knob_mean& m = means[i];
-        md += fmt::format("| {} | {} | {:.1f} ({:.1f}-{:.1f}) | {:.2f} ({:.2f}-{:.2f}) | {} | {} | {} | {} | {} | {} | {:.4f} |\n",
+        md += fmt::format("| {} | {} | {:.1f} ({:.1f}-{:.1f}) | {:.2f} ({:.2f}-{:.2f}) | {} | {} | {} | {} | {} | {} | {} | {} | {:.4f} |\n",
                           row_kind_name(m.kind), m.label(), m.frame_ms, m.frame_lo, m.frame_hi, m.speedup, m.speedup_lo, m.speedup_hi,
-                          fmt_db(m.psnr), fmt_db(m.psnr_fovea), fmt_err(m.flip), fmt_err(m.flip_fovea), fmt_err(m.foveated_flip),
+                          fmt_jod(m.jod), fmt_jod(m.jod_nonfoveated), fmt_db(m.psnr), fmt_db(m.psnr_fovea), fmt_err(m.flip), fmt_err(m.flip_fovea), fmt_err(m.foveated_flip),
                           fmt_err(m.foveated_flip_worst_band), m.foveated_error);
       }
     md += fmt::format("\nTiming spread over this scene's rows (min / median / max): frame ms {}, same-spp speedup {}.\n",

@@ -24,6 +24,9 @@ const std::vector<std::string>& result_columns() {
       // What it cost, timed interleaved with a full-resolution frame at the same spp.
       "points_traced", "rays", "full_rays", "trace_ms", "reconstruct_ms", "frame_ms", "frame_ms_lo", "frame_ms_hi",
       "full_ms", "full_ms_lo", "full_ms_hi", "speedup", "speedup_lo", "speedup_hi", "timing_flag",
+      // Per repetition: full / frame (paired), and on full rows the ladder (this spp's time
+      // over the lowest spp's, timed back to back); process CPU time per stage (medians).
+      "speedup_samples", "ladder_samples", "trace_cpu_ms", "reconstruct_cpu_ms", "full_cpu_ms",
       // Its error against the converged reference.
       "psnr", "ssim", "psnr_fovea", "ssim_fovea", "psnr_5_10", "ssim_5_10", "psnr_10_20", "ssim_10_20", "psnr_20_30",
       "ssim_20_30", "psnr_periphery", "ssim_periphery", "foveated_error", "foveated_psnr", "flip", "flip_fovea",
@@ -108,20 +111,22 @@ std::string result_row_problem(const result_row& row) {
   method m{};
   if (kind == row_kind::full ? how != "full" : !parse_label(method_labels, how, m))
     return fmt::format("method '{}' is not one a {} row has", printable(how), row_kind_name(kind));
-  {
-    std::stringstream profile(row.text("error_profile"));
+  for (const char* list : {"error_profile", "speedup_samples", "ladder_samples"}) {
+    std::stringstream profile(row.text(list));
     std::string v;
+    const bool positive = std::string(list) != "error_profile";
     while (std::getline(profile, v, ';')) {
       char* end = nullptr;
       const double x = std::strtod(v.c_str(), &end);
-      if (v.empty() || *end || !(x >= 0) || !std::isfinite(x))
-        return fmt::format("error_profile '{}' is not numbers >= 0 joined by ';'", printable(row.text("error_profile")));
+      if (v.empty() || *end || !(positive ? x > 0 : x >= 0) || !std::isfinite(x))
+        return fmt::format("{} '{}' is not numbers {} joined by ';'", list, printable(row.text(list)), positive ? "> 0" : ">= 0");
     }
   }
   // Each numeric column's range, by its name.
   struct range { double lo, hi; bool lo_open, inf_ok; };
   auto rule = [](const std::string& c) -> std::optional<range> {
     auto starts = [&](const char* p) { return c.rfind(p, 0) == 0; };
+    if (c == "speedup_samples" || c == "ladder_samples") return std::nullopt;  // lists, checked above
     constexpr double inf = std::numeric_limits<double>::infinity(), big = std::numeric_limits<double>::max();
     if (starts("psnr") || starts("noise_floor_psnr") || c == "foveated_psnr") return range{0, inf, false, true};
     if (starts("ssim")) return range{-1, 1, false, false};
@@ -135,7 +140,8 @@ std::string result_row_problem(const result_row& row) {
       return range{-big, 10, false, false};
     if (c == "k") return range{1, 32, false, false};
     if (c == "gaze_x" || c == "gaze_y" || c == "points_traced" || c == "rays" || c == "full_rays" || c == "trace_ms" ||
-        c == "reconstruct_ms" || c == "foveated_error" || c == "noise_floor_foveated_error" || starts("flicker"))
+        c == "reconstruct_ms" || c == "foveated_error" || c == "noise_floor_foveated_error" || starts("flicker") ||
+        c == "trace_cpu_ms" || c == "reconstruct_cpu_ms" || c == "full_cpu_ms")
       return range{0, big, false, false};
     return std::nullopt;
   };
@@ -162,7 +168,8 @@ std::vector<result_row> read_results(const std::string& path) {
   if (header != result_columns())
     throw std::runtime_error(fmt::format("{}:1: not a results.csv of this fovbench (columns differ); use another -o", path));
   static const std::set<std::string> text_columns = {"scene",  "gaze",         "kind",   "method",         "texture_footprint",
-                                                     "fovea",  "timing_flag",  "device", "render_settings", "error_profile"};
+                                                     "fovea",  "timing_flag",  "device", "render_settings", "error_profile",
+                                                     "speedup_samples", "ladder_samples"};
   std::vector<result_row> rows;
   std::map<std::string, int> first_line;  // by key
   for (int number = 2; std::getline(in, line); ++number) {

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <cmath>
 #include <vector>
 
 #include "fov/renderer.h"
@@ -24,6 +25,25 @@ struct paired_timing {
 };
 // Throws std::invalid_argument unless both hold the same, non-zero number of runs.
 paired_timing pair_timings(const std::vector<double>& frame_ms, const std::vector<double>& full_ms);
+
+// A speedup with its bootstrap confidence interval.
+struct speedup_interval {
+  double estimate = 0, lo = 0, hi = 0;  // NaN when a sample is empty
+  bool contains_one() const { return lo <= 1 && hi >= 1; }
+};
+
+// The speedup of a chain of paired measurements: `paired` holds per-repetition ratios
+// full-resolution time / configuration time, each pair timed back to back (same spp), and
+// `ladder` per-repetition ratios of the full-resolution frame it is compared with to the
+// one it was paired with, also timed back to back (empty: the same frame, ratio 1). The
+// estimate is median(paired) x median(ladder); the interval, the `level` percentile
+// interval of that product over `resamples` bootstrap resamples of both samples
+// (independently, with replacement, seeded: the same samples give the same interval).
+speedup_interval chained_speedup(const std::vector<double>& paired, const std::vector<double>& ladder = {},
+                                 double level = 0.95, uint32_t resamples = 4000, uint64_t seed = 1);
+
+// CPU time of this process so far (every thread), in milliseconds.
+double process_cpu_ms();
 
 // `repeats` times: a full-resolution frame (width x height, p.spp rays per pixel), then a
 // foveated frame at the gaze with the renderer's set (its total: trace, reconstruction,
