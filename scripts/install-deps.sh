@@ -22,6 +22,7 @@ packages=(
   libgtest-dev libbenchmark-dev
   assimp-testmodels          # tests: every glTF2/OBJ sample must load or fail cleanly
   python3                    # scripts/demo.sh writes its summary table with it
+  python3-matplotlib         # fovbench's figures (PNG and SVG): labels placed apart, error bars, one colour per scheme
   libzstd-dev                # k-NN table compression on disk (see README, Dependencies)
   blender-data               # CC0 HDR environment maps: the env: stimulus of fovstair's thesis protocol
   xvfb xauth                 # tests: fovview and fovstair windows run headless under xvfb-run

@@ -39,7 +39,7 @@ base=("$fovbench" "${common[@]}" --scene builtin --scales 1.0,2.0 --methods nn,s
       -o "$dir/out")
 sweep=("${base[@]}" --reference-spp 16)
 check "smoke sweep"     0 -- "${sweep[@]}"
-for f in results.csv pareto.png pareto_flip.png error_by_eccentricity.png speedup_vs_scale.png report.md; do
+for f in results.csv report.md {pareto_jod,pareto,pareto_flip,error_by_eccentricity,speedup_vs_scale}.{png,svg}; do
   [[ -s "$dir/out/$f" ]] || fail "no $f"
 done
 python3 - "$dir/out/results.csv" <<'PY' || fail "results.csv contents"
@@ -158,6 +158,22 @@ else
   echo "skip: ../shared/metric-validation is absent"
 fi
 check "validate-jod none" 1 -- "$fovbench" validate-jod "$dir"
+
+# The yardstick: JOD through TAA against full resolution with the same rays, still and moving.
+check "yardstick, no path" 2 -- "$fovbench" "${common[@]}" --yardstick -o "$dir/y"
+check "yardstick, no jod" 2 -- "$fovbench" "${common[@]}" --yardstick --temporal-frames 2 --no-jod -o "$dir/y"
+check "yardstick"       0 -- "$fovbench" "${common[@]}" --yardstick --scales 1.0,2.0 --methods nn,shepard --spp 2 \
+  --temporal-frames 2 -o "$dir/y"
+for f in yardstick.csv yardstick.md yardstick_jod.png yardstick_jod.svg; do [[ -s "$dir/y/$f" ]] || fail "yardstick wrote no $f"; done
+python3 - "$dir/y/yardstick.csv" <<'PY' || fail "yardstick.csv"
+import csv, sys
+rows = list(csv.DictReader(open(sys.argv[1])))
+assert len(rows) == 2 * 2 * 2, rows  # scales x methods x paths
+assert {r["path"] for r in rows} == {"still", "moving"} and {r["method"] for r in rows} == {"nn", "shepard"}
+for r in rows:
+    assert float(r["jod_taa"]) <= 10 and r["frames"] == "2" and r["spp"] == "2", r
+    assert (r["k"] == "1") == (r["method"] == "nn"), r
+PY
 
 check "exists without --resume" 1 -- "${sweep[@]}"
 out=$("${sweep[@]}" --resume 2>&1)

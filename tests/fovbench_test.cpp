@@ -2,6 +2,7 @@
 // reference cache, and what its options accept.
 #include <cmath>
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
@@ -13,6 +14,7 @@
 #include "bench.h"
 #include "cli.h"
 #include "plot.h"
+#include "yardstick.h"
 #include "sweep.h"
 
 namespace fov {
@@ -278,20 +280,56 @@ TEST(BenchOptions, AreCheckedBeforeAnythingRuns) {
   EXPECT_NE(render_settings_label(o.render), render_settings_label(renka));  // --resume tells them apart
 }
 
-// Panel titles fit their panel: shrunk first, then shortened in the middle.
-TEST(Plot, TitlesFitTheirPanel) {
-  const fitted_title short_one = fit_title("Speedup: builtin", 620);
-  EXPECT_EQ(short_one.text, "Speedup: builtin");
-  EXPECT_DOUBLE_EQ(short_one.scale, 0.6);
-  const std::string long_title = "Speedup over the reference: ../shared/scenes/flight-helmet/FlightHelmet.gltf (mean over gazes)";
-  const fitted_title fitted = fit_title(long_title, 620);
-  EXPECT_LE(fitted.width_px, 620);
-  EXPECT_LT(fitted.scale, 0.6);
-  const fitted_title cut = fit_title(long_title + long_title, 620);
-  EXPECT_LE(cut.width_px, 620);
-  EXPECT_NE(cut.text.find("..."), std::string::npos);
-  EXPECT_EQ(cut.text.substr(0, 10), long_title.substr(0, 10));       // both ends kept
-  EXPECT_EQ(cut.text.substr(cut.text.size() - 6), "gazes)");
+// A figure's data as plot.py reads it: points with a non-finite coordinate (or not positive
+// on a log axis) left out, every per-point list kept aligned with them.
+TEST(Plot, FigureJsonKeepsOnlyDrawablePoints) {
+  plot_panel p;
+  p.log_x = true;
+  plot_series s;
+  s.name = "foveated nn", s.scheme = "nn";
+  s.x = {1, NAN, 3, 0}, s.y = {0.5, 0.6, INFINITY, 0.8};
+  s.x_lo = {0.9, 1, 2, 0}, s.x_hi = {1.1, 1, NAN, 0};
+  s.labels = {"a", "b", "c", "d"};
+  s.ringed = {true, false, false, false};
+  p.series = {s};
+  const nlohmann::json j = figure_json({p}, {"f.png", "f.svg"});
+  const nlohmann::json& out = j["panels"][0]["series"][0];
+  EXPECT_EQ(out["x"], nlohmann::json::array({1.0}));
+  EXPECT_EQ(out["x_lo"], nlohmann::json::array({0.9}));
+  EXPECT_EQ(out["labels"], nlohmann::json::array({"a"}));
+  EXPECT_EQ(out["scheme"], "nn");
+  EXPECT_EQ(j["outputs"][1], "f.svg");
+}
+
+// plot.py through Debian's python3 and matplotlib (scripts/install-deps.sh installs both):
+// a PNG and an SVG, and a line naming what failed otherwise.
+TEST(Plot, WritesPngAndSvg) {
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / ("fovbench-plot-test-" + std::to_string(getpid()));
+  std::filesystem::create_directories(dir);
+  plot_panel p;
+  p.title = "test", p.x_label = "ms", p.y_label = "JOD";
+  p.log_x = true;
+  plot_series s;
+  s.name = "full resolution", s.scheme = "full";
+  s.x = {10, 20, 40}, s.y = {8.1, 8.9, 9.3}, s.labels = {"full 1spp", "full 2spp", "full 4spp"};
+  p.series = {s};
+  const std::string stem = (dir / "figure").string();
+  EXPECT_EQ(write_plot({p}, stem), "");
+  EXPECT_GT(std::filesystem::file_size(stem + ".png"), 1000u);
+  EXPECT_GT(std::filesystem::file_size(stem + ".svg"), 1000u);
+  const std::string why = write_plot({p}, (dir / "missing" / "figure").string());  // no such folder
+  EXPECT_NE(why.find("not drawn"), std::string::npos) << why;
+  std::filesystem::remove_all(dir);
+}
+
+// Where a JOD curve over scales falls to a level: interpolated inside, NaN outside.
+TEST(Yardstick, ScaleAtJodInterpolatesTheCrossing) {
+  EXPECT_DOUBLE_EQ(scale_at_jod({1, 2, 3}, {9.5, 9.1, 8.7}, 9.0), 2.25);
+  EXPECT_DOUBLE_EQ(scale_at_jod({1, 2}, {9.4, 9.0}, 9.0), 2.0);
+  EXPECT_TRUE(std::isnan(scale_at_jod({1, 2, 3}, {9.5, 9.3, 9.1}, 9.0)));  // never reaches it
+  EXPECT_TRUE(std::isnan(scale_at_jod({1, 2, 3}, {8.9, 8.5, 8.0}, 9.0)));  // below it from the start
+  EXPECT_DOUBLE_EQ(thesis_threshold("shepard"), 1.779);
+  EXPECT_TRUE(std::isnan(thesis_threshold("bilinear")));
 }
 
 }  // namespace

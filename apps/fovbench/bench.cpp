@@ -111,7 +111,8 @@ std::string bench_pointset_path(const bench_options& o, const display_geometry& 
       .string();
 }
 
-// The set for one scale, generated when missing.
+}  // namespace
+
 std::shared_ptr<const pointset> bench_pointset(const bench_options& o, const display_geometry& display, double scale,
                                                const std::function<void(const std::string&)>& say) {
   const std::string path = bench_pointset_path(o, display, scale);
@@ -136,8 +137,6 @@ std::shared_ptr<const pointset> bench_pointset(const bench_options& o, const dis
     if (k > set->table.k) throw usage_error(fmt::format("--k {} exceeds the k = {} of {}", k, set->table.k, path));
   return set;
 }
-
-}  // namespace
 
 reference_cache::reference_cache(std::string dir, std::string scene, const display_geometry& d)
     : dir_(std::move(dir)), scene_(std::move(scene)), display_(d) {}

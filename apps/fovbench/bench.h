@@ -66,6 +66,12 @@ class reference_cache {
 
 
 
+// The foveated set for one scale, read from --points-dir (DISPLAY-sS.fovset, with the
+// fovea's suffix), generated and saved there when missing; checked against the display,
+// the fovea and every k of the options. `say` reports the generation.
+std::shared_ptr<const pointset> bench_pointset(const bench_options& o, const display_geometry& display, double scale,
+                                               const std::function<void(const std::string&)>& say);
+
 // The options' render settings that every row shares, as one text (its render_settings
 // column): a results.csv holds rows of one setting only, so --resume can refuse others.
 std::string render_settings_label(const render_params& p);

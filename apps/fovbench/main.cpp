@@ -20,6 +20,7 @@
 #include "bench.h"
 #include "report.h"
 #include "sweep.h"
+#include "yardstick.h"
 
 namespace {
 
@@ -82,6 +83,10 @@ int main(int argc, char** argv) {
   app.add_option("--temporal-fps", o.temporal_fps, "The display's frame rate along that path, for the video JOD")
       ->capture_default_str();
   app.add_flag("--resume", o.resume, "Skip configurations already in results.csv");
+  bool yardstick = false;
+  app.add_flag("--yardstick", yardstick,
+               "Instead of the sweep: JOD of the foveated frames through TAA against full resolution with the same rays, "
+               "still and moving, over the scales, beside the thesis's observers (yardstick.csv, .md, yardstick_jod)");
   const CLI::Validator finite(
       [](std::string& text) { return std::isfinite(std::strtod(text.c_str(), nullptr)) ? "" : "must be a finite number"; },
       "FINITE");
@@ -126,6 +131,14 @@ int main(int argc, char** argv) {
     }
     o.gazes = split_gazes(o.gazes);
     if (o.scenes.empty()) o.scenes = {"builtin"};
+    if (yardstick) {
+      fov::bench_reporter quiet;
+      quiet.line = [](const std::string& text) { std::cerr << "fovbench: " << text << "\n"; };
+      quiet.progress = [](size_t, size_t, const std::string&) {};
+      const std::vector<fov::yardstick_row> rows = fov::run_yardstick(o, quiet);
+      std::cout << fmt::format("{} conditions in {}/yardstick.csv; yardstick.md and yardstick_jod in {}\n", rows.size(), o.out, o.out);
+      return 0;
+    }
     // The progress bar is drawn only on a terminal; every other message, and an error,
     // gets a line of its own.
     const auto start = std::chrono::steady_clock::now();
@@ -162,7 +175,7 @@ int main(int argc, char** argv) {
     // Figures and the report from every row, this run's and earlier ones.
     const std::string results = (std::filesystem::path(o.out) / "results.csv").string();
     const std::vector<fov::result_row> rows = fov::read_results(results);
-    fov::write_bench_figures(rows, o, o.out);
+    for (const std::string& why : fov::write_bench_figures(rows, o, o.out)) std::cerr << "fovbench: warning: " << why << "\n";
     fov::write_bench_report(rows, o, (std::filesystem::path(o.out) / "report.md").string(), argc, argv);
     std::cout << fmt::format("{} rows in {}; figures and report.md in {}\n", rows.size(), results, o.out);
     return 0;

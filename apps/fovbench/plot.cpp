@@ -1,162 +1,92 @@
 #include "plot.h"
 
-#include <algorithm>
+#include <fcntl.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include <cmath>
+#include <cstring>
+#include <cstdlib>
 #include <filesystem>
-#include <limits>
-#include <stdexcept>
+#include <fstream>
 
 #include <fmt/format.h>
-#include <opencv2/imgcodecs.hpp>
-#include <opencv2/imgproc.hpp>
 
+#include "fov/bench_plot_script.h"
 #include "fov/files.h"
+
+extern char** environ;
 
 namespace fov {
 
-namespace {
+namespace fs = std::filesystem;
 
-const cv::Scalar palette[] = {{200, 90, 30}, {40, 40, 220}, {40, 160, 40}, {160, 60, 160},
-                              {0, 140, 230}, {120, 120, 0}, {90, 90, 90},  {200, 0, 120}, {0, 200, 200}};
-constexpr int font = cv::FONT_HERSHEY_SIMPLEX;
-
-// "Nice" tick values covering [lo, hi].
-std::vector<double> ticks(double lo, double hi, bool log) {
-  std::vector<double> out;
-  if (log) {
-    for (double d = std::pow(10, std::floor(std::log10(lo))); d <= hi * 1.0001; d *= 10)
-      for (double m : {1.0, 2.0, 5.0})
-        if (d * m >= lo * 0.9999 && d * m <= hi * 1.0001) out.push_back(d * m);
-    return out;
-  }
-  const double raw = (hi - lo) / 6, mag = std::pow(10, std::floor(std::log10(raw)));
-  const double step = raw / mag < 2 ? 2 * mag : raw / mag < 5 ? 5 * mag : 10 * mag;
-  for (double v = std::ceil(lo / step) * step; v <= hi + 1e-9 * step; v += step) out.push_back(std::fabs(v) < 1e-12 ? 0 : v);
-  return out;
-}
-
-std::string tick_text(double v) {
-  if (v != 0 && (std::fabs(v) >= 1e4 || std::fabs(v) < 1e-2)) return fmt::format("{:.0e}", v);
-  return fmt::format("{:g}", v);
-}
-
-}  // namespace
-
-fitted_title fit_title(const std::string& title, int width_px) {
-  auto width = [](const std::string& t, double scale) { return cv::getTextSize(t, font, scale, 1, nullptr).width; };
-  for (double scale = 0.6; scale > 0.39; scale -= 0.05)
-    if (width(title, scale) <= width_px) return {title, scale, width(title, scale)};
-  // Still too wide at 0.4: keep n characters, half from each end, around "...".
-  std::string t = "...";
-  for (size_t n = title.size(); n > 0; --n) {
-    t = title.substr(0, n / 2) + "..." + title.substr(title.size() - (n - n / 2));
-    if (width(t, 0.4) <= width_px) break;
-  }
-  return {t, 0.4, width(t, 0.4)};
-}
-
-namespace {
-
-void draw_panel(cv::Mat& img, const plot_panel& p, int ox) {
-  const int W = 720, H = 480, left = 80, right = 20, top = 40, bottom = 60;
-  double xlo = std::numeric_limits<double>::infinity(), xhi = -xlo, ylo = xlo, yhi = -xlo;
-  for (const plot_series& s : p.series)
-    for (size_t i = 0; i < s.x.size(); ++i) {
-      if (!std::isfinite(s.x[i]) || !std::isfinite(s.y[i])) continue;
-      if ((p.log_x && s.x[i] <= 0) || (p.log_y && s.y[i] <= 0)) continue;
-      xlo = std::min(xlo, s.x[i]), xhi = std::max(xhi, s.x[i]), ylo = std::min(ylo, s.y[i]), yhi = std::max(yhi, s.y[i]);
-      for (const std::vector<double>* bar : {&s.y_lo, &s.y_hi})
-        if (i < bar->size() && std::isfinite((*bar)[i]) && (!p.log_y || (*bar)[i] > 0))
-          ylo = std::min(ylo, (*bar)[i]), yhi = std::max(yhi, (*bar)[i]);
-    }
-  const fitted_title title = fit_title(p.title, W - left - right);
-  cv::putText(img, title.text, {ox + left, 25}, font, title.scale, {0, 0, 0}, 1, cv::LINE_AA);
-  if (!std::isfinite(xlo)) {
-    cv::putText(img, "no data", {ox + W / 2 - 40, H / 2}, font, 0.6, {0, 0, 0}, 1, cv::LINE_AA);
-    return;
-  }
-  auto pad = [](double& lo, double& hi, bool log) {
-    if (log) { lo /= 1.3, hi *= 1.3; return; }
-    const double span = hi > lo ? hi - lo : std::max(std::fabs(hi), 1.0);
-    lo -= 0.06 * span, hi += 0.06 * span;
-  };
-  pad(xlo, xhi, p.log_x);
-  pad(ylo, yhi, p.log_y);
-  auto fx = [&](double v) {
-    const double t = p.log_x ? (std::log(v) - std::log(xlo)) / (std::log(xhi) - std::log(xlo)) : (v - xlo) / (xhi - xlo);
-    return ox + left + int(t * (W - left - right));
-  };
-  auto fy = [&](double v) {
-    const double t = p.log_y ? (std::log(v) - std::log(ylo)) / (std::log(yhi) - std::log(ylo)) : (v - ylo) / (yhi - ylo);
-    return H - bottom - int(t * (H - top - bottom));
-  };
-  const cv::Scalar black(0, 0, 0), grid(230, 230, 230);
-  for (double t : ticks(xlo, xhi, p.log_x)) {
-    cv::line(img, {fx(t), top}, {fx(t), H - bottom}, grid, 1);
-    cv::line(img, {fx(t), H - bottom}, {fx(t), H - bottom + 5}, black, 1);
-    const std::string s = tick_text(t);
-    cv::putText(img, s, {fx(t) - 4 * int(s.size()), H - bottom + 20}, font, 0.42, black, 1, cv::LINE_AA);
-  }
-  for (double t : ticks(ylo, yhi, p.log_y)) {
-    cv::line(img, {ox + left, fy(t)}, {ox + W - right, fy(t)}, grid, 1);
-    cv::line(img, {ox + left - 5, fy(t)}, {ox + left, fy(t)}, black, 1);
-    const std::string s = tick_text(t);
-    cv::putText(img, s, {ox + left - 10 - 8 * int(s.size()), fy(t) + 5}, font, 0.42, black, 1, cv::LINE_AA);
-  }
-  cv::rectangle(img, {ox + left, top}, {ox + W - right, H - bottom}, black, 1);
-  cv::putText(img, p.x_label, {ox + left + (W - left - right) / 2 - 4 * int(p.x_label.size()), H - 20}, font, 0.5, black, 1,
-              cv::LINE_AA);
-  // Y label rotated: drawn on a strip, then rotated into place.
-  cv::Mat strip(24, H - top - bottom, CV_8UC3, cv::Scalar(255, 255, 255));
-  cv::putText(strip, p.y_label, {std::max(0, (strip.cols - 9 * int(p.y_label.size())) / 2), 17}, font, 0.5, black, 1,
-              cv::LINE_AA);
-  cv::Mat rotated;
-  cv::rotate(strip, rotated, cv::ROTATE_90_COUNTERCLOCKWISE);
-  rotated.copyTo(img(cv::Rect(ox + 4, top, rotated.cols, rotated.rows)));
-  int legend_y = top + 18;
-  for (const plot_series& s : p.series) {
-    const cv::Scalar c = palette[size_t(s.colour) % (sizeof(palette) / sizeof(palette[0]))];
-    std::vector<cv::Point> pts;
-    std::vector<size_t> index;
-    for (size_t i = 0; i < s.x.size(); ++i) {
-      if (!std::isfinite(s.x[i]) || !std::isfinite(s.y[i]) || (p.log_x && s.x[i] <= 0) || (p.log_y && s.y[i] <= 0)) continue;
-      pts.push_back({fx(s.x[i]), fy(s.y[i])});
-      index.push_back(i);
-    }
-    if (s.lines && pts.size() > 1) cv::polylines(img, pts, false, c, 2, cv::LINE_AA);
-    for (size_t j = 0; j < pts.size(); ++j) {
-      const size_t i = index[j];
-      if (i < s.y_lo.size() && i < s.y_hi.size() && std::isfinite(s.y_lo[i]) && std::isfinite(s.y_hi[i]) &&
-          (!p.log_y || s.y_lo[i] > 0)) {
-        const int x = pts[j].x, lo = fy(s.y_lo[i]), hi = fy(s.y_hi[i]);
-        cv::line(img, {x, lo}, {x, hi}, c, 1, cv::LINE_AA);
-        cv::line(img, {x - 4, lo}, {x + 4, lo}, c, 1, cv::LINE_AA);
-        cv::line(img, {x - 4, hi}, {x + 4, hi}, c, 1, cv::LINE_AA);
+nlohmann::json figure_json(const std::vector<plot_panel>& panels, const std::vector<std::string>& outputs) {
+  nlohmann::json j{{"outputs", outputs}, {"panels", nlohmann::json::array()}};
+  for (const plot_panel& p : panels) {
+    nlohmann::json panel{{"title", p.title}, {"x_label", p.x_label}, {"y_label", p.y_label}, {"log_x", p.log_x},
+                         {"log_y", p.log_y}, {"series", nlohmann::json::array()}};
+    for (const plot_series& s : p.series) {
+      nlohmann::json out{{"name", s.name}, {"scheme", s.scheme}, {"style", s.style}, {"lines", s.lines}, {"markers", s.markers}};
+      for (const char* key : {"x", "y", "x_lo", "x_hi", "y_lo", "y_hi", "labels", "ringed"}) out[key] = nlohmann::json::array();
+      for (size_t i = 0; i < s.x.size() && i < s.y.size(); ++i) {
+        if (!std::isfinite(s.x[i]) || !std::isfinite(s.y[i]) || (p.log_x && s.x[i] <= 0) || (p.log_y && s.y[i] <= 0)) continue;
+        out["x"].push_back(s.x[i]), out["y"].push_back(s.y[i]);
+        auto bar = [&](const std::vector<double>& v, const char* key, double fallback) {
+          if (v.size() == s.x.size()) out[key].push_back(std::isfinite(v[i]) ? v[i] : fallback);
+        };
+        bar(s.x_lo, "x_lo", s.x[i]), bar(s.x_hi, "x_hi", s.x[i]), bar(s.y_lo, "y_lo", s.y[i]), bar(s.y_hi, "y_hi", s.y[i]);
+        if (s.labels.size() == s.x.size()) out["labels"].push_back(s.labels[i]);
+        if (s.ringed.size() == s.x.size()) out["ringed"].push_back(bool(s.ringed[i]));
       }
-      if (s.markers) cv::circle(img, pts[j], 4, c, cv::FILLED, cv::LINE_AA);
-      if (index[j] < s.ringed.size() && s.ringed[index[j]]) cv::circle(img, pts[j], 8, black, 1, cv::LINE_AA);
-      if (index[j] < s.labels.size() && !s.labels[index[j]].empty())
-        cv::putText(img, s.labels[index[j]], pts[j] + cv::Point(9, -7), font, 0.36, c * 0.7, 1, cv::LINE_AA);
+      panel["series"].push_back(out);
     }
-    if (!s.name.empty()) {
-      const int lx = ox + W - right - 250;
-      cv::line(img, {lx, legend_y - 4}, {lx + 22, legend_y - 4}, c, 2, cv::LINE_AA);
-      if (s.markers) cv::circle(img, {lx + 11, legend_y - 4}, 4, c, cv::FILLED, cv::LINE_AA);
-      cv::putText(img, s.name, {lx + 28, legend_y}, font, 0.42, black, 1, cv::LINE_AA);
-      legend_y += 17;
-    }
+    j["panels"].push_back(panel);
   }
+  return j;
 }
 
-}  // namespace
-
-void write_plot(const std::vector<plot_panel>& panels, const std::string& path) {
-  const int W = 720, H = 480;
-  cv::Mat img(H, W * std::max<int>(1, int(panels.size())), CV_8UC3, cv::Scalar(255, 255, 255));
-  for (size_t i = 0; i < panels.size(); ++i) draw_panel(img, panels[i], int(i) * W);
-  temp_output temp(path, ".png");  // OpenCV picks the format by the name's extension
-  if (!cv::imwrite(temp.temp_path(), img)) throw file_error(fmt::format("{}: cannot write the plot", path));
-  temp.commit();
+std::string write_plot(const std::vector<plot_panel>& panels, const std::string& stem) {
+  const char* python = "/usr/bin/python3";
+  if (access(python, X_OK) != 0) return fmt::format("{} is missing (scripts/install-deps.sh installs it)", python);
+  std::error_code ec;
+  const fs::path dir = fs::temp_directory_path(ec) / fmt::format("fovbench-plot-{}", getpid());
+  fs::create_directories(dir, ec);
+  if (ec) return fmt::format("cannot make {}: {}", dir.string(), ec.message());
+  const std::string script = (dir / "plot.py").string(), data = (dir / "figure.json").string(), log = (dir / "stderr").string();
+  const std::string text = figure_json(panels, {stem + ".png", stem + ".svg"}).dump();
+  std::string why;
+  try {
+    write_file_atomic(script, bench_plot_script::source, std::char_traits<char>::length(bench_plot_script::source));
+    write_file_atomic(data, text.data(), text.size());
+  } catch (const std::exception& e) {
+    why = e.what();
+  }
+  if (why.empty()) {
+    posix_spawn_file_actions_t actions;
+    posix_spawn_file_actions_init(&actions);
+    posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, "/dev/null", O_WRONLY, 0);
+    posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
+    char* argv[] = {const_cast<char*>(python), const_cast<char*>(script.c_str()), const_cast<char*>(data.c_str()), nullptr};
+    pid_t pid = 0;
+    const int started = posix_spawn(&pid, python, &actions, nullptr, argv, environ);
+    posix_spawn_file_actions_destroy(&actions);
+    int status = 0;
+    if (started != 0) {
+      why = fmt::format("cannot run {}: {}", python, std::strerror(started));
+    } else if (waitpid(pid, &status, 0) < 0 || !WIFEXITED(status) || WEXITSTATUS(status) != 0) {
+      std::ifstream in(log);
+      std::string line, last;
+      while (std::getline(in, line))
+        if (!line.empty()) last = line;  // Python's error is its last line
+      why = last.find("No module named 'matplotlib'") != std::string::npos
+                ? "matplotlib is missing (scripts/install-deps.sh installs python3-matplotlib)"
+                : fmt::format("{} failed: {}", python, last.empty() ? "no message" : last);
+    }
+  }
+  fs::remove_all(dir, ec);
+  return why.empty() ? "" : fmt::format("{}.png/.svg not drawn: {}", stem, why);
 }
 
 }  // namespace fov

@@ -1,20 +1,28 @@
-// Small, readable charts drawn with OpenCV: axes with ticks and units, series with a
-// legend, several panels side by side. Enough for fovbench's three figures.
+// fovbench's figures: panels of series computed here, drawn by matplotlib (plot.py, embedded
+// at build time, run with Debian's /usr/bin/python3 and python3-matplotlib): PNG and SVG,
+// labels placed apart, error bars from the spread columns, one colour per scheme in every
+// figure.
 #pragma once
 
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 namespace fov {
 
 struct plot_series {
   std::string name;
-  int colour = 0;  // index into the palette
+  // The colour key, the same in every figure: nn, shepard, rbf, uniform, full,
+  // front-foveated, front-baseline (any other name gets a colour of its own).
+  std::string scheme;
+  std::string style = "solid";  // line style: solid, dashed, dotted, dashdot
   std::vector<double> x, y;
   bool lines = true, markers = true;
-  std::vector<bool> ringed;  // per point: draw a ring (e.g. on the Pareto front); may be empty
-  std::vector<std::string> labels;  // per point: a small text beside it ("" for none); may be empty
-  std::vector<double> y_lo, y_hi;   // per point: an error bar from y_lo to y_hi; may be empty
+  std::vector<bool> ringed;         // per point: a ring (e.g. on the Pareto front); may be empty
+  std::vector<std::string> labels;  // per point: a label beside it ("" for none); may be empty
+  std::vector<double> x_lo, x_hi;   // per point: a horizontal error bar; may be empty
+  std::vector<double> y_lo, y_hi;   // per point: a vertical error bar; may be empty
 };
 
 struct plot_panel {
@@ -23,17 +31,13 @@ struct plot_panel {
   std::vector<plot_series> series;
 };
 
-// A panel title that fits `width_px`: the text at the largest font scale from 0.6 down to
-// 0.4 whose width fits, shortened in the middle with "..." when even 0.4 is too wide.
-struct fitted_title {
-  std::string text;
-  double scale = 0.6;
-  int width_px = 0;
-};
-fitted_title fit_title(const std::string& title, int width_px);
+// What plot.py reads: the panels (points with a non-finite coordinate left out) and the
+// files to write.
+nlohmann::json figure_json(const std::vector<plot_panel>& panels, const std::vector<std::string>& outputs);
 
-// Panels side by side, each 720 x 480, legend inside each panel. Written to a temporary
-// file, then renamed; throws std::runtime_error naming the path.
-void write_plot(const std::vector<plot_panel>& panels, const std::string& path);
+// Panels side by side, written to STEM.png and STEM.svg (each through a temporary name).
+// Returns "" when both were written, else why not in one line (no /usr/bin/python3, no
+// matplotlib, the script's first error line): the caller warns and goes on.
+std::string write_plot(const std::vector<plot_panel>& panels, const std::string& stem);
 
 }  // namespace fov

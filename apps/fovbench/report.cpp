@@ -17,7 +17,6 @@ namespace fov {
 
 namespace {
 
-int method_colour(const std::string& m) { return m == "nn" ? 0 : m == "shepard" ? 1 : 2; }
 
 std::vector<std::string> scenes_of(const std::vector<result_row>& rows) {
   std::vector<std::string> out;
@@ -139,47 +138,53 @@ std::vector<const result_row*> rows_of(const std::vector<result_row>& rows, cons
   return mine;
 }
 
+// The Pareto figure of one scene: every configuration's mean (frame time with its
+// repetitions' min-max as a horizontal bar, error or JOD), both fronts drawn and their
+// points labelled. JOD is better higher; the errors lower.
 plot_panel pareto_panel(const std::string& scene, const std::vector<knob_mean>& means, const std::string& metric) {
+  const bool jod = metric == "jod";
   plot_panel p;
   p.title = fmt::format("Pareto fronts: {} (mean over gazes)", short_scene(scene));
-  p.x_label = "frame time (ms, log scale)";
-  p.y_label = metric + " vs converged reference";
+  p.x_label = "frame time (ms, log scale; bars: min-max of the repetitions)";
+  p.y_label = jod ? "JOD (FovVideoVDP, foveated; 10 = no visible difference)" : metric + " vs converged reference";
   p.log_x = true;
-  const std::vector<size_t> fov_front = front_of(means, foveated_kind, metric), base_front = front_of(means, baseline_kinds, metric);
+  // Fronts minimise (time, error): JOD enters negated.
+  std::vector<knob_mean> scored = means;
+  if (jod)
+    for (knob_mean& m : scored) m.foveated_error = -m.jod;
+  const std::string key = jod ? "foveated_error" : metric;
+  const std::vector<size_t> fov_front = front_of(scored, foveated_kind, key), base_front = front_of(scored, baseline_kinds, key);
   auto on = [](const std::vector<size_t>& f, size_t i) { return std::find(f.begin(), f.end(), i) != f.end(); };
+  auto value = [&](size_t i) { return jod ? means[i].jod : means[i].error(metric); };
   struct group {
     std::string name;
     row_kind kind;
-    std::string method;
-    int colour;
+    std::string method, scheme;
   };
-  const group groups[] = {{"foveated nn", row_kind::foveated, "nn", 0},
-                          {"foveated shepard", row_kind::foveated, "shepard", 1},
-                          {"foveated rbf", row_kind::foveated, "rbf", 2},
-                          {"uniform", row_kind::uniform, "", 3},
-                          {"full resolution", row_kind::full, "", 4}};
+  const group groups[] = {{"foveated nn", row_kind::foveated, "nn", "nn"},
+                          {"foveated shepard", row_kind::foveated, "shepard", "shepard"},
+                          {"foveated rbf", row_kind::foveated, "rbf", "rbf"},
+                          {"uniform", row_kind::uniform, "", "uniform"},
+                          {"full resolution", row_kind::full, "", "full"}};
   for (const group& g : groups) {
     plot_series s;
-    s.name = g.name;
-    s.colour = g.colour;
-    s.lines = false;
+    s.name = g.name, s.scheme = g.scheme, s.lines = false;
     for (size_t i = 0; i < means.size(); ++i) {
       if (means[i].kind != g.kind || (!g.method.empty() && means[i].method != g.method)) continue;
-      s.x.push_back(means[i].frame_ms);
-      s.y.push_back(means[i].error(metric));
+      s.x.push_back(means[i].frame_ms), s.y.push_back(value(i));
+      s.x_lo.push_back(means[i].frame_lo), s.x_hi.push_back(means[i].frame_hi);
       const bool front = on(fov_front, i) || on(base_front, i);
       s.ringed.push_back(front);
       s.labels.push_back(front ? means[i].label() : "");
     }
     if (!s.x.empty()) p.series.push_back(s);
   }
-  for (const auto& [name, front, colour] : {std::tuple<std::string, std::vector<size_t>, int>{"foveated front", fov_front, 6},
-                                            {"baseline front", base_front, 5}}) {
+  for (const auto& [name, front, scheme] : {std::tuple<std::string, std::vector<size_t>, std::string>{"foveated front", fov_front,
+                                                                                                     "front-foveated"},
+                                            {"baseline front", base_front, "front-baseline"}}) {
     plot_series f;
-    f.name = name;
-    f.colour = colour;
-    f.markers = false;
-    for (size_t i : front) f.x.push_back(means[i].frame_ms), f.y.push_back(means[i].error(metric));
+    f.name = name, f.scheme = scheme, f.markers = false;
+    for (size_t i : front) f.x.push_back(means[i].frame_ms), f.y.push_back(value(i));
     if (!f.x.empty()) p.series.push_back(f);
   }
   return p;
@@ -187,12 +192,14 @@ plot_panel pareto_panel(const std::string& scene, const std::vector<knob_mean>& 
 
 }  // namespace
 
-void write_bench_figures(const std::vector<result_row>& rows, const bench_options& o, const std::string& dir) {
-  std::vector<plot_panel> pareto, pareto_flip, profiles, speedups;
+std::vector<std::string> write_bench_figures(const std::vector<result_row>& rows, const bench_options& o, const std::string& dir) {
+  std::vector<plot_panel> pareto_jod, pareto, pareto_flip, profiles, speedups;
   for (const std::string& scene : scenes_of(rows)) {
     const std::vector<const result_row*> mine = rows_of(rows, scene);
     const std::vector<knob_mean> means = knob_means(mine);
     const std::string metric = headline_metric(means);
+    if (std::any_of(means.begin(), means.end(), [](const knob_mean& m) { return !std::isnan(m.jod); }))
+      pareto_jod.push_back(pareto_panel(scene, means, "jod"));
     pareto.push_back(pareto_panel(scene, means, metric));
     if (metric == "foveated_flip") pareto_flip.push_back(pareto_panel(scene, means, "flip"));
 
@@ -222,7 +229,8 @@ void write_bench_figures(const std::vector<result_row>& rows, const bench_option
       drawn.insert(id);
       plot_series line;
       line.name = full ? "full resolution" : fmt::format("{} k={} s={}", r->text("method"), r->text("k"), r->text("scale"));
-      line.colour = full ? 6 : method_colour(r->text("method")) + (s == hi_scale && s != lo_scale ? 3 : 0);
+      line.scheme = full ? "full" : r->text("method");
+      line.style = !full && s == hi_scale && s != lo_scale ? "dashed" : "solid";  // the larger scale dashed
       line.markers = false;
       std::stringstream in(r->text("error_profile"));
       std::string v;
@@ -238,27 +246,40 @@ void write_bench_figures(const std::vector<result_row>& rows, const bench_option
     sp.x_label = "point-set scale s";
     sp.y_label = "speedup (full-resolution ms / frame ms)";
     const std::string first_k = std::to_string(o.ks.empty() ? 5 : o.ks[0]);
-    std::map<std::string, std::map<double, const knob_mean*>> curves;
+    // One colour per method; the spp sets the line style.
+    std::map<std::pair<std::string, int>, std::map<double, const knob_mean*>> curves;
     for (const knob_mean& m : means) {
       if (m.kind != row_kind::foveated || (m.method != "nn" && m.k != first_k)) continue;
-      curves[fmt::format("{} k={} spp={:>2}", m.method, m.k, m.spp)][std::stod(m.scale)] = &m;
+      curves[{m.method, std::stoi(m.spp)}][std::stod(m.scale)] = &m;
     }
-    int c = 0;
-    for (const auto& [name, points] : curves) {
-      if (sp.series.size() >= 9) break;
+    std::vector<int> spps;
+    for (const auto& [id, points] : curves)
+      if (std::find(spps.begin(), spps.end(), id.second) == spps.end()) spps.push_back(id.second);
+    std::sort(spps.begin(), spps.end());
+    const char* styles[] = {"solid", "dashed", "dotted", "dashdot"};
+    for (const auto& [id, points] : curves) {
       plot_series s;
-      s.name = name;
-      s.colour = c++;
+      const knob_mean& any = *points.begin()->second;
+      s.name = fmt::format("{} k={} spp={}", id.first, any.k, id.second);
+      s.scheme = id.first;
+      s.style = styles[size_t(std::find(spps.begin(), spps.end(), id.second) - spps.begin()) % 4];
       for (const auto& [scale, m] : points)
         s.x.push_back(scale), s.y.push_back(m->speedup), s.y_lo.push_back(m->speedup_lo), s.y_hi.push_back(m->speedup_hi);
       sp.series.push_back(s);
     }
     speedups.push_back(sp);
   }
-  write_plot(pareto, dir + "/pareto.png");
-  if (!pareto_flip.empty()) write_plot(pareto_flip, dir + "/pareto_flip.png");
-  write_plot(profiles, dir + "/error_by_eccentricity.png");
-  write_plot(speedups, dir + "/speedup_vs_scale.png");
+  std::vector<std::string> problems;
+  auto draw = [&](const std::vector<plot_panel>& panels, const char* name) {
+    if (panels.empty()) return;
+    if (const std::string why = write_plot(panels, dir + "/" + name); !why.empty()) problems.push_back(why);
+  };
+  draw(pareto_jod, "pareto_jod");
+  draw(pareto, "pareto");
+  draw(pareto_flip, "pareto_flip");
+  draw(profiles, "error_by_eccentricity");
+  draw(speedups, "speedup_vs_scale");
+  return problems;
 }
 
 namespace {
@@ -492,7 +513,8 @@ void write_bench_report(const std::vector<result_row>& rows, const bench_options
     md += "\nThe thesis claimed a 4.3x speedup at s = 1.0 from a sample ratio of 22.8 % (1 / ratio), and a mean "
           "detection threshold near s = 1.75 with no difference between methods.\n\n";
   }
-  md += "Figures: `pareto.png` (foveated FLIP), `pareto_flip.png` (FLIP), `error_by_eccentricity.png`, `speedup_vs_scale.png`.\n";
+  md += "Figures (PNG and SVG): `pareto_jod` (JOD), `pareto` (foveated FLIP), `pareto_flip` (FLIP), `error_by_eccentricity`, "
+        "`speedup_vs_scale`.\n";
   write_file_atomic(path, md.data(), md.size());
 }
 

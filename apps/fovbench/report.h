@@ -62,7 +62,8 @@ struct bench_options {
   double budget_foveated = std::numeric_limits<double>::quiet_NaN();
 };
 
-void write_bench_figures(const std::vector<result_row>& rows, const bench_options& o, const std::string& dir);
+// The figures (plot.h); returns one line per figure that could not be drawn (the caller warns).
+std::vector<std::string> write_bench_figures(const std::vector<result_row>& rows, const bench_options& o, const std::string& dir);
 void write_bench_report(const std::vector<result_row>& rows, const bench_options& o, const std::string& path, int argc,
                         char** argv);
 

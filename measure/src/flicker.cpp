@@ -75,23 +75,31 @@ flicker_report measure_flicker(renderer& r, gaze_point start, const render_param
     frame_timing t;
     const points_trace traced = r.trace(g, raw, t);
     frame now = r.reconstruct(traced.samples, g, raw, t);  // copies: the renderer reuses its frame
-    frame now_taa = r.reconstruct(traced.samples, g, blended, t);
-    frame now_ref = r.reference(d.width, d.height, raw).image;
+    frame now_taa;
+    if (f.taa_own_rays) {
+      frame_timing own;
+      const points_trace jittered = r.trace(g, blended, own);
+      now_taa = r.reconstruct(jittered.samples, g, blended, own);
+    } else {
+      now_taa = r.reconstruct(traced.samples, g, blended, t);
+    }
+    frame now_ref = f.full_resolution ? r.reference(d.width, d.height, raw).image : frame{};
     if (n > 0) {
       out.raw += mean_luminance_change(now, previous_raw);
       out.taa += mean_luminance_change(now_taa, previous_taa);
-      out.reference += mean_luminance_change(now_ref, previous_ref);
+      if (f.full_resolution) out.reference += mean_luminance_change(now_ref, previous_ref);
     }
     if (!jod.empty()) {
       jod[0]->add(now, converged[n], g);
       jod[1]->add(now_taa, converged[n], g);
-      jod[2]->add(now_ref, converged[n], g);
+      if (f.full_resolution) jod[2]->add(now_ref, converged[n], g);
     }
     previous_raw = std::move(now), previous_taa = std::move(now_taa), previous_ref = std::move(now_ref);
   }
   const double pairs = double(f.frames - 1);
   out.raw /= pairs, out.taa /= pairs, out.reference /= pairs;
   if (!jod.empty()) out.has_jod = true, out.jod_raw = jod[0]->result(), out.jod_taa = jod[1]->result(), out.jod_full = jod[2]->result();
+  if (!f.full_resolution) out.reference = NAN;
   r.cam() = still;
   r.reset_history();
   return out;

@@ -19,6 +19,12 @@ struct flicker_params {
   double gaze_px_per_frame = 3;      // the gaze drifts right (clamped to the screen)
   double fps = 60;                   // the display's frame rate, for the video JOD (8..1000)
   display_photometry photometry;     // the display's light, for the video JOD
+  bool full_resolution = true;       // also trace the full-resolution frame (reference, jod_full)
+  // The TAA sequence blends the raw frames' samples (false: the flicker experiment, both
+  // sequences from the same rays), or traces its own with the TAA pattern, which moves the
+  // seed every frame as fovview's and fovrender's TAA do (true: what a viewer of TAA sees,
+  // still views included).
+  bool taa_own_rays = false;
 };
 
 // Frame n of the path: the camera `still` turned right by n x yaw, the gaze moved from `start`.
@@ -35,7 +41,7 @@ std::vector<frame> converged_path(renderer& r, const render_params& p, uint32_t 
 struct flicker_report {
   double raw = 0;        // the reconstructed frames
   double taa = 0;        // the same samples blended by TAA (p.temporal)
-  double reference = 0;  // full-resolution frames at p.spp rays per pixel
+  double reference = 0;  // full-resolution frames at p.spp rays per pixel (f.full_resolution)
   // Video JOD of the three sequences against the converged frames, when given.
   bool has_jod = false;
   fvvdp_result jod_raw, jod_taa, jod_full;
