@@ -129,6 +129,8 @@ PY
 check "compare bad peak"  2 -- "$fovbench" compare "${refs[0]}" "${refs[1]}" --peak-luminance 0
 check "compare bad contrast" 2 -- "$fovbench" compare "${refs[0]}" "${refs[1]}" --contrast nan
 check "compare bad ambient" 2 -- "$fovbench" compare "${refs[0]}" "${refs[1]}" --ambient -1
+check "frames, no fps"   2 -- "$fovbench" compare "${refs[0]}" "${refs[1]}" --frames 2
+check "fps out of range"  2 -- "$fovbench" compare "${refs[0]}" "${refs[1]}" --fps 5 --frames 2
 check "sweep bad peak"    2 -- "$fovbench" "${common[@]}" --peak-luminance inf -o "$dir/x"
 # Less light, less sensitivity: the same pair scores higher on a dimmer display (seen from
 # 20 widths: 22 pixels per degree, the FOVE's).
@@ -154,6 +156,21 @@ ref = [r for r in json.load(open(sys.argv[2]))["rows"] if r["test"] == "images/f
 assert abs(j["jod"] - ref["jod_foveated_centre"]) < 0.1 and abs(j["jod_nonfoveated"] - ref["jod_nonfoveated"]) < 0.1, (j, ref)
 PY
   check "validate-jod"    0 -- "$fovbench" validate-jod "$val"
+  # A video row: new noise every frame against a still reference.
+  video=$("$fovbench" compare "$val/video/flicker-0.03-%02d.png" "$val/video/reference.png" --fps 60 --frames 12 \
+          --display 256x256 --viewing-distance 5 --gaze 128,128 --json)
+  python3 - "$video" "$val/jod-reference.json" <<'PY' || fail "compare --fps does not reproduce the flicker row"
+import json, sys
+j = json.loads(sys.argv[1])
+rows = [r for r in json.load(open(sys.argv[2]))["rows"] if r["test"].startswith("video/flicker")]
+ref = {k: v for r in rows for k, v in r.items() if k.startswith("jod_")}
+assert j["frames"] == 12 and abs(j["jod"] - ref["jod_foveated_centre"]) < 0.1, (j, ref)
+assert abs(j["jod_nonfoveated"] - ref["jod_nonfoveated"]) < 0.1, (j, ref)
+PY
+  check "video, no frames" 2 -- "$fovbench" compare "$val/video/flicker-0.03-%02d.png" "$val/video/reference.png" --fps 60
+  check "video, no number" 2 -- "$fovbench" compare "$val/video/reference.png" "$val/video/reference.png" --fps 60 --frames 2
+  check "video, %s"       2 -- "$fovbench" compare "$val/video/flicker-%s.png" "$val/video/reference.png" --fps 60 --frames 2
+  check "video, missing"  1 -- "$fovbench" compare "$val/video/flicker-0.03-%02d.png" "$val/video/reference.png" --fps 60 --frames 13
 else
   echo "skip: ../shared/metric-validation is absent"
 fi

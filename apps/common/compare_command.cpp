@@ -1,6 +1,7 @@
 #include "compare_command.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdlib>
 
@@ -15,7 +16,85 @@ namespace fov {
 
 using json = nlohmann::json;
 
+std::string frame_path(const std::string& flag, const std::string& pattern, int n, bool required) {
+  std::string out;
+  int conversions = 0;
+  for (size_t i = 0; i < pattern.size(); ++i) {
+    if (pattern[i] != '%') {
+      out += pattern[i];
+      continue;
+    }
+    if (i + 1 < pattern.size() && pattern[i + 1] == '%') {
+      out += '%', ++i;
+      continue;
+    }
+    int width = 0;
+    size_t j = i + 1;
+    if (j + 1 < pattern.size() && pattern[j] == '0' && std::isdigit(static_cast<unsigned char>(pattern[j + 1])))
+      width = pattern[j + 1] - '0', j += 2;
+    if (j >= pattern.size() || pattern[j] != 'd')
+      throw usage_error(fmt::format("{} {}: only %d or %0Nd may number the frames", flag, pattern));
+    out += fmt::format("{:0{}d}", n, width);
+    ++conversions;
+    i = j;
+  }
+  if (conversions > 1) throw usage_error(fmt::format("{} {}: one %d numbers the frames, not {}", flag, pattern, conversions));
+  if (required && conversions == 0) throw usage_error(fmt::format("{} {}: with --fps, name the frames with %d or %0Nd", flag, pattern));
+  return out;
+}
+
+namespace {
+
+// `fovbench compare --fps`: FovVideoVDP over the frames, one gaze.
+std::string run_compare_video(const compare_options& o) {
+  if (o.frames < 1 || o.frames > 100000) throw usage_error("--frames must lie in 1..100000 with --fps");
+  if (!(o.fps >= 8 && o.fps <= 1000)) throw usage_error("--fps must lie in 8..1000");
+  if (!o.jod) throw usage_error("--no-jod: a video comparison measures JOD only");
+  if (!o.flip_map.empty() || !o.foveated_flip_map.empty()) throw usage_error("--flip-map and --foveated-flip-map are for images");
+  const bool still = o.reference.find('%') == std::string::npos;
+  frame_path("test", o.test, 0, true);
+  frame_path("reference", o.reference, 0, false);
+  const frame first = read_frame(frame_path("test", o.test, 0, true));
+  display_geometry display = o.display.empty() ? display_geometry{first.width, first.height, 1.0} : parse_display(o.display);
+  if (o.viewing_distance != 0) {
+    if (const std::string why = viewing_distance_problem(o.viewing_distance); !why.empty()) throw usage_error("--viewing-distance: " + why);
+    display.viewing_distance = o.viewing_distance;
+  }
+  if (display.width != first.width || display.height != first.height)
+    throw usage_error(fmt::format("--display is {}x{}, the frames {}x{}", display.width, display.height, first.width, first.height));
+  if (display.width < 8 || display.height < 8) throw usage_error("JOD needs frames of at least 8x8 pixels");
+  const gaze_point gaze = require_gaze("--gaze", o.gaze, display);
+  fvvdp metric(display, o.fps, o.photometry);
+  frame reference;
+  for (int n = 0; n < o.frames; ++n) {
+    const std::string test_path = frame_path("test", o.test, n, true);
+    const frame test = n == 0 ? first : read_frame(test_path);
+    if (n == 0 || !still) reference = read_frame(frame_path("reference", o.reference, n, false));
+    for (const auto& [path, f] : {std::pair<std::string, const frame*>{test_path, &test}, {o.reference, &reference}})
+      if (f->width != display.width || f->height != display.height)
+        throw usage_error(fmt::format("{} is {}x{}, the first frame {}x{}", path, f->width, f->height, display.width, display.height));
+    metric.add(test, reference, gaze);
+  }
+  const fvvdp_result r = metric.result();
+  if (!o.json)
+    return fmt::format("vs {}: video JOD {:.3f} foveated at the gaze, {:.3f} non-foveated, {} frames at {:g} fps (FovVideoVDP: "
+                       "10 = no visible difference, 1 JOD apart = 75 % of observers prefer the better)\n",
+                       o.reference, r.jod, r.jod_nonfoveated, r.frames, o.fps);
+  json j{{"test", o.test}, {"reference", o.reference}, {"jod", r.jod}, {"jod_nonfoveated", r.jod_nonfoveated},
+         {"frames", r.frames}, {"fps", o.fps}, {"gaze", {gaze.x, gaze.y}},
+         {"display", {{"width", display.width}, {"height", display.height}, {"viewing_distance", display.viewing_distance}}},
+         {"photometry", {{"peak_luminance", o.photometry.peak}, {"contrast", o.photometry.contrast},
+                         {"ambient_lux", o.photometry.ambient_lux}, {"black_level", o.photometry.black()}}}};
+  return j.dump(2) + "\n";
+}
+
+}  // namespace
+
 std::string run_compare(const compare_options& o) {
+  if (o.fps != 0 || o.frames != 0) {
+    if (o.fps == 0) throw usage_error("--frames needs --fps");
+    return run_compare_video(o);
+  }
   const bool named = !o.display.empty();
   display_geometry display = named ? parse_display(o.display) : display_geometry{};
   if (o.viewing_distance != 0) {

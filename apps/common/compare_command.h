@@ -18,7 +18,15 @@ struct compare_options {
   bool json = false, flip = true, jod = true;
   display_photometry photometry;
   std::string flip_map, foveated_flip_map;
+  // Video: `frames` frames at `fps`; TEST (and REFERENCE, else a still image shown every
+  // frame) name them with one %d or %0Nd, numbered from 0. JOD only (FovVideoVDP's video mode).
+  double fps = 0;
+  int frames = 0;
 };
+
+// PATTERN with its one %d or %0Nd (N a digit) replaced by n; throws usage_error naming
+// `flag` when the pattern holds another conversion or none (`required`).
+std::string frame_path(const std::string& flag, const std::string& pattern, int n, bool required);
 
 // --peak-luminance, --contrast, --ambient: the display's light for JOD (fov/fvvdp.h), bound
 // to `p`, each refused (exit 2, naming the flag and its range) outside photometry_problem's ranges.

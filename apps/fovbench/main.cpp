@@ -106,6 +106,8 @@ int main(int argc, char** argv) {
   compare->add_flag("--no-flip", [&co](int64_t) { co.flip = false; }, "Skip FLIP and the foveated FLIP");
   compare->add_flag("--no-jod", [&co](int64_t) { co.jod = false; }, "Skip JOD (FovVideoVDP)");
   fov::add_photometry_flags(*compare, co.photometry);
+  compare->add_option("--fps", co.fps, "Video: frames per second; TEST (and REFERENCE, else a still) number frames with %d");
+  compare->add_option("--frames", co.frames, "Video: how many frames, from 0");
   compare->add_option("--flip-map", co.flip_map, "Write the FLIP map (grey = 255 x error)");
   compare->add_option("--foveated-flip-map", co.foveated_flip_map, "Write the foveated FLIP map");
 
