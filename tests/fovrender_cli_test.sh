@@ -115,6 +115,7 @@ python3 - "$sp" <<'PY' || { echo "FAIL --speedup JSON: $sp"; failures=$((failure
 import json, sys
 j = json.loads(sys.argv[1])
 assert 0 < j["speedup_lo"] <= j["speedup"] <= j["speedup_hi"] and j["speedup_pairs"] == 3, j
+assert j["speedup_lo"] <= j["speedup_interval"][0] <= j["speedup"] <= j["speedup_interval"][1] <= j["speedup_hi"], j
 assert 0 < j["full_ms_lo"] <= j["full_ms"] <= j["full_ms_hi"] and j["frame_ms"] > 0, j
 PY
 # A perfect match has no PSNR: JSON writes null (never the string "inf"), and FLIP is 0.

@@ -193,6 +193,8 @@ int main(int argc, char** argv) {
         j["full_ms"] = st.full_ms.median, j["full_ms_lo"] = st.full_ms.min, j["full_ms_hi"] = st.full_ms.max;
         j["frame_ms"] = st.frame_ms.median, j["frame_ms_lo"] = st.frame_ms.min, j["frame_ms_hi"] = st.frame_ms.max;
         j["speedup_pairs"] = o.speedup;
+        const fov::speedup_interval iv = fov::chained_speedup(st.ratios);  // 95 % bootstrap interval of the median
+        j["speedup_interval"] = {iv.lo, iv.hi};
       }
       j["device"] = r.device();
       if (p.reconstruct.how == fov::method::rbf)
@@ -251,9 +253,11 @@ int main(int argc, char** argv) {
     fmt::print("{} {}x{}: {} rays, trace {:.1f} ms, reconstruct {:.1f} ms\n", j["method"].get<std::string>(), display.width,
                display.height, t.rays, t.trace_ms, t.reconstruct_ms);
     if (j.contains("speedup"))
-      fmt::print("speedup over full resolution at {} spp: {:.2f}x (min {:.2f}, max {:.2f} over {} pairs; full {:.1f} ms, foveated {:.1f} ms)\n",
-                 p.spp, j["speedup"].get<double>(), j["speedup_lo"].get<double>(), j["speedup_hi"].get<double>(), o.speedup,
-                 j["full_ms"].get<double>(), j["frame_ms"].get<double>());
+      fmt::print("speedup over full resolution at {} spp: {:.2f}x (95 % interval {:.2f}-{:.2f}; min {:.2f}, max {:.2f} over {} pairs; "
+                 "full {:.1f} ms, foveated {:.1f} ms)\n",
+                 p.spp, j["speedup"].get<double>(), j["speedup_interval"][0].get<double>(), j["speedup_interval"][1].get<double>(),
+                 j["speedup_lo"].get<double>(), j["speedup_hi"].get<double>(), o.speedup, j["full_ms"].get<double>(),
+                 j["frame_ms"].get<double>());
     if (!compared.empty()) fmt::print("{}\n", compared);
     return 0;
   });

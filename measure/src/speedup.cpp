@@ -19,7 +19,7 @@ paired_timing pair_timings(const std::vector<double>& frame_ms, const std::vecto
   if (frame_ms.empty() || frame_ms.size() != full_ms.size()) throw std::invalid_argument("unpaired timings");
   std::vector<double> ratio;
   for (size_t i = 0; i < frame_ms.size(); ++i) ratio.push_back(full_ms[i] / frame_ms[i]);
-  return {summarise(frame_ms), summarise(full_ms), summarise(ratio)};
+  return {summarise(frame_ms), summarise(full_ms), summarise(ratio), ratio};
 }
 
 namespace {

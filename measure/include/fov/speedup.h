@@ -22,6 +22,7 @@ timing summarise(std::vector<double> v);
 // beside it; speedup = full / frame per repetition, then summarised.
 struct paired_timing {
   timing frame_ms, full_ms, speedup;
+  std::vector<double> ratios;  // full / frame per repetition, in order (for chained_speedup)
 };
 // Throws std::invalid_argument unless both hold the same, non-zero number of runs.
 paired_timing pair_timings(const std::vector<double>& frame_ms, const std::vector<double>& full_ms);
