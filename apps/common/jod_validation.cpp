@@ -2,7 +2,7 @@
 
 #include <cmath>
 #include <map>
-#include <regex>
+#include <cstdio>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -16,6 +16,31 @@ namespace fov {
 namespace {
 
 using json = nlohmann::json;
+
+// A video row's test: "PATH-NN.png (frames A-B, F fps)" (NN the two-digit frame number).
+struct clip_spec {
+  std::string stem;  // PATH
+  int first = 0, last = 0;
+  double fps = 0;
+};
+bool parse_clip(const std::string& text, clip_spec& out) {
+  const std::string marker = "-NN.png (frames ";
+  const size_t at = text.find(marker);
+  if (at == std::string::npos || at == 0) return false;
+  out.stem = text.substr(0, at);
+  const std::string rest = text.substr(at + marker.size());
+  char tail[8] = {};
+  int used = 0;
+  if (std::sscanf(rest.c_str(), "%d-%d, %lf fps%7s%n", &out.first, &out.last, &out.fps, tail, &used) != 4) return false;
+  return std::string(tail) == ")" && size_t(used) == rest.size() && out.first >= 0 && out.first <= out.last && out.last <= 99;
+}
+// A video row's reference: "PATH.png (static)".
+bool parse_still(const std::string& text, std::string& path) {
+  const std::string suffix = " (static)";
+  if (text.size() <= suffix.size() || text.compare(text.size() - suffix.size(), suffix.size(), suffix) != 0) return false;
+  path = text.substr(0, text.size() - suffix.size());
+  return true;
+}
 
 // The fixations of the folder's foveated columns (its README).
 gaze_point fixation(const std::string& view, const display_geometry& d) {
@@ -37,11 +62,10 @@ jod_validation validate_jod(const std::string& dir) {
     display_geometry video{g.at("video_resolution").at(0).get<int>(), g.at("video_resolution").at(1).get<int>(), 0};
     video.viewing_distance = images.viewing_distance * images.width / video.width;
     jod_validation v;
-    const std::regex clip(R"(^(\S+)-NN\.png \(frames (\d+)-(\d+), (\d+) fps\)$)"), still(R"(^(\S+\.png) \(static\)$)");
     for (const json& row : j.at("rows")) {
       const std::string test = row.at("test"), reference = row.at("reference");
-      std::smatch m, r;
-      const bool is_video = std::regex_match(test, m, clip);
+      clip_spec clip;
+      const bool is_video = parse_clip(test, clip);
       std::map<std::string, fvvdp_result> cached;  // per fixation
       std::pair<frame, frame> pair;
       for (const char* view : {"nonfoveated", "foveated_centre", "foveated_corner"}) {
@@ -58,11 +82,12 @@ jod_validation validate_jod(const std::string& dir) {
           }
           q = cached[seen];
         } else {
-          if (!std::regex_match(reference, r, still)) throw file_error(index + ": a video row's reference is not \"PATH.png (static)\"");
-          const frame ref = read_frame(dir + "/" + r[1].str());
-          fvvdp metric(video, std::stod(m[4].str()));
-          for (int f = std::stoi(m[2].str()); f <= std::stoi(m[3].str()); ++f)
-            metric.add(read_frame(fmt::format("{}/{}-{:02d}.png", dir, m[1].str(), f)), ref, fixation(view, video));
+          std::string still;
+          if (!parse_still(reference, still)) throw file_error(index + ": a video row's reference is not \"PATH.png (static)\"");
+          const frame ref = read_frame(dir + "/" + still);
+          fvvdp metric(video, clip.fps);
+          for (int f = clip.first; f <= clip.last; ++f)
+            metric.add(read_frame(fmt::format("{}/{}-{:02d}.png", dir, clip.stem, f)), ref, fixation(view, video));
           q = metric.result();
         }
         c.ours = c.view == "nonfoveated" ? q.jod_nonfoveated : q.jod;
