@@ -47,7 +47,7 @@ printf 'hello' > "$dir/text.fovset"
 check "info not a set"    1 -- "$fovgen" info "$dir/text.fovset"
 check "sweep bad scales"  2 -- "$fovgen" sweep "${small[@]}" --scales 2:1:0.1 -o "$dir/sweep"
 check "sweep"             0 -- "$fovgen" sweep "${small[@]}" --k 4 --scales 1.0,1.5 -o "$dir/sweep"
-[[ -s "$dir/sweep/48x40-v1-s1.50.fovset" && -s "$dir/sweep/point-counts.csv" && -s "$dir/sweep/point-counts.png" ]] \
+[[ -s "$dir/sweep/48x40-v1-s1.50.fovset" && -s "$dir/sweep/point-counts.csv" && -s "$dir/sweep/point-counts.png" && -s "$dir/sweep/point-counts.svg" ]] \
   || { echo "FAIL sweep outputs missing: $(ls "$dir/sweep")"; failures=$((failures + 1)); }
 check "sweep other k"     0 -- "$fovgen" sweep "${small[@]}" --k 6 --scales 1.0,1.5 --skip-existing -o "$dir/sweep"
 "$fovgen" info "$dir/sweep/48x40-v1-s1.00.fovset" --json | grep -q '"k": 6,' \

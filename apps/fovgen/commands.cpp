@@ -19,6 +19,7 @@
 #include "../common/cli.h"
 #include "fov/files.h"
 #include "fov/pointset_io.h"
+#include "plot.h"
 #include "plots.h"
 
 namespace fov {
@@ -307,8 +308,13 @@ int run_sweep(const sweep_options& o) {
   const std::string prefix = !sweep_gen.display.empty()
       ? sweep_gen.display
       : fmt::format("{}x{}-v{}", base.display.width, base.display.height, base.display.viewing_distance);
-  line_plot counts{"Points in the set against scale s", "scale factor s", "points", {}};
-  counts.series = {{"total", {}, {}}, {"traced, centred gaze", {}, {}}, {"traced, corner gaze", {}, {}}};
+  plot_panel counts;
+  counts.title = "Points in the set against scale s", counts.x_label = "scale factor s", counts.y_label = "points";
+  for (const char* name : {"total", "traced, centred gaze", "traced, corner gaze"}) {
+    plot_series s;
+    s.name = s.scheme = name;
+    counts.series.push_back(s);
+  }
   std::string csv = "scale,points_total,points_traced_centre,points_traced_corner,free_fraction,generation_seconds,file_bytes\n";
   const auto start = clock_type::now();
   for (size_t i = 0; i < scales.size(); ++i) {
@@ -355,7 +361,8 @@ int run_sweep(const sweep_options& o) {
   }
   progress(scales.size(), scales.size(), std::chrono::duration<double>(clock_type::now() - start).count(), "done");
   write_file_atomic(sweep_dir + "/point-counts.csv", csv.data(), csv.size());
-  write_line_plot(counts, sweep_dir + "/point-counts.png");
+  if (const std::string why = write_plot({counts}, sweep_dir + "/point-counts"); !why.empty())
+    std::cerr << "fovgen: warning: " << why << "\n";
   std::cout << csv;
   return 0;
 }

@@ -1,9 +1,9 @@
-# fovbench's figures, drawn by matplotlib from the panels fovbench computes (plot.h):
+# The tools' figures, drawn by matplotlib from the panels fovbench and fovgen compute (plot.h):
 #   python3 plot.py FIGURE.json
 # FIGURE.json: {"outputs": ["a.png", "a.svg"], "panels": [{"title", "x_label", "y_label",
 # "log_x", "log_y", "series": [{"name", "scheme", "style", "x", "y", "x_lo", "x_hi", "y_lo",
-# "y_hi", "labels", "ringed", "lines", "markers"}]}]}. Embedded in fovbench at build time
-# and run by it; every output is written to a temporary name and renamed.
+# "y_hi", "labels", "ringed", "lines", "markers"}]}]}. Embedded in the tools at build time
+# and run by them; every output is written to a temporary name and renamed.
 import json
 import os
 import sys
@@ -24,7 +24,7 @@ SCHEME_COLOURS = {
     "front-foveated": "#7F7F7F",
     "front-baseline": "#E69F00",
 }
-OTHER_COLOURS = ["#56B4E9", "#F0E442", "#882255", "#44AA99", "#999933", "#AA4499"]
+OTHER_COLOURS = ["#56B4E9", "#882255", "#44AA99", "#999933", "#AA4499", "#F0E442"]
 STYLES = {"solid": "-", "dashed": "--", "dotted": ":", "dashdot": "-."}
 MARKERS = {"nn": "o", "shepard": "s", "rbf": "^", "uniform": "D", "full": "P"}
 

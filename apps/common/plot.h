@@ -1,7 +1,7 @@
-// fovbench's figures: panels of series computed here, drawn by matplotlib (plot.py, embedded
-// at build time, run with Debian's /usr/bin/python3 and python3-matplotlib): PNG and SVG,
-// labels placed apart, error bars from the spread columns, one colour per scheme in every
-// figure.
+// The tools' figures (fovbench's, fovgen's): panels of series computed in C++, drawn by
+// matplotlib (plot.py, embedded at build time, run with Debian's /usr/bin/python3 and
+// python3-matplotlib): PNG and SVG, labels placed apart, error bars, one colour per scheme
+// in every figure.
 #pragma once
 
 #include <string>

@@ -13,7 +13,7 @@
 
 #include <fmt/format.h>
 
-#include "fov/bench_plot_script.h"
+#include "fov/plot_script.h"
 #include "fov/files.h"
 
 extern char** environ;
@@ -58,7 +58,7 @@ std::string write_plot(const std::vector<plot_panel>& panels, const std::string&
   const std::string text = figure_json(panels, {stem + ".png", stem + ".svg"}).dump();
   std::string why;
   try {
-    write_file_atomic(script, bench_plot_script::source, std::char_traits<char>::length(bench_plot_script::source));
+    write_file_atomic(script, plot_script::source, std::char_traits<char>::length(plot_script::source));
     write_file_atomic(data, text.data(), text.size());
   } catch (const std::exception& e) {
     why = e.what();
