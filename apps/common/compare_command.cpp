@@ -45,6 +45,10 @@ std::string frame_path(const std::string& flag, const std::string& pattern, int 
 
 namespace {
 
+json photometry_json(const display_photometry& p) {
+  return {{"peak_luminance", p.peak}, {"contrast", p.contrast}, {"ambient_lux", p.ambient_lux}, {"black_level", p.black()}};
+}
+
 // `fovbench compare --fps`: FovVideoVDP over the frames, one gaze.
 std::string run_compare_video(const compare_options& o) {
   if (o.frames < 1 || o.frames > 100000) throw usage_error("--frames must lie in 1..100000 with --fps");
@@ -83,8 +87,7 @@ std::string run_compare_video(const compare_options& o) {
   json j{{"test", o.test}, {"reference", o.reference}, {"jod", r.jod}, {"jod_nonfoveated", r.jod_nonfoveated},
          {"frames", r.frames}, {"fps", o.fps}, {"gaze", {gaze.x, gaze.y}},
          {"display", {{"width", display.width}, {"height", display.height}, {"viewing_distance", display.viewing_distance}}},
-         {"photometry", {{"peak_luminance", o.photometry.peak}, {"contrast", o.photometry.contrast},
-                         {"ambient_lux", o.photometry.ambient_lux}, {"black_level", o.photometry.black()}}}};
+         {"photometry", photometry_json(o.photometry)}};
   return j.dump(2) + "\n";
 }
 
@@ -129,9 +132,7 @@ std::string run_compare(const compare_options& o) {
   json j = comparison_json(c);
   j["test"] = o.test, j["reference"] = o.reference;
   j["display"] = {{"width", display.width}, {"height", display.height}, {"viewing_distance", display.viewing_distance}};
-  if (c.has_jod)
-    j["photometry"] = {{"peak_luminance", o.photometry.peak}, {"contrast", o.photometry.contrast},
-                       {"ambient_lux", o.photometry.ambient_lux}, {"black_level", o.photometry.black()}};
+  if (c.has_jod) j["photometry"] = photometry_json(o.photometry);
   j["gaze"] = {gaze.x, gaze.y};
   return j.dump(2) + "\n";
 }
