@@ -12,7 +12,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 bench=build/apps/fovbench
 common=(--display fove --scales 1.0,1.75 --methods nn,shepard --k 5 --spp 1,4,16 --gazes "centre;320,1080"
-        --frames 5 --reference-spp 256 --baselines full,uniform --uniform-fractions 0.5,0.25 --resume)
+        --frames 3 --reference-spp 256 --baselines full,uniform --uniform-fractions 0.5,0.25 --resume)
 "$bench" --scene builtin --sun-irradiance 0.8,0.77,0.7 "${common[@]}" -o out/study/builtin
 helmet=../shared/scenes/flight-helmet/FlightHelmet.gltf
 if [[ -f $helmet ]]; then
