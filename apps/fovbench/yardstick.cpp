@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <set>
 
 #include <fmt/format.h>
 
@@ -114,12 +115,15 @@ std::vector<yardstick_row> run_yardstick(const bench_options& o, const bench_rep
       "foveation at s = 1.751 (nn), 1.779 (shepard), 1.675 (rbf) (thesis Table 5). The last column is the scale at which JOD "
       "first falls to 9 (1 JOD: 75 % of observers would prefer the non-foveated frame), interpolated.\n\n",
       o.spps.empty() ? 0 : o.spps[0], o.temporal_frames, o.temporal_fps);
+  std::set<std::string> drawn;  // scene|gaze|spp
   for (const yardstick_row& first : rows) {
-    bool seen = false;
-    for (const plot_panel& pp : panels) seen = seen || pp.title.find(first.scene + ", gaze " + first.gaze) != std::string::npos;
-    if (seen) continue;
+    if (!drawn.insert(fmt::format("{}|{}|{}", first.scene, first.gaze, first.spp)).second) continue;
     plot_panel panel;
-    panel.title = fmt::format("JOD against scale: {}, gaze {}, {} spp", first.scene, first.gaze, first.spp);
+    // The scene's file name only (an env: path would not fit the panel).
+    const size_t cut = first.scene.find_last_of('/');
+    const std::string scene_name = cut == std::string::npos ? first.scene
+                                   : (first.scene.rfind("env:", 0) == 0 ? "env:" : "") + first.scene.substr(cut + 1);
+    panel.title = fmt::format("JOD against scale: {}, gaze {}, {} spp", scene_name, first.gaze, first.spp);
     panel.x_label = "point-set scale s";
     panel.y_label = "JOD vs full resolution, same rays (TAA)";
     md += fmt::format("## {}, gaze {}, {} spp\n\n| path | method | ", first.scene, first.gaze, first.spp);
