@@ -25,11 +25,14 @@ std::vector<std::string> scenes_of(const std::vector<result_row>& rows) {
   return out;
 }
 
+}  // namespace
 
 std::string short_scene(const std::string& s) {
   const std::string name = std::filesystem::path(s.substr(s.rfind(':') == std::string::npos ? 0 : s.rfind(':') + 1)).filename().string();
   return s.rfind("env:", 0) == 0 ? "env:" + name : name;
 }
+
+namespace {
 
 // A configuration of knobs (kind, scale or pixel fraction, method, k, spp) averaged over
 // the gazes of the sweep: the gaze is not a knob, so the trade is judged on the average.
@@ -51,6 +54,7 @@ struct knob_mean {
   }
   // The mean of a named error column.
   double error(const std::string& metric) const {
+    if (metric == "jod_loss") return 10 - jod;  // JOD below no difference: an error to minimise
     if (metric == "foveated_flip") return foveated_flip;
     if (metric == "foveated_flip_worst_band") return foveated_flip_worst_band;
     if (metric == "foveated_flip_p99") return foveated_flip_p99;
@@ -148,12 +152,9 @@ plot_panel pareto_panel(const std::string& scene, const std::vector<knob_mean>& 
   p.x_label = "frame time (ms, log scale; bars: min-max of the repetitions)";
   p.y_label = jod ? "JOD (FovVideoVDP, foveated; 10 = no visible difference)" : metric + " vs converged reference";
   p.log_x = true;
-  // Fronts minimise (time, error): JOD enters negated.
-  std::vector<knob_mean> scored = means;
-  if (jod)
-    for (knob_mean& m : scored) m.foveated_error = -m.jod;
-  const std::string key = jod ? "foveated_error" : metric;
-  const std::vector<size_t> fov_front = front_of(scored, foveated_kind, key), base_front = front_of(scored, baseline_kinds, key);
+  // Fronts minimise (time, error): JOD enters as its distance below 10.
+  const std::string key = jod ? "jod_loss" : metric;
+  const std::vector<size_t> fov_front = front_of(means, foveated_kind, key), base_front = front_of(means, baseline_kinds, key);
   auto on = [](const std::vector<size_t>& f, size_t i) { return std::find(f.begin(), f.end(), i) != f.end(); };
   auto value = [&](size_t i) { return jod ? means[i].jod : means[i].error(metric); };
   struct group {

@@ -62,6 +62,9 @@ struct bench_options {
   double budget_foveated = std::numeric_limits<double>::quiet_NaN();
 };
 
+// A scene as titles name it: its file name, "env:" kept ("builtin" stays "builtin").
+std::string short_scene(const std::string& scene);
+
 // The figures (plot.h); returns one line per figure that could not be drawn (the caller warns).
 std::vector<std::string> write_bench_figures(const std::vector<result_row>& rows, const bench_options& o, const std::string& dir);
 void write_bench_report(const std::vector<result_row>& rows, const bench_options& o, const std::string& path, int argc,

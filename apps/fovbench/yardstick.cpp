@@ -119,11 +119,7 @@ std::vector<yardstick_row> run_yardstick(const bench_options& o, const bench_rep
   for (const yardstick_row& first : rows) {
     if (!drawn.insert(fmt::format("{}|{}|{}", first.scene, first.gaze, first.spp)).second) continue;
     plot_panel panel;
-    // The scene's file name only (an env: path would not fit the panel).
-    const size_t cut = first.scene.find_last_of('/');
-    const std::string scene_name = cut == std::string::npos ? first.scene
-                                   : (first.scene.rfind("env:", 0) == 0 ? "env:" : "") + first.scene.substr(cut + 1);
-    panel.title = fmt::format("JOD against scale: {}, gaze {}, {} spp", scene_name, first.gaze, first.spp);
+    panel.title = fmt::format("JOD against scale: {}, gaze {}, {} spp", short_scene(first.scene), first.gaze, first.spp);
     panel.x_label = "point-set scale s";
     panel.y_label = "JOD vs full resolution, same rays (TAA)";
     md += fmt::format("## {}, gaze {}, {} spp\n\n| path | method | ", first.scene, first.gaze, first.spp);

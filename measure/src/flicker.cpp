@@ -43,6 +43,10 @@ std::vector<frame> converged_path(renderer& r, const render_params& p, uint32_t 
   q.spp = spp, q.seed = seed, q.reference_sampler = pixel_sampler::sobol;
   std::vector<frame> out;
   for (uint32_t n = 0; n < f.frames; ++n) {
+    if (n > 0 && f.yaw_deg_per_frame == 0) {  // a still camera: the same rays, the same frame
+      out.push_back(out.back());
+      continue;
+    }
     r.cam() = path_camera(still, f, n);
     frame image = r.reference(d.width, d.height, q).image;
     image.depth = {};  // colour is all JOD reads
@@ -66,9 +70,9 @@ flicker_report measure_flicker(renderer& r, gaze_point start, const render_param
   r.reset_history();
   frame previous_raw, previous_taa, previous_ref;
   flicker_report out;
-  std::vector<std::unique_ptr<fvvdp>> jod;  // raw, TAA, full resolution
+  std::vector<std::unique_ptr<fvvdp>> jod;  // raw, TAA[, full resolution]
   if (!converged.empty())
-    for (int i = 0; i < 3; ++i) jod.push_back(std::make_unique<fvvdp>(d, f.fps, f.photometry));
+    for (int i = 0; i < (f.full_resolution ? 3 : 2); ++i) jod.push_back(std::make_unique<fvvdp>(d, f.fps, f.photometry));
   for (uint32_t n = 0; n < f.frames; ++n) {
     r.cam() = path_camera(still, f, n);
     const gaze_point g = path_gaze(start, d, f, n);
@@ -92,13 +96,14 @@ flicker_report measure_flicker(renderer& r, gaze_point start, const render_param
     if (!jod.empty()) {
       jod[0]->add(now, converged[n], g);
       jod[1]->add(now_taa, converged[n], g);
-      if (f.full_resolution) jod[2]->add(now_ref, converged[n], g);
+      if (jod.size() > 2) jod[2]->add(now_ref, converged[n], g);
     }
     previous_raw = std::move(now), previous_taa = std::move(now_taa), previous_ref = std::move(now_ref);
   }
   const double pairs = double(f.frames - 1);
   out.raw /= pairs, out.taa /= pairs, out.reference /= pairs;
-  if (!jod.empty()) out.has_jod = true, out.jod_raw = jod[0]->result(), out.jod_taa = jod[1]->result(), out.jod_full = jod[2]->result();
+  if (!jod.empty()) out.has_jod = true, out.jod_raw = jod[0]->result(), out.jod_taa = jod[1]->result();
+  if (jod.size() > 2) out.jod_full = jod[2]->result();
   if (!f.full_resolution) out.reference = NAN;
   r.cam() = still;
   r.reset_history();

@@ -45,7 +45,7 @@ planes displayed_linear(const frame& f) {
     for (int x = 0; x < f.width; ++x) {
       const glm::vec3& c = f.rgb[size_t(y) * f.width + x];
       for (int ch = 0; ch < 3; ++ch)
-        p[size_t(ch)].at<float>(y, x) = decode[size_t(std::lround(255 * srgb_encode(c[ch])))];
+        p[size_t(ch)].at<float>(y, x) = decode[display_byte(c[ch])];
     }
   });
   return p;

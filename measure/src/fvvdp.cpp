@@ -303,7 +303,7 @@ struct fvvdp::state {
       for (int x = 0; x < f.width; ++x) {
         const glm::vec3& c = f.rgb[size_t(y) * f.width + x];
         float lin[3];
-        for (int ch = 0; ch < 3; ++ch) lin[ch] = decode[size_t(std::lround(255 * srgb_encode(c[ch])))];
+        for (int ch = 0; ch < 3; ++ch) lin[ch] = decode[display_byte(c[ch])];
         // sRGB primaries' luminance (IEC 61966-2-1)
         o[x] = gain * (0.2126729f * lin[0] + 0.7151522f * lin[1] + 0.0721750f * lin[2]) + black;
       }

@@ -18,8 +18,6 @@ namespace {
 
 constexpr double pi = 3.14159265358979323846;
 
-uint8_t display_byte(float linear) { return uint8_t(std::lround(255 * srgb_encode(linear))); }
-
 cv::Mat to_display(const frame& f) {
   cv::Mat m(f.height, f.width, CV_8UC3);
   for (int y = 0; y < f.height; ++y)

@@ -31,9 +31,10 @@ struct flicker_params {
 camera path_camera(const camera& still, const flicker_params& f, uint32_t n);
 gaze_point path_gaze(gaze_point start, const display_geometry& d, const flicker_params& f, uint32_t n);
 
-// Converged frames along the path (colour only; the gaze does not change them): `spp` Sobol rays per pixel with the seed
-// `seed` (compare_converged's are converged_seeds(p.seed)), at the size of the set in use.
-// The renderer's camera is restored afterwards.
+// Converged frames along the path (colour only; the gaze does not change them): `spp` Sobol
+// rays per pixel with the seed `seed` (compare_converged's are converged_seeds(p.seed)), at
+// the size of the set in use; a path whose camera does not turn is traced once and its frame
+// repeated. The renderer's camera is restored afterwards.
 std::vector<frame> converged_path(renderer& r, const render_params& p, uint32_t spp, uint64_t seed,
                                   const flicker_params& f = {});
 
@@ -42,7 +43,8 @@ struct flicker_report {
   double raw = 0;        // the reconstructed frames
   double taa = 0;        // the same samples blended by TAA (p.temporal)
   double reference = 0;  // full-resolution frames at p.spp rays per pixel (f.full_resolution)
-  // Video JOD of the three sequences against the converged frames, when given.
+  // Video JOD of the sequences against the converged frames, when given (jod_full only
+  // with f.full_resolution; otherwise it stays at 10 for 0 frames).
   bool has_jod = false;
   fvvdp_result jod_raw, jod_taa, jod_full;
 };

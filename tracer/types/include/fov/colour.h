@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 
 #include <glm/glm.hpp>
 
@@ -18,6 +19,10 @@ inline float srgb_encode(float linear) {
 inline float srgb_decode(float encoded) {
   return encoded <= 0.04045f ? encoded / 12.92f : std::pow((encoded + 0.055f) / 1.055f, 2.4f);
 }
+
+// A linear value as a display shows it: clamped, sRGB-encoded and quantised to a byte (what
+// PNGs hold; every metric scores frames this way).
+inline uint8_t display_byte(float linear) { return uint8_t(std::lround(255 * srgb_encode(linear))); }
 
 inline glm::vec3 srgb_decode(glm::vec3 c) { return {srgb_decode(c.r), srgb_decode(c.g), srgb_decode(c.b)}; }
 
