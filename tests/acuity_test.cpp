@@ -2,7 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <map>
+
 #include "fov/acuity.h"
+#include "fov/pointset.h"
 
 namespace fov {
 namespace {
@@ -103,6 +106,86 @@ TEST(Acuity, PresetsAreTheDocumentedDisplays) {
   ASSERT_TRUE(display_preset("desktop1080", d));
   EXPECT_EQ(d.height, 1080);
   EXPECT_FALSE(display_preset("oculus", d));
+}
+
+// The headsets' presets give their source's pixels per degree at the centre, at their
+// per-eye resolution; the thesis's presets keep v = 1 (their sets' names depend on it).
+TEST(Display, PresetsGiveTheirPixelsPerDegree) {
+  const std::map<std::string, double> ppd = {{"quest3", 25}, {"vision-pro", 34}, {"varjo-xr4", 51}, {"retinal", 70}};
+  for (const auto& [name, want] : ppd) {
+    display_geometry d;
+    ASSERT_TRUE(display_preset(name, d)) << name;
+    EXPECT_NEAR(pixels_per_degree(d), want, 1e-9) << name;
+    EXPECT_EQ(display_name(d), name);
+  }
+  display_geometry fove;
+  ASSERT_TRUE(display_preset("fove", fove));
+  EXPECT_EQ(fove.viewing_distance, 1.0);
+  EXPECT_NEAR(pixels_per_degree(fove), 1280 * 3.14159265358979 / 180, 1e-9);  // 22.3: the thesis's FOVE
+  EXPECT_NEAR(horizontal_fov_deg(fove), 2 * std::atan(0.5) * 180 / 3.14159265358979, 1e-9);
+  EXPECT_NEAR(vertical_fov_deg(fove), 2 * std::atan(0.5 * 1440 / 1280) * 180 / 3.14159265358979, 1e-9);
+  // Every preset is a display every tool takes, named by its own name.
+  for (const display_preset_info& p : display_presets()) {
+    display_geometry d;
+    EXPECT_EQ(parse_display(p.name, d), "") << p.name;
+    EXPECT_EQ(display_name(d), p.name);
+    EXPECT_EQ(viewing_distance_problem(d.viewing_distance), "") << p.name;
+  }
+}
+
+TEST(Display, SpecsGiveTheGeometryTheySay) {
+  display_geometry d;
+  ASSERT_EQ(parse_display("640x720", d), "");
+  EXPECT_EQ(d.width, 640);
+  EXPECT_EQ(d.height, 720);
+  EXPECT_EQ(d.viewing_distance, 1.0);
+  ASSERT_EQ(parse_display("3840x3840@70ppd", d), "");
+  EXPECT_EQ(d.width, 3840);
+  EXPECT_EQ(d.height, 3840);
+  EXPECT_NEAR(pixels_per_degree(d), 70, 1e-9);
+  EXPECT_EQ(display_name(d), "retinal");  // the same geometry as the preset, so the same sets
+  ASSERT_EQ(parse_display("2000x1000@90deg", d), "");
+  EXPECT_NEAR(horizontal_fov_deg(d), 90, 1e-9);
+  EXPECT_NEAR(d.viewing_distance, 0.5, 1e-12);
+  ASSERT_EQ(parse_display("100x80@2.5", d), "");
+  EXPECT_EQ(d.viewing_distance, 2.5);
+  EXPECT_EQ(display_name(d), "100x80-v2.5");
+  ASSERT_EQ(parse_display("1280x1440", d), "");
+  EXPECT_EQ(display_name(d), "fove");
+  // Refused, with the reason, and `out` untouched.
+  const display_geometry before = d;
+  for (const char* bad : {"", "oculus", "x", "640x", "x720", "640x720x2", "-640x720", "640 x 720", "640x720@", "640x720@ppd",
+                          "640x720@-3ppd", "640x720@0", "640x720@1e3", "640x720@nan", "640x720@inf", "640x720@180deg",
+                          "640x720@200deg", "640x720@2000", "640x720@0.001", "7x720", "640x8193", "99999999999x720",
+                          "640x720@1ppdd", "640x720@@1"}) {
+    const std::string why = parse_display(bad, d);
+    EXPECT_NE(why, "") << bad;
+    EXPECT_EQ(d.width, before.width) << bad;
+    EXPECT_EQ(d.viewing_distance, before.viewing_distance) << bad;
+  }
+  EXPECT_NE(parse_display("oculus", d).find("quest3"), std::string::npos) << "the message lists the presets";
+  EXPECT_NE(parse_display("7x720", d).find("8..8192"), std::string::npos);
+  EXPECT_NE(parse_display("640x720@2000", d).find("1000"), std::string::npos) << "the distance's range";
+}
+
+TEST(Display, FileNamesComeFromOneFunction) {
+  spacing_model m;
+  ASSERT_TRUE(display_preset("fove", m.display));
+  dart_params darts;
+  EXPECT_EQ(pointset_file_name(m, darts), "fove-s1.00.fovset");
+  m.scale = 1.75;
+  darts.fovea = fovea_layout::grid;
+  EXPECT_EQ(pointset_file_name(m, darts), "fove-s1.75-grid.fovset");
+  darts.grid_spacing = 1.5;
+  EXPECT_EQ(pointset_file_name(m, darts), "fove-s1.75-grid-1.50.fovset");
+  ASSERT_EQ(parse_display("640x720", m.display), "");
+  m.scale = 1.0;
+  EXPECT_EQ(pointset_file_name(m, dart_params{}), "640x720-v1-s1.00.fovset");
+  ASSERT_EQ(parse_display("3840x3840@60ppd", m.display), "");
+  EXPECT_EQ(pointset_file_name(m, dart_params{}), "3840x3840-v0.8952-s1.00.fovset");
+  // Two distances that differ are two names.
+  display_geometry a{640, 720, 1.0}, b{640, 720, 1.1};
+  EXPECT_NE(display_name(a), display_name(b));
 }
 
 }  // namespace

@@ -85,12 +85,25 @@ assert full[("centre", "2")] < full[("centre", "1")], full
 assert {r["gaze"] for r in rows} == {"centre", "20_30"}
 assert {r["texture_footprint"] for r in rows} == {"disc"}
 assert {r["fovea"] for r in rows} == {"darts"}
+assert {r["display"] for r in rows} == {"64x72-v1"} and {r["ppd"] for r in rows} == {"%.6g" % (64 * math.pi / 180)}, rows[0]
 PY
+# --viewing-distance: another display, so another set (named by display_name) and rows that
+# say so; the first sweep's results.csv does not take them.
+check "bad v"           2 -- "$fovbench" "${common[@]}" --viewing-distance 0 -o "$dir/x"
+check "bad ppd display" 2 -- "$fovbench" --display 64x72@0ppd --points-dir "$dir/sets" -o "$dir/x"
+check "farther eye"     0 -- "$fovbench" "${common[@]}" --viewing-distance 2 --scene builtin --scales 1.0 --methods nn --spp 1 \
+  --baselines full --reference-spp 4 -o "$dir/far"
+[[ -s "$dir/sets/64x72-v2-s1.00.fovset" ]] || fail "v = 2 did not write 64x72-v2-s1.00.fovset: $(ls "$dir/sets")"
+grep -q ",64x72-v2,$(python3 -c 'import math; print("%.6g" % (128 * math.pi / 180))')," "$dir/far/results.csv" \
+  || fail "v = 2 rows do not name their display and ppd"
+check "resume, other display" 1 -- "$fovbench" "${common[@]}" --viewing-distance 2 --scene builtin --scales 1.0 --methods nn \
+  --spp 1 --baselines full --reference-spp 16 --resume -o "$dir/out"
+[[ -e "$dir/x" ]] && fail "a refused sweep wrote $dir/x"
 # A grid fovea: on this tiny screen (N v = 64) the model asks for more than a pixel's density
 # everywhere, so the whole set is a pixel grid and every foveated nn frame is the full frame.
 check "grid sweep"      0 -- "$fovbench" "${common[@]}" --scene builtin --scales 1.0 --methods nn --spp 1,2 \
   --baselines full --reference-spp 8 --fovea grid -o "$dir/grid"
-[[ -s "$dir/sets/64x72-s1.00-grid.fovset" ]] || fail "the grid sweep did not write its -grid set"
+[[ -s "$dir/sets/64x72-v1-s1.00-grid.fovset" ]] || fail "the grid sweep did not write its -grid set"
 python3 - "$dir/grid/results.csv" <<'PY' || fail "grid results.csv"
 import csv, sys
 rows = list(csv.DictReader(open(sys.argv[1])))

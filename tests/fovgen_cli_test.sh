@@ -19,6 +19,18 @@ err=$("$fovgen" "${small[@]}" -v 1e300 -o "$dir/a.fovset" 2>&1)
 (( ${#err} < 200 )) || fail "-v 1e300 printed ${#err} characters: $err"
 check "s negative"        2 -- "$fovgen" "${small[@]}" --scale -1 -o "$dir/a.fovset"
 check "unknown display"   2 -- "$fovgen" --display oculus -o "$dir/a.fovset"
+check "display side"      2 -- "$fovgen" --display 7x40 -o "$dir/a.fovset"
+check "display fov"       2 -- "$fovgen" --display 48x40@180deg -o "$dir/a.fovset"
+check "display ppd"       2 -- "$fovgen" --display 48x40@-2ppd -o "$dir/a.fovset"
+check "display distance"  2 -- "$fovgen" --display 48x40@5000 -o "$dir/a.fovset"
+# A table that cannot fit is refused before any dart (8192 x 8192 at k = 32: 34.4 GB).
+memory_kb=$(awk '/^MemTotal:/ {print $2}' /proc/meminfo)
+if (( memory_kb < 33000000 )); then
+  check "display too large" 2 -- "$fovgen" --display 8192x8192 --k 32 -o "$dir/a.fovset"
+else
+  echo "SKIP display too large: this machine holds an 8192 x 8192 set's table"
+fi
+[[ ! -e "$dir/a.fovset" ]] || fail "a refused display wrote a set"
 check "unknown encoding"  2 -- "$fovgen" "${small[@]}" --encoding lzma -o "$dir/a.fovset"
 check "unwritable output" 2 -- "$fovgen" "${small[@]}" -o "$dir/no/such/dir/a.fovset"
 check "missing output"    2 -- "$fovgen" "${small[@]}"
@@ -52,6 +64,19 @@ check "sweep"             0 -- "$fovgen" sweep "${small[@]}" --k 4 --scales 1.0,
 check "sweep other k"     0 -- "$fovgen" sweep "${small[@]}" --k 6 --scales 1.0,1.5 --skip-existing -o "$dir/sweep"
 "$fovgen" info "$dir/sweep/48x40-v1-s1.00.fovset" --json | grep -q '"k": 6,' \
   || { echo "FAIL --skip-existing kept a set made with another --k"; failures=$((failures + 1)); }
+
+# Displays by pixels per degree and field of view, named the one way every tool names them.
+"$fovgen" --display 48x40@30ppd --saturation 500 --k 4 -o "$dir/ppd.fovset" >/dev/null || fail "--display 48x40@30ppd"
+ppd_json=$("$fovgen" info "$dir/ppd.fovset" --json)
+python3 - "$ppd_json" <<'PY' || fail "info --json of a 30 ppd display: $ppd_json"
+import json, math, sys
+j = json.loads(sys.argv[1])
+assert abs(j["pixels_per_degree"] - 30) < 1e-9, j
+assert j["display"] == "48x40-v%.4g" % (30 * 180 / (math.pi * 48)), j
+assert abs(j["viewing_distance"] - 30 * 180 / (math.pi * 48)) < 1e-9, j
+PY
+check "sweep by display spec" 0 -- "$fovgen" sweep --display 48x40@60deg --saturation 500 --k 4 --scales 1.0 -o "$dir/specs"
+ls "$dir/specs"/48x40-v0.866-s1.00.fovset >/dev/null 2>&1 || fail "a 60-degree 48x40 display's set is not 48x40-v0.866-s1.00.fovset: $(ls "$dir/specs")"
 
 json=$("$fovgen" info "$dir/a.fovset" --gaze 24,20 --json)
 for key in width height viewing_distance scale k seed points_total spacing_violations generation_seconds points_traced; do

@@ -51,6 +51,15 @@ check "default camera"     0 -- "$fovrender" "${set[@]}" --spp 1 -o "$dir/cam-de
 cmp -s "$dir/cam-file.png" "$dir/cam-default.png" && fail "--eye/--look-at changed nothing"
 check "bad size"           2 -- "$fovrender" --reference --width 0 -o "$dir/a.png"
 check "size beyond memory" 2 -- "$fovrender" --reference --width 65536 --height 65536 -o "$dir/a.png"
+check "bad display"        2 -- "$fovrender" --reference --display 64x72@ppd -o "$dir/a.png"
+check "display and size"   2 -- "$fovrender" --reference --display 64x72 --width 64 -o "$dir/a.png"
+check "display and set"    2 -- "$fovrender" --reference "${set[@]}" --display 64x72 -o "$dir/a.png"
+check "display reference"  0 -- "$fovrender" --reference --display 40x24@30ppd --spp 1 -o "$dir/display.png"
+python3 -c "
+import sys, struct
+b = open(sys.argv[1], 'rb').read(24)
+assert struct.unpack('>II', b[16:24]) == (40, 24), b
+" "$dir/display.png" || fail "--display 40x24@30ppd did not render 40 x 24"
 ln -s "$dir/loop-b.gltf" "$dir/loop-a.gltf"; ln -s "$dir/loop-a.gltf" "$dir/loop-b.gltf"
 check "scene a link loop"  1 -- "$fovrender" "${set[@]}" --scene "$dir/loop-a.gltf" -o "$dir/a.png"
 check "missing set"        1 -- "$fovrender" --points "$dir/none.fovset" -o "$dir/a.png"

@@ -177,9 +177,9 @@ if ! command -v xvfb-run >/dev/null; then
 else
   export XDG_RUNTIME_DIR=$dir
   mkdir -p "$dir/sets"
-  for s in 1.00 1.20 1.40; do "$fovgen" --width 64 --height 72 --k 8 --scale $s -o "$dir/sets/tiny-s$s.fovset" >/dev/null; done
+  for s in 1.00 1.20 1.40; do "$fovgen" --width 64 --height 72 --k 8 --scale $s -o "$dir/sets/64x72-v1-s$s.fovset" >/dev/null; done
   cat > "$dir/live.json" <<JSON
-{"fovstair_protocol": 1, "scene": "builtin", "points_dir": "$dir/sets", "display": "tiny", "spp": 1,
+{"fovstair_protocol": 1, "scene": "builtin", "points_dir": "$dir/sets", "display": "64x72", "spp": 1,
  "conditions": [{"name": "SH", "method": "shepard", "k": 5}], "scales": {"min": 1.0, "max": 1.4},
  "rule": {"initial_step": 0.2, "step": 0.2, "discard_reversals": 0, "thresholds": 2}, "catch_rate": 0}
 JSON

@@ -26,6 +26,18 @@ check "bad screenshot frame" 2 -- "$fovview" "${set[@]}" --screenshot-at x "$dir
 check "missing set"        1 -- "$fovview" --points "$dir/none.fovset"
 check "backwards trace"    1 -- "$fovview" "${set[@]}" --gaze-trace "$dir/backwards.csv"
 check "empty points dir"   1 -- "$fovview" --points-dir "$dir/none"
+# A directory holding two displays' families: fovview asks which (once it has one, the
+# missing X display is the next thing it meets: exit 1).
+mkdir -p "$dir/fam"
+"$fovgen" --display 64x72 --k 4 --saturation 500 -o "$dir/fam/64x72-v1-s1.00.fovset" >/dev/null
+"$fovgen" --display 48x40 --k 4 --saturation 500 --scale 1.5 -o "$dir/fam/48x40-v1-s1.50.fovset" >/dev/null
+fam=(env -u DISPLAY -u WAYLAND_DISPLAY "$fovview" --points-dir "$dir/fam" --k 4 --frames 1 --exit)
+check "two displays' sets"  2 -- "${fam[@]}"
+check "the display chosen"  1 -- "${fam[@]}" --display 64x72
+check "the scale chooses"   1 -- "${fam[@]}" --scale 1.5
+check "no such scale"       2 -- "${fam[@]}" --scale 1.75
+check "bad display spec"    2 -- "${fam[@]}" --display 64x72@0ppd
+check "display with --points" 2 -- "$fovview" "${set[@]}" --display 64x72
 check "no display"         1 -- env -u DISPLAY -u WAYLAND_DISPLAY "$fovview" "${set[@]}" --frames 1 --exit
 # DISPLAY set but nothing there: Qt aborted (exit 134, six lines); now one line, before Qt starts.
 check "unreachable display" 1 -- env -u WAYLAND_DISPLAY DISPLAY=:987 timeout 20 "$fovview" "${set[@]}" --frames 1 --exit

@@ -63,15 +63,23 @@ gaze_point require_gaze(const std::string& flag, const std::string& text, const 
   return g;
 }
 
-display_geometry parse_display(const std::string& text) {
+display_geometry require_display(const std::string& flag, const std::string& text, double viewing_distance) {
   display_geometry display;
-  if (display_preset(text, display)) return display;
-  int w = 0, h = 0;
-  char x = 0, extra = 0;
-  std::stringstream in(text);
-  if (!(in >> w >> x >> h) || x != 'x' || (in >> extra) || w < 8 || h < 8 || w > 8192 || h > 8192)
-    throw usage_error(fmt::format("--display: '{}' is not fove, vive, desktop1080 or WxH (8..8192)", text));
-  return {w, h, 1.0};
+  if (const std::string why = parse_display(text, display); !why.empty()) throw usage_error(flag + ": " + why);
+  if (viewing_distance != 0) {
+    if (const std::string why = viewing_distance_problem(viewing_distance); !why.empty())
+      throw usage_error("--viewing-distance: " + why);
+    display.viewing_distance = viewing_distance;
+  }
+  return display;
+}
+
+std::string display_help() {
+  std::string names;
+  for (const display_preset_info& p : display_presets()) names += std::string(names.empty() ? "" : ", ") + p.name;
+  return "The display: a preset (" + names +
+         "; docs/displays.md), WxH (seen from one width), WxH@Nppd (N pixels per degree at the centre), WxH@Ndeg "
+         "(a horizontal field of view of N degrees) or WxH@V (seen from V widths)";
 }
 
 void require_output(const std::string& flag, const std::string& path, const std::vector<std::string>& inputs) {

@@ -23,9 +23,13 @@ int run_tool(const char* tool, CLI::App& app, int argc, char** argv, const std::
 // "X,Y" in screen pixels, "centre"/"center" (W/2, H/2) or "corner" (W, H).
 bool parse_gaze(const std::string& text, const display_geometry& display, gaze_point& out);
 
-// A preset name (fove, vive, desktop1080) or "WxH" (8..8192, v = 1); throws usage_error
-// naming --display (fovbench's sweep and its compare command).
-display_geometry parse_display(const std::string& text);
+// A display spec (fov::parse_display: a preset, WxH, WxH@Nppd, WxH@Ndeg or WxH@V); a
+// viewing distance other than 0 replaces the spec's (--viewing-distance). Throws a usage_error
+// naming the flag. Every tool's --display goes through it.
+display_geometry require_display(const std::string& flag, const std::string& text, double viewing_distance = 0);
+
+// The help line of every --display flag.
+std::string display_help();
 
 // parse_gaze, or a usage_error naming `flag` when the text is malformed or off screen.
 gaze_point require_gaze(const std::string& flag, const std::string& text, const display_geometry& display);

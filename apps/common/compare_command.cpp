@@ -50,6 +50,18 @@ json photometry_json(const display_photometry& p) {
 }
 
 // `fovbench compare --fps`: FovVideoVDP over the frames, one gaze.
+// --display (with --viewing-distance), or the images' size seen from one width (or from
+// --viewing-distance).
+display_geometry display_for(const compare_options& o, int width, int height) {
+  if (!o.display.empty()) return require_display("--display", o.display, o.viewing_distance);
+  display_geometry display{width, height, 1.0};
+  if (o.viewing_distance != 0) {
+    if (const std::string why = viewing_distance_problem(o.viewing_distance); !why.empty()) throw usage_error("--viewing-distance: " + why);
+    display.viewing_distance = o.viewing_distance;
+  }
+  return display;
+}
+
 std::string run_compare_video(const compare_options& o) {
   if (o.frames < 1 || o.frames > 100000) throw usage_error("--frames must lie in 1..100000 with --fps");
   if (!(o.fps >= 8 && o.fps <= 1000)) throw usage_error("--fps must lie in 8..1000");
@@ -59,11 +71,7 @@ std::string run_compare_video(const compare_options& o) {
   frame_path("test", o.test, 0, true);
   frame_path("reference", o.reference, 0, false);
   const frame first = read_frame(frame_path("test", o.test, 0, true));
-  display_geometry display = o.display.empty() ? display_geometry{first.width, first.height, 1.0} : parse_display(o.display);
-  if (o.viewing_distance != 0) {
-    if (const std::string why = viewing_distance_problem(o.viewing_distance); !why.empty()) throw usage_error("--viewing-distance: " + why);
-    display.viewing_distance = o.viewing_distance;
-  }
+  const display_geometry display = display_for(o, first.width, first.height);
   if (display.width != first.width || display.height != first.height)
     throw usage_error(fmt::format("--display is {}x{}, the frames {}x{}", display.width, display.height, first.width, first.height));
   if (display.width < 8 || display.height < 8) throw usage_error("JOD needs frames of at least 8x8 pixels");
@@ -99,11 +107,7 @@ std::string run_compare(const compare_options& o) {
     return run_compare_video(o);
   }
   const bool named = !o.display.empty();
-  display_geometry display = named ? parse_display(o.display) : display_geometry{};
-  if (o.viewing_distance != 0) {
-    if (const std::string why = viewing_distance_problem(o.viewing_distance); !why.empty()) throw usage_error("--viewing-distance: " + why);
-    display.viewing_distance = o.viewing_distance;
-  }
+  display_geometry display = display_for(o, 0, 0);
   if (!o.flip && !(o.flip_map.empty() && o.foveated_flip_map.empty()))
     throw usage_error("--no-flip leaves no FLIP map to write");
   // The maps are checked before anything is read: neither may be an input (or each other).

@@ -12,7 +12,7 @@ namespace fov {
 // `fovbench compare`: two image files, the display they are seen on and the gaze.
 struct compare_options {
   std::string test, reference;
-  std::string display;             // a preset or WxH, 8..8192 (parse_display; empty: the images' size)
+  std::string display;             // a display spec (require_display; empty: the images' size)
   double viewing_distance = 0;     // display widths (0: the display's, 1 for WxH)
   std::string gaze = "centre";
   bool json = false, flip = true, jod = true;

@@ -104,11 +104,11 @@ std::string fovea_text(const bench_options& o) {
 
 // Where the set for one scale lives in --points-dir.
 std::string bench_pointset_path(const bench_options& o, const display_geometry& display, double scale) {
-  display_geometry preset;
-  const std::string name = display_preset(o.display, preset) ? o.display : fmt::format("{}x{}", display.width, display.height);
-  return (fs::path(o.points_dir) /
-          fmt::format("{}-s{:.2f}{}.fovset", name, scale, o.fovea == fovea_layout::grid ? "-" + fovea_text(o) : ""))
-      .string();
+  spacing_model model;
+  model.display = display, model.scale = scale;
+  dart_params darts;
+  darts.fovea = o.fovea, darts.grid_spacing = o.grid_spacing;
+  return (fs::path(o.points_dir) / pointset_file_name(model, darts)).string();
 }
 
 }  // namespace
@@ -130,9 +130,9 @@ std::shared_ptr<const pointset> bench_pointset(const bench_options& o, const dis
   auto set = std::make_shared<const pointset>(load_pointset(path));
   if (fovea_label(set->darts) != fovea_text(o))
     throw std::runtime_error(fmt::format("{}: its fovea is {}, not {}", path, fovea_label(set->darts), fovea_text(o)));
-  if (set->model.display.width != display.width || set->model.display.height != display.height)
-    throw std::runtime_error(fmt::format("{}: made for {}x{}, not {}x{}", path, set->model.display.width,
-                                         set->model.display.height, display.width, display.height));
+  if (display_name(set->model.display) != display_name(display) || set->model.scale != scale)
+    throw std::runtime_error(fmt::format("{}: made for {} at s = {}, not {} at s = {}", path, display_name(set->model.display),
+                                         set->model.scale, display_name(display), scale));
   for (uint32_t k : o.ks)
     if (k > set->table.k) throw usage_error(fmt::format("--k {} exceeds the k = {} of {}", k, set->table.k, path));
   return set;
@@ -278,7 +278,7 @@ display_geometry check_bench_options(const bench_options& o) {
   if (!std::isnan(o.budget_psnr) && !std::isnan(o.budget_foveated)) throw usage_error("give one budget");
   const std::string problem = validate(o.render);
   if (!problem.empty()) throw usage_error(problem);
-  const display_geometry display = parse_display(o.display);
+  const display_geometry display = require_display("--display", o.display, o.viewing_distance);
   const size_t gazes = parse_gazes(o.gazes, display, o.render.seed).size();
   // The video JOD keeps the converged path of every gaze (colour, 12 bytes a pixel).
   if (o.temporal_frames >= 2 && o.jod)
@@ -290,7 +290,12 @@ display_geometry check_bench_options(const bench_options& o) {
   // Sets that will be generated need a --points-dir this process can write in: known now,
   // not after the references are traced.
   for (double s : o.scales)
-    if (!fs::exists(bench_pointset_path(o, display, s))) require_output_dir("--points-dir", o.points_dir);
+    if (!fs::exists(bench_pointset_path(o, display, s))) {
+      require_output_dir("--points-dir", o.points_dir);
+      if (const std::string why = memory_problem(knn_table_bytes(display, knn_params{}.k), "generating a set's k-NN table");
+          !why.empty())
+        throw usage_error("--display: " + why);
+    }
   // -o/references must be (or become) a directory.
   if (const fs::path refs = fs::path(o.out) / "references"; fs::exists(refs) && !fs::is_directory(refs))
     throw usage_error(fmt::format("-o {}: {} is not a directory", o.out, refs.string()));
@@ -370,7 +375,7 @@ namespace {
 // The configurations results.csv already holds (--resume), after checking that its rows were
 // measured the way this run would measure them: one footprint, fovea, render setting and
 // reference per file.
-std::set<std::string> resumed_keys(const bench_options& o, const std::string& results_path) {
+std::set<std::string> resumed_keys(const bench_options& o, const display_geometry& display, const std::string& results_path) {
   std::set<std::string> done;
   std::error_code ec;
   if (!fs::exists(results_path, ec)) return done;
@@ -382,6 +387,9 @@ std::set<std::string> resumed_keys(const bench_options& o, const std::string& re
     if (r.text("texture_footprint") != footprint)
       throw std::runtime_error(fmt::format("{}: its rows were traced with --texture-footprint {}, not {}; use another -o",
                                            results_path, r.text("texture_footprint"), footprint));
+    if (r.text("display") != display_name(display))
+      throw std::runtime_error(fmt::format("{}: its rows were measured on display {}, not {}; use another -o", results_path,
+                                           r.text("display"), display_name(display)));
     if (r.text("fovea") != fovea)
       throw std::runtime_error(fmt::format("{}: its foveated sets have --fovea {}, not {}; use another -o", results_path,
                                            r.text("fovea"), fovea));
@@ -522,6 +530,7 @@ class scene_sweep {
     const named_gaze& gp = st_.gazes[c.gaze];
     row.cells.insert({{"gaze_x", number(gp.at.x)}, {"gaze_y", number(gp.at.y)},
                       {"texture_footprint", texture_footprint_name(o_.render.footprint)}, {"fovea", fovea_text(o_)},
+                      {"display", display_name(st_.display)}, {"ppd", number(pixels_per_degree(st_.display))},
                       {"device", r_.device()}, {"frames", std::to_string(o_.frames)},
                       {"render_settings", render_settings_label(o_.render)},
                       {"full_rays", std::to_string(uint64_t(st_.display.width) * st_.display.height * c.spp)}});
@@ -707,7 +716,7 @@ size_t run_bench(const bench_options& o, const bench_reporter& report) {
   st.results_path = (fs::path(o.out) / "results.csv").string();
   require_output_dir("-o", o.out);
   st.gazes = parse_gazes(o.gazes, st.display, o.render.seed);
-  st.done = resumed_keys(o, st.results_path);
+  st.done = resumed_keys(o, st.display, st.results_path);
   st.all = all_configs(o, st.gazes);
   for (const config& c : st.all) st.todo += !st.done.count(c.key);
   std::vector<std::shared_ptr<const scene>> scenes = load_needed_scenes(st);

@@ -50,7 +50,9 @@ int main(int argc, char** argv) {
   fov::bench_options o;
   o.methods = {fov::method::shepard};
   app.add_option("--scene", o.scenes, "Scene (repeat): builtin, a glTF/OBJ file, env:IMAGE")->take_all();
-  app.add_option("--display", o.display, "fove, vive, desktop1080, or WxH (v = 1)");
+  app.add_option("--display", o.display, fov::display_help());
+  app.add_option("--viewing-distance", o.viewing_distance, "Eye-to-screen distance in display widths (replaces the display's)")
+      ->check(CLI::Range(fov::min_viewing_distance, fov::max_viewing_distance));
   app.add_option("--scales", o.scales, "Point-set scales, e.g. 1.0,1.5,2.0")->delimiter(',');
   fov::add_label_option(app, "--methods", o.methods, fov::method_labels, "Reconstructions, e.g. nn,shepard")->delimiter(',');
   app.add_option("--k", o.ks, "Neighbours, e.g. 5,10,20 (nn always uses 1)")->delimiter(',');
@@ -99,8 +101,9 @@ int main(int argc, char** argv) {
       "compare", "Compare two images: JOD (FovVideoVDP), PSNR/SSIM, FLIP and foveated FLIP by eccentricity band");
   compare->add_option("test", co.test, "Test image")->required();
   compare->add_option("reference", co.reference, "Reference image")->required();
-  compare->add_option("--display", co.display, "fove, vive, desktop1080 or WxH (default: the images' size, v = 1)");
-  compare->add_option("--viewing-distance", co.viewing_distance, "Eye-to-screen distance in display widths");
+  compare->add_option("--display", co.display, fov::display_help() + " (default: the images' size, v = 1)");
+  compare->add_option("--viewing-distance", co.viewing_distance, "Eye-to-screen distance in display widths")
+      ->check(CLI::Range(fov::min_viewing_distance, fov::max_viewing_distance));
   compare->add_option("--gaze", co.gaze, "X,Y in pixels, centre or corner")->capture_default_str();
   compare->add_flag("--json", co.json, "Print JSON");
   compare->add_flag("--no-flip", [&co](int64_t) { co.flip = false; }, "Skip FLIP and the foveated FLIP");

@@ -23,7 +23,8 @@ inline constexpr std::pair<const char*, baseline> baseline_labels[] = {{"full", 
 
 struct bench_options {
   std::vector<std::string> scenes;
-  std::string display = "fove";
+  std::string display = "fove";  // a display spec (require_display)
+  double viewing_distance = 0;   // display widths; 0: the display's own
   std::vector<double> scales{1.0};
   std::vector<method> methods;
   std::vector<uint32_t> ks{5};

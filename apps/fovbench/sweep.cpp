@@ -21,6 +21,7 @@ const std::vector<std::string>& result_columns() {
   static const std::vector<std::string> columns = {
       // What the row is.
       "scene", "gaze", "gaze_x", "gaze_y", "kind", "scale", "pixel_fraction", "method", "k", "spp", "texture_footprint", "fovea",
+      "display", "ppd",
       // What it cost, timed interleaved with a full-resolution frame at the same spp.
       "points_traced", "rays", "full_rays", "trace_ms", "reconstruct_ms", "frame_ms", "frame_ms_lo", "frame_ms_hi",
       "full_ms", "full_ms_lo", "full_ms_hi", "speedup", "speedup_lo", "speedup_hi", "timing_flag",
@@ -168,7 +169,7 @@ std::vector<result_row> read_results(const std::string& path) {
   if (header != result_columns())
     throw std::runtime_error(fmt::format("{}:1: not a results.csv of this fovbench (columns differ); use another -o", path));
   static const std::set<std::string> text_columns = {"scene",  "gaze",         "kind",   "method",         "texture_footprint",
-                                                     "fovea",  "timing_flag",  "device", "render_settings", "error_profile",
+                                                     "fovea",  "display", "timing_flag",  "device", "render_settings", "error_profile",
                                                      "speedup_samples", "ladder_samples"};
   std::vector<result_row> rows;
   std::map<std::string, int> first_line;  // by key

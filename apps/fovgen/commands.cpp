@@ -30,7 +30,7 @@ using clock_type = std::chrono::steady_clock;
 }  // namespace
 
 void add_generate_flags(CLI::App& app, generate_options& o) {
-  app.add_option("--display", o.display, "Preset screen: fove (1280x1440), vive (1080x1200), desktop1080; v = 1");
+  app.add_option("--display", o.display, display_help() + "; --width, --height and -v given with it replace its own");
   app.add_option("--width", o.width, "Screen width W in pixels (canvas is 2W)");
   app.add_option("--height", o.height, "Screen height H in pixels (canvas is 2H)");
   app.add_option("--viewing-distance,-v", o.viewing_distance, "Viewing distance in display widths");
@@ -56,10 +56,7 @@ namespace {
 
 spacing_model model_from(const generate_options& o) {
   spacing_model m;
-  if (!o.display.empty()) {
-    if (!display_preset(o.display, m.display))
-      throw usage_error(fmt::format("--display: unknown preset '{}' (fove, vive, desktop1080)", o.display));
-  }
+  if (!o.display.empty()) m.display = require_display("--display", o.display);
   if (o.display.empty() || o.width_given) m.display.width = o.width;
   if (o.display.empty() || o.height_given) m.display.height = o.height;
   if (o.display.empty() || o.distance_given) m.display.viewing_distance = o.viewing_distance;
@@ -82,6 +79,9 @@ spacing_model model_from(const generate_options& o) {
   if (!parse_table_encoding(o.encoding, e))
     throw usage_error(fmt::format("--encoding: unknown '{}' (ref-left-zstd, raw)", o.encoding));
   if (const std::string why = validate(m); !why.empty()) throw usage_error(why);
+  if (const std::string why = memory_problem(knn_table_bytes(m.display, o.k), fmt::format("the k-NN table (k = {})", o.k));
+      !why.empty())
+    throw usage_error(fmt::format("--display {}x{}: {}", m.display.width, m.display.height, why));
   return m;
 }
 
@@ -91,6 +91,9 @@ json summary(const pointset& set, const std::string& path) {
   j["width"] = set.model.display.width;
   j["height"] = set.model.display.height;
   j["viewing_distance"] = set.model.display.viewing_distance;
+  j["display"] = display_name(set.model.display);
+  j["pixels_per_degree"] = pixels_per_degree(set.model.display);
+  j["fov_deg"] = {horizontal_fov_deg(set.model.display), vertical_fov_deg(set.model.display)};
   j["scale"] = set.model.scale;
   j["acuity_model"] = acuity_model_name(set.model.acuity.model);
   j["csf"] = {{"ct0", set.model.acuity.ct0}, {"alpha", set.model.acuity.alpha}, {"e2", set.model.acuity.e2}};
@@ -305,9 +308,6 @@ int run_sweep(const sweep_options& o) {
   const std::vector<double> scales = parse_scales(sweep_scales);
   require_output_dir("-o", sweep_dir);
   make_output_dir(sweep_dir);
-  const std::string prefix = !sweep_gen.display.empty()
-      ? sweep_gen.display
-      : fmt::format("{}x{}-v{}", base.display.width, base.display.height, base.display.viewing_distance);
   plot_panel counts;
   counts.title = "Points in the set against scale s", counts.x_label = "scale factor s", counts.y_label = "points";
   for (const char* name : {"total", "traced, centred gaze", "traced, corner gaze"}) {
@@ -321,12 +321,11 @@ int run_sweep(const sweep_options& o) {
     const double s = scales[i];
     dart_params layout;
     layout.fovea = sweep_gen.fovea, layout.grid_spacing = sweep_gen.grid_spacing;
-    const std::string suffix = layout.fovea == fovea_layout::grid ? "-" + fovea_label(layout) : "";
-    const std::string path = fmt::format("{}/{}-s{:.2f}{}.fovset", sweep_dir, prefix, s, suffix);
-    progress(i, scales.size(), std::chrono::duration<double>(clock_type::now() - start).count(),
-             fmt::format("s={:.2f}", s));
     spacing_model m = base;
     m.scale = s;
+    const std::string path = (std::filesystem::path(sweep_dir) / pointset_file_name(m, layout)).string();
+    progress(i, scales.size(), std::chrono::duration<double>(clock_type::now() - start).count(),
+             fmt::format("s={:.2f}", s));
     if (const std::string why = validate(m); !why.empty()) throw usage_error(fmt::format("scale {}: {}", s, why));
     bool reuse = false;
     if (skip_existing && std::filesystem::exists(path)) {
@@ -364,6 +363,25 @@ int run_sweep(const sweep_options& o) {
   if (const std::string why = write_plot({counts}, sweep_dir + "/point-counts"); !why.empty())
     std::cerr << "fovgen: warning: " << why << "\n";
   std::cout << csv;
+  return 0;
+}
+
+int run_displays(const std::string& spec, bool as_json) {
+  std::vector<std::pair<display_geometry, std::string>> rows;  // geometry, what
+  if (!spec.empty()) rows.emplace_back(require_display("--display", spec), "");
+  else
+    for (const display_preset_info& p : display_presets()) rows.emplace_back(p.geometry(), p.what);
+  json all = json::array();
+  std::string table =
+      "| display | W x H | v (widths) | pixels per degree | field of view (deg) | what |\n|---|---|---|---|---|---|\n";
+  for (const auto& [d, what] : rows) {
+    all.push_back({{"display", display_name(d)}, {"width", d.width}, {"height", d.height},
+                   {"viewing_distance", d.viewing_distance}, {"pixels_per_degree", pixels_per_degree(d)},
+                   {"fov_deg", {horizontal_fov_deg(d), vertical_fov_deg(d)}}, {"what", what}});
+    table += fmt::format("| `{}` | {} x {} | {:.4g} | {:.1f} | {:.1f} x {:.1f} | {} |\n", display_name(d), d.width, d.height,
+                         d.viewing_distance, pixels_per_degree(d), horizontal_fov_deg(d), vertical_fov_deg(d), what);
+  }
+  std::cout << (as_json ? all.dump(2) + "\n" : table);
   return 0;
 }
 

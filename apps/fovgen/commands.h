@@ -54,5 +54,8 @@ int run_generate(const generate_options& o);
 int run_info(const info_options& o);
 int run_plot(const plot_options& o);
 int run_sweep(const sweep_options& o);
+// The presets (or one display spec): size, viewing distance, pixels per degree, fields of view
+// and the name its sets carry; a Markdown table, or JSON.
+int run_displays(const std::string& spec, bool json);
 
 }  // namespace fov

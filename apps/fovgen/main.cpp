@@ -33,8 +33,15 @@ int main(int argc, char** argv) {
   sweep->add_option("-o,--output", so.dir, "Output directory")->required();
   sweep->add_flag("--skip-existing", so.skip_existing, "Keep sets already in the directory that load cleanly");
 
+  CLI::App* displays = app.add_subcommand("displays", "List the preset displays with their geometry (docs/displays.md)");
+  bool displays_json = false;
+  std::string display_spec;
+  displays->add_option("--display", display_spec, "Describe this display instead: " + fov::display_help());
+  displays->add_flag("--json", displays_json, "Print JSON");
+
   return fov::run_tool("fovgen", app, argc, argv, [&] {
     if (*info) return fov::run_info(io);
+    if (*displays) return fov::run_displays(display_spec, displays_json);
     if (*plot) return fov::run_plot(po);
     if (*sweep) {
       fov::note_given_flags(*sweep, so.generate);

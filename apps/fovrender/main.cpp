@@ -36,6 +36,8 @@ struct render_options {
   fov::display_photometry photometry;
   bool size_given = false;  // --width or --height given
   int width = 1280, height = 1440;  // without --points
+  std::string display;              // without --points: a display spec instead of --width/--height
+  double viewing_distance = 1.0;    // from --display
   uint32_t taa_frames = 0;
   uint32_t speedup = 0;  // repetitions of the paired timing (0: none)
   uint32_t reference_spp = 0;  // compare against a converged reference traced here (0: none)
@@ -84,6 +86,7 @@ int main(int argc, char** argv) {
   app.add_flag("--reference", o.reference, "Render at full resolution instead");
   app.add_option("--width", o.width, "Screen width without --points")->check(CLI::Range(1, 65536));
   app.add_option("--height", o.height, "Screen height without --points")->check(CLI::Range(1, 65536));
+  app.add_option("--display", o.display, "Without --points: " + fov::display_help());
   app.add_option("--taa-frames", o.taa_frames, "Render this many frames of the view with TAA (--pattern)")
       ->check(CLI::Range(0u, 10000u));
   app.add_option("--speedup", o.speedup,
@@ -110,6 +113,12 @@ int main(int argc, char** argv) {
   return fov::run_tool("fovrender", app, argc, argv, [&] {
     o.debug_asked = debug->count() > 0;
     o.size_given = app.count("--width") + app.count("--height") > 0;
+    if (!o.display.empty()) {
+      if (!o.points.empty()) throw usage_error("--display: the set gives the display; drop it with --points");
+      if (o.size_given) throw usage_error("--display: give it or --width/--height, not both");
+      const fov::display_geometry d = fov::require_display("--display", o.display);
+      o.width = d.width, o.height = d.height, o.viewing_distance = d.viewing_distance;
+    }
     o.photometry_given = app.count("--peak-luminance") + app.count("--contrast") + app.count("--ambient") > 0;
     check_options(o, p);
     p.taa = o.taa_frames > 0;
@@ -139,7 +148,7 @@ int main(int argc, char** argv) {
 
     fov::require_valid(p);  // what does not depend on the set, before loading it
     std::shared_ptr<const fov::pointset> set;
-    fov::display_geometry display{o.width, o.height, 1.0};
+    fov::display_geometry display{o.width, o.height, o.viewing_distance};
     if (!o.points.empty()) {
       set = std::make_shared<const fov::pointset>(fov::load_pointset(o.points));
       display = set->model.display;

@@ -199,6 +199,7 @@ stair_protocol parse_protocol(const std::string& text, const std::string& file) 
   top.get("scene", p.scene);
   top.get("points_dir", p.points_dir);
   top.get("display", p.display);
+  if (display_geometry d; !parse_display(p.display, d).empty()) top.fail("/display", parse_display(p.display, d));
   top.get("spp", p.spp);
   if (p.spp < 1 || p.spp > 1024) top.fail("/spp", "must lie in 1..1024");
   top.get("taa", p.taa);
@@ -340,7 +341,10 @@ std::vector<double> reachable_scales(const stair_protocol& p) {
 }
 
 std::string pointset_path(const stair_protocol& p, double scale) {
-  return fmt::format("{}/{}-s{:.2f}.fovset", p.points_dir, p.display, scale);
+  spacing_model model;
+  if (const std::string why = parse_display(p.display, model.display); !why.empty()) throw std::runtime_error("display: " + why);
+  model.scale = scale;
+  return p.points_dir + "/" + pointset_file_name(model, dart_params{});
 }
 
 render_params stimulus_params(const stair_protocol& p, const stair_condition& c) {

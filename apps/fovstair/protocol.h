@@ -41,7 +41,7 @@ struct stair_protocol {
   std::string name, description;
   std::string scene = "builtin";   // builtin, FILE or env:IMAGE
   std::string points_dir = "precomputed";  // relative to the working directory
-  std::string display = "fove";    // point-set family: <display>-s<scale>.fovset
+  std::string display = "fove";    // a display spec (fov::parse_display); sets are named by pointset_file_name
   uint32_t spp = 4;
   bool taa = true;
   double hfov = 0;                 // 0: the scene's
@@ -93,7 +93,7 @@ std::vector<double> reachable_scales(const stair_protocol& p);
 // rays, the protocol's TAA and camera (hfov) and the renderer's defaults for the rest.
 render_params stimulus_params(const stair_protocol& p, const stair_condition& c);
 
-// The point-set file for a scale: <points_dir>/<display>-s<scale, 2 decimals>.fovset.
+// The point-set file for a scale: <points_dir>/<fov::pointset_file_name> (a darts fovea).
 std::string pointset_path(const stair_protocol& p, double scale);
 
 }  // namespace fov

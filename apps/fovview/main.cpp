@@ -27,6 +27,7 @@ int main(int argc, char** argv) {
   app.add_option("--points", o.points, "A point set (.fovset)");
   app.add_option("--points-dir", o.points_dir, "A family of point sets to switch between with [ and ]");
   app.add_option("--scale", o.scale, "With --points-dir: the scale to start at (default the smallest)");
+  app.add_option("--display", o.display, "With --points-dir holding several displays' sets: whose to show. " + fov::display_help());
   fov::add_render_flags(app, settings);
   app.add_option("--target-fps", o.target_fps, "Adapt rays per point to keep this frame rate (0: off, the default)");
   app.add_flag("--no-taa", o.no_taa, "Start with TAA off");
@@ -48,6 +49,7 @@ int main(int argc, char** argv) {
     using fov::usage_error;
     fov::require_valid(settings);
     if (o.points.empty() == o.points_dir.empty()) throw usage_error("give --points SET or --points-dir DIR");
+    if (!o.display.empty() && o.points_dir.empty()) throw usage_error("--display chooses among --points-dir's sets; --points names one");
     if ((!o.gaze_trace.empty()) + (o.gaze_udp != 0) + (!o.fixed_gaze.empty()) > 1) throw usage_error("choose one gaze source");
     if (o.gaze_udp < 0 || o.gaze_udp > 65535) throw usage_error(fmt::format("--gaze-udp {}: not a port", o.gaze_udp));
     if (!(o.target_fps >= 0 && o.target_fps <= 1000)) throw usage_error("--target-fps must lie in 0..1000");

@@ -7,6 +7,7 @@
 #include <fstream>
 #include <iostream>
 #include <map>
+#include <set>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -55,7 +56,10 @@ struct pointset_family {
   }
 };
 
-pointset_family find_family(const std::string& points, const std::string& dir) {
+// The sets of one display and fovea in --points-dir, by scale. A directory may hold several
+// displays' families (pick one with --display) and a display's darts and grid sets (the
+// darts family is shown; a grid set with --points). With --scale, only families holding it.
+pointset_family find_family(const std::string& points, const std::string& dir, const std::string& display_spec, double scale) {
   pointset_family f;
   if (!points.empty()) {
     const fov::pointset head = fov::load_pointset(points, {false});
@@ -63,15 +67,42 @@ pointset_family find_family(const std::string& points, const std::string& dir) {
     return f;
   }
   if (!fs::is_directory(dir)) throw std::runtime_error(fmt::format("--points-dir {}: not a directory", dir));
-  int width = 0, height = 0;
+  std::string wanted;
+  if (!display_spec.empty()) wanted = fov::display_name(fov::require_display("--display", display_spec));
+  std::map<std::pair<std::string, std::string>, pointset_family> families;  // (display, fovea)
   for (const auto& e : fs::directory_iterator(dir)) {
     if (e.path().extension() != ".fovset") continue;
     const fov::pointset head = fov::load_pointset(e.path().string(), {false});
-    if (f.files.empty()) width = head.model.display.width, height = head.model.display.height;
-    if (head.model.display.width != width || head.model.display.height != height) continue;  // another display's family
-    f.files.emplace_back(head.model.scale, e.path().string());
+    const std::string name = fov::display_name(head.model.display);
+    if (!wanted.empty() && name != wanted) continue;
+    families[{name, fov::fovea_label(head.darts)}].files.emplace_back(head.model.scale, e.path().string());
   }
-  if (f.files.empty()) throw std::runtime_error(fmt::format("--points-dir {}: no .fovset files", dir));
+  for (auto it = families.begin(); it != families.end();) {
+    const bool has = scale <= 0 || std::any_of(it->second.files.begin(), it->second.files.end(),
+                                               [&](const auto& file) { return std::fabs(file.first - scale) <= 1e-6; });
+    it = has ? std::next(it) : families.erase(it);
+  }
+  const std::string what = fmt::format("{}{}", scale > 0 ? fmt::format(" at s = {}", scale) : "",
+                                       wanted.empty() ? "" : " for display " + wanted);
+  if (families.empty()) {
+    if (scale > 0) throw usage_error(fmt::format("--scale {}: no such set in {}{}", scale, dir, what));
+    throw std::runtime_error(fmt::format("--points-dir {}: no .fovset files{}", dir, what));
+  }
+  std::set<std::string> displays;
+  for (const auto& [key, family] : families) displays.insert(key.first);
+  if (displays.size() > 1) {
+    std::string list;
+    for (const std::string& d : displays) list += (list.empty() ? "" : ", ") + d;
+    throw usage_error(fmt::format("--points-dir {} holds sets{} of several displays ({}): choose one with --display", dir, what, list));
+  }
+  // One display: its darts family, else its only family.
+  auto chosen = families.find({*displays.begin(), "darts"});
+  if (chosen == families.end()) {
+    if (families.size() > 1)
+      throw usage_error(fmt::format("--points-dir {} holds several grid families{}: open one set with --points", dir, what));
+    chosen = families.begin();
+  }
+  f = chosen->second;
   std::sort(f.files.begin(), f.files.end());
   return f;
 }
@@ -98,7 +129,7 @@ int run_viewer(const viewer_options& o, render_params settings) {
   const long shot_frame = o.screenshot_frame;
   const std::string& shot_file = o.screenshot_file;
   const bool as_json = o.json, pipeline = o.pipeline, no_taa = o.no_taa;
-  pointset_family family = find_family(points, points_dir);
+  pointset_family family = find_family(points, points_dir, o.display, scale);
   size_t level = 0;
   if (scale > 0) {
     while (level + 1 < family.files.size() && family.files[level].first + 1e-6 < scale) ++level;

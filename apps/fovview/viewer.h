@@ -14,6 +14,7 @@ struct viewer_options {
   std::string scene = "builtin";
   std::string points, points_dir;  // one of the two
   double scale = 0;                // with points_dir: the scale to start at (0: the smallest)
+  std::string display;             // with points_dir: the display whose sets to show (a spec; empty: the only one)
   std::string gaze_trace, fixed_gaze;
   int gaze_udp = 0;                // a port, 0: none
   std::string camera_path;

@@ -11,16 +11,6 @@ namespace {
 constexpr double pi = 3.14159265358979323846;
 }
 
-bool display_preset(const std::string& name, display_geometry& out) {
-  // FOVE 0: 2560x1440 panel, 1280x1440 per eye; v = 1 display width as in the thesis.
-  if (name == "fove") { out = {1280, 1440, 1.0}; return true; }
-  // HTC Vive: 1080x1200 per eye; same viewing distance convention.
-  if (name == "vive") { out = {1080, 1200, 1.0}; return true; }
-  // A 1920x1080 desktop monitor ~60 cm wide seen from ~60 cm.
-  if (name == "desktop1080") { out = {1920, 1080, 1.0}; return true; }
-  return false;
-}
-
 const char* acuity_model_name(acuity_model model) {
   switch (model) {
     case acuity_model::wang_csf: return "wang_csf";
@@ -51,17 +41,6 @@ double point_spacing_px(const spacing_model& model, double distance_px) {
   const double fc0 = std::min(fd, fc);
   const double a = std::sqrt(1.0 / pi);
   return fd / fc0 - (1.0 - a);
-}
-
-double pixel_eccentricity_deg(const display_geometry& d, gaze_point gaze, int x, int y) {
-  const double dist = std::hypot(x + 0.5 - gaze.x, y + 0.5 - gaze.y);
-  return std::atan(dist / (double(d.width) * d.viewing_distance)) * 180 / pi;
-}
-
-std::string viewing_distance_problem(double v) {
-  if (v >= min_viewing_distance && v <= max_viewing_distance) return "";
-  return fmt::format("viewing distance must lie in {}..{} display widths (got {:.4g})", min_viewing_distance,
-                     max_viewing_distance, v);
 }
 
 std::string validate(const spacing_model& m) {

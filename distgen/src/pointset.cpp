@@ -70,6 +70,13 @@ std::string fovea_label(const dart_params& params) {
   return text;
 }
 
+std::string pointset_file_name(const spacing_model& model, const dart_params& darts) {
+  char scale[64];
+  std::snprintf(scale, sizeof scale, "%.2f", model.scale);
+  return display_name(model.display) + "-s" + scale +
+         (darts.fovea == fovea_layout::grid ? "-" + fovea_label(darts) : std::string()) + ".fovset";
+}
+
 double grid_radius(const spacing_model& model, const dart_params& params) {
   if (params.fovea != fovea_layout::grid || point_spacing_px(model, 0) > params.grid_spacing) return -1;
   double lo = 0, hi = std::hypot(2.0 * model.display.width, 2.0 * model.display.height);

@@ -5,37 +5,9 @@
 #include <cstdint>
 #include <string>
 
+#include "fov/display.h"
+
 namespace fov {
-
-// The display the image is seen on. Viewing distance is in display widths.
-struct display_geometry {
-  int width = 1280;               // N: screen width in pixels
-  int height = 1440;              // screen height in pixels
-  double viewing_distance = 1.0;  // v: eye-to-screen distance / screen width
-};
-
-// The viewing distances every tool takes, in display widths: from 0.01 (a 178 degree field
-// of view across the width) to 1000 (0.06 degrees); outside them pixels per degree and the
-// eccentricities of the acuity model leave any display (a 1e-300 distance gave NaN FLIP).
-constexpr double min_viewing_distance = 0.01, max_viewing_distance = 1000;
-// "" when v lies in that range, else why not (naming the range).
-std::string viewing_distance_problem(double v);
-
-// Where the viewer looks: a screen position in pixels, continuous; (0, 0) is the top-left
-// corner of the top-left pixel, y grows downwards. The one gaze type of every library and app.
-struct gaze_point {
-  double x = 0, y = 0;
-  bool operator==(const gaze_point& o) const { return x == o.x && y == o.y; }
-  bool operator!=(const gaze_point& o) const { return !(*this == o); }
-};
-inline gaze_point screen_centre(const display_geometry& d) { return {0.5 * d.width, 0.5 * d.height}; }
-
-// Eccentricity (degrees) of screen pixel (x, y)'s centre seen with the gaze at `gaze`:
-// atan(d / (W v)) for a screen W pixels wide viewed from v widths (thesis Eq. 1, s = 1).
-double pixel_eccentricity_deg(const display_geometry& display, gaze_point gaze, int x, int y);
-
-// Named displays (documented in docs/fovgen.md). Returns false for an unknown name.
-bool display_preset(const std::string& name, display_geometry& out);
 
 // Which acuity model turns eccentricity into a cut-off frequency. Only the
 // thesis model exists; a new model adds an enumerator, its parameters to

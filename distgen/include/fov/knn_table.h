@@ -35,6 +35,11 @@ class knn_builder {
   uint32_t width_, height_, k_;
 };
 
+// Bytes of the table of a set for this display: (2W)(2H) k point indices.
+inline uint64_t knn_table_bytes(const display_geometry& display, uint32_t k) {
+  return 4ull * uint64_t(display.width) * uint64_t(display.height) * k * sizeof(uint32_t);
+}
+
 // Builds the whole table in memory.
 knn_table build_knn_table(const std::vector<point>& points, uint32_t canvas_width,
                           uint32_t canvas_height, const knn_params& params);

@@ -166,6 +166,12 @@ bool is_grid_point(const pointset& set, const point& p);
 // grid spacing) or "grid-S" for another spacing S (e.g. "grid-1.10").
 std::string fovea_label(const dart_params& params);
 
+// The one file name of a set, from what fixes it: DISPLAY-sS[-FOVEA].fovset, where DISPLAY is
+// display_name(model.display), S the scale to 2 decimals and FOVEA fovea_label(darts) for a
+// grid fovea (e.g. fove-s1.00.fovset, 640x720-v1-s1.75-grid.fovset). Every tool that
+// writes or looks for a set in a directory names it so.
+std::string pointset_file_name(const spacing_model& model, const dart_params& darts);
+
 // The grid's radius: a distance from the canvas centre at which the model's spacing is at
 // most params.grid_spacing, within 1e-9 px of the largest such (bisection; the spacing never
 // shrinks with distance); -1 without a grid, or when even the centre's spacing exceeds it.
