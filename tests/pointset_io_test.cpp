@@ -196,6 +196,15 @@ TEST_F(PointsetFile, GridSetsRoundTripAndVersionOneFilesStillLoad) {
   write(path("moved.fovset"), bytes);
   EXPECT_NE(load_error(path("moved.fovset")).find("grid pixels"), std::string::npos) << load_error(path("moved.fovset"));
 
+  // The same moved point with the header's grid count lowered to match: now a dart inside a
+  // grid pixel, which the loader refuses by name (grid sets from before issue 24 held ~1 a pixel).
+  const uint64_t fewer = back.stats.grid_points - 1;
+  std::memcpy(&bytes[216], &fewer, 8);
+  reseal(bytes, back.points.size());
+  write(path("hidden.fovset"), bytes);
+  EXPECT_NE(load_error(path("hidden.fovset")).find("1 darts lie inside grid pixels"), std::string::npos)
+      << load_error(path("hidden.fovset"));
+
   // Version 1 (before the fovea layout) had zeros where version 2 keeps it: it loads as darts.
   save_pointset(path("d.fovset"), set_);
   bytes = read(path("d.fovset"));

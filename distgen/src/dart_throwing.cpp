@@ -67,7 +67,7 @@ class dart_board {
   }
 
   // One point at the centre of every grid pixel (is_grid_pixel), spacing 1 px, before any
-  // dart: darts then keep their own spacing from them.
+  // dart: darts then keep their own spacing from them and never land inside a grid pixel.
   uint64_t place_grid() {
     if (grid_radius_ < 0) return 0;
     const int w = model_.display.width, h = model_.display.height;
@@ -82,6 +82,15 @@ class dart_board {
         ++placed;
       }
     return placed;
+  }
+
+  // True inside a grid pixel, where no dart may land (in_grid_pixel); the model is evaluated
+  // only within a pixel of the grid's rim.
+  bool in_grid(float x, float y) const {
+    if (grid_radius_ < 0) return false;
+    const double d = std::hypot(double(x) - cx_, double(y) - cy_);
+    if (d > grid_radius_ + 1.5) return false;
+    return in_grid_pixel(model_, params_, x, y);
   }
 
   float spacing_at(float x, float y) const {
@@ -141,7 +150,7 @@ class dart_board {
       if (y >= y1) y = std::nextafter(y1, y0);
       ++t.darts;
       const float p = spacing_at(x, y);
-      if (conflicts(x, y, p)) {
+      if (in_grid(x, y) || conflicts(x, y, p)) {
         ++rejected;
       } else {
         insert(t, x, y, p);
@@ -190,7 +199,7 @@ class dart_board {
               float x = float(r.uniform() * canvas_w_), y = float(r.uniform() * canvas_h_);
               x = std::min(x, std::nextafter(canvas_w_, 0.f));
               y = std::min(y, std::nextafter(canvas_h_, 0.f));
-              if (!conflicts(x, y, spacing_at(x, y))) ++acc;
+              if (!in_grid(x, y) && !conflicts(x, y, spacing_at(x, y))) ++acc;
             }
           }
           return acc;

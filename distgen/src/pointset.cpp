@@ -45,6 +45,11 @@ bool is_grid_pixel(const spacing_model& model, const dart_params& params, uint32
   return point_spacing_px(model, std::hypot(dx, dy)) <= params.grid_spacing;
 }
 
+bool in_grid_pixel(const spacing_model& model, const dart_params& params, float x, float y) {
+  if (params.fovea != fovea_layout::grid || !(x >= 0) || !(y >= 0)) return false;
+  return is_grid_pixel(model, params, uint32_t(std::floor(x)), uint32_t(std::floor(y)));
+}
+
 namespace {
 
 // True when p lies on the centre of canvas pixel (px, py), which it then sets.

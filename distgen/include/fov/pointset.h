@@ -25,7 +25,7 @@ enum class fovea_layout : uint32_t {
   darts = 0,  // Poisson-disc darts everywhere, as the thesis throws them
   grid = 1,   // one point at every canvas pixel centre where the model's spacing is at most
               // dart_params::grid_spacing (the thesis's "regular pixel density" of the fovea,
-              // Sec. 8.2, made exact); darts fill the rest, kept that far from the grid
+              // Sec. 8.2, made exact); darts fill the rest, none inside a grid pixel
 };
 inline constexpr std::pair<const char*, fovea_layout> fovea_layout_labels[] = {
     {"darts", fovea_layout::darts}, {"grid", fovea_layout::grid}};
@@ -157,6 +157,11 @@ inline bool on_screen(const point& p, const display_geometry& display, canvas_of
 // spacing at its centre is at most params.grid_spacing. The one rule the dart thrower places
 // grid points by and every reader recognises them by (a disc around the canvas centre).
 bool is_grid_pixel(const spacing_model& model, const dart_params& params, uint32_t px, uint32_t py);
+
+// True when the canvas position (x, y) lies inside a grid pixel (is_grid_pixel of the pixel
+// holding it). No dart lies there: the pixel's grid point gives its exact value, so a dart
+// inside it would be traced without ever weighing in that pixel.
+bool in_grid_pixel(const spacing_model& model, const dart_params& params, float x, float y);
 
 // True when p is one of the set's grid points: it lies on the centre of a grid pixel. Grid
 // points stand for whole pixels: the tracer casts a full-resolution pixel's rays for them.
