@@ -36,7 +36,7 @@ check "broken 2nd scene" 1 -- "$fovbench" "${common[@]}" --scene builtin --scene
 
 base=("$fovbench" "${common[@]}" --scene builtin --scales 1.0,2.0 --methods nn,shepard --k 4 --spp 1,2
       --gazes "centre;20,30" --temporal-frames 2 --budget-psnr 10 --baselines full,uniform --uniform-fractions 0.25
-      -o "$dir/out")
+      --ray-floors 1 -o "$dir/out")
 sweep=("${base[@]}" --reference-spp 16)
 check "smoke sweep"     0 -- "${sweep[@]}"
 for f in results.csv report.md {pareto_jod,pareto,pareto_flip,error_by_eccentricity,speedup_vs_scale}.{png,svg}; do
@@ -46,8 +46,10 @@ python3 - "$dir/out/results.csv" <<'PY' || fail "results.csv contents"
 import csv, math, sys
 rows = list(csv.DictReader(open(sys.argv[1])))
 kinds = [r["kind"] for r in rows]
-# foveated: scales x gazes x spp x (nn, shepard k=4); uniform: 1 fraction x gazes x spp x 2; full: gazes x spp
+# foveated: scales x gazes x spp x (nn, shepard k=4); uniform: 1 fraction x gazes x spp x 2; full: gazes x spp;
+# falloff: scales x gazes x the spp above floor 1 (2)
 assert kinds.count("foveated") == 16 and kinds.count("uniform") == 8 and kinds.count("full") == 4, kinds
+assert kinds.count("falloff") == 4, kinds
 need = ("scene gaze kind method spp rays frame_ms frame_ms_lo frame_ms_hi full_ms speedup speedup_lo speedup_hi psnr ssim "
         "psnr_fovea foveated_error flip flip_fovea foveated_flip foveated_flip_p99 foveated_flip_worst_band reference_spp "
         "noise_floor_psnr noise_floor_flip noise_floor_foveated_flip geometry_fovea jod jod_nonfoveated noise_floor_jod "
@@ -72,6 +74,8 @@ for r in rows:
     assert float(r["jod"]) <= 10 and float(r["jod_nonfoveated"]) <= 10 and float(r["noise_floor_jod"]) > float(r["jod"]), r
     if r["kind"] == "full":
         assert r["method"] == "full" and float(r["speedup"]) == 1 and r["scale"] == "" and r["pixel_fraction"] == "1.0000", r
+    elif r["kind"] == "falloff":
+        assert r["method"] == "falloff" and r["ray_floor"] == "1" and r["spp"] == "2" and r["flicker"] == "", r
     else:
         assert float(r["flicker"]) >= 0
         v = {c: float(r[c]) for c in ("video_jod", "video_jod_taa", "video_jod_full", "noise_floor_video_jod",
@@ -79,6 +83,12 @@ for r in rows:
         assert max(v.values()) <= 10 and v["noise_floor_video_jod"] > v["video_jod"], v
     if r["kind"] == "uniform":
         assert r["pixel_fraction"] == "0.2500" and r["scale"] == "", r
+# On this tiny screen (N v = 64) the model asks for every pixel's full density everywhere: a
+# falloff frame casts spp rays in every pixel, the full-resolution frame's, at any scale.
+for r in rows:
+    if r["kind"] == "falloff":
+        full = [f for f in rows if f["kind"] == "full" and f["spp"] == r["spp"] and f["gaze"] == r["gaze"]][0]
+        assert r["rays"] == full["rays"] and r["flip"] == full["flip"] and r["jod"] == full["jod"], (r, full)
 # One full frame at 2 spp against the 16-spp reference errs less than at 1 spp.
 full = {(r["gaze"], r["spp"]): float(r["flip"]) for r in rows if r["kind"] == "full"}
 assert full[("centre", "2")] < full[("centre", "1")], full
@@ -90,6 +100,8 @@ PY
 # --viewing-distance: another display, so another set (named by display_name) and rows that
 # say so; the first sweep's results.csv does not take them.
 check "bad v"           2 -- "$fovbench" "${common[@]}" --viewing-distance 0 -o "$dir/x"
+check "ray floor zero"  2 -- "$fovbench" "${common[@]}" --ray-floors 0 -o "$dir/x"
+check "ray floor high"  2 -- "$fovbench" "${common[@]}" --spp 1,4 --ray-floors 4 -o "$dir/x"
 check "bad ppd display" 2 -- "$fovbench" --display 64x72@0ppd --points-dir "$dir/sets" -o "$dir/x"
 check "farther eye"     0 -- "$fovbench" "${common[@]}" --viewing-distance 2 --scene builtin --scales 1.0 --methods nn --spp 1 \
   --baselines full --reference-spp 4 -o "$dir/far"
@@ -121,6 +133,39 @@ grep -Eq "^- (At [0-9.]+ JOD|No foveated configuration reaches)" "$dir/out/repor
 grep -q "noise floor" "$dir/out/report.md" || fail "report.md states no noise floor"
 grep -q "Timing noise" "$dir/out/report.md" || fail "report.md states no timing noise"
 grep -q "Fastest within the budget" "$dir/out/report.md" || fail "report.md names no fastest configuration"
+
+# Shards: two slices of a small sweep (one by --shard, one by Slurm's variables) sharing one
+# reference cache, merged, hold the one run's rows with the same errors.
+small=("$fovbench" "${common[@]}" --scene builtin --scales 1.0 --methods nn,shepard --k 4 --spp 1,2 --baselines full
+       --reference-spp 4 --ray-floors 1)
+check "bad shard"       2 -- "${small[@]}" --shard 2/2 -o "$dir/x"
+check "bad shard text"  2 -- "${small[@]}" --shard 1of2 -o "$dir/x"
+check "bad slurm id"    2 -- env SLURM_ARRAY_TASK_COUNT=2 SLURM_ARRAY_TASK_ID=x "${small[@]}" -o "$dir/x"
+check "slurm id beyond" 2 -- env SLURM_ARRAY_TASK_COUNT=2 SLURM_ARRAY_TASK_ID=5 SLURM_ARRAY_TASK_MIN=1 "${small[@]}" -o "$dir/x"
+[[ -e "$dir/x" ]] && fail "a refused shard wrote $dir/x"
+check "one run"         0 -- "${small[@]}" -o "$dir/whole"
+check "shard 0 of 2"    0 -- "${small[@]}" --shard 0/2 -o "$dir/sharded"
+check "shard 1 of 2"    0 -- env SLURM_ARRAY_TASK_COUNT=2 SLURM_ARRAY_TASK_ID=4 SLURM_ARRAY_TASK_MIN=3 "${small[@]}" -o "$dir/sharded"
+check "merge"           0 -- "$fovbench" merge "$dir/sharded/shard-0-of-2" "$dir/sharded/shard-1-of-2/results.csv" -o "$dir/merged"
+[[ -s "$dir/merged/report.md" && -s "$dir/merged/pareto_jod.png" ]] || fail "merge wrote no report or figures"
+python3 - "$dir/whole/results.csv" "$dir/merged/results.csv" "$dir/sharded" <<'PY' || fail "merged shards differ from one run"
+import csv, sys, os
+def rows(p):
+    return {"|".join(r[c] for c in ("scene", "gaze", "kind", "scale", "method", "k", "ray_floor", "spp")): r
+            for r in csv.DictReader(open(p))}
+whole, merged = rows(sys.argv[1]), rows(sys.argv[2])
+assert set(whole) == set(merged) and len(whole) == 7, (sorted(whole), sorted(merged))
+shards = [len(list(csv.DictReader(open(os.path.join(sys.argv[3], d, "results.csv"))))) for d in ("shard-0-of-2", "shard-1-of-2")]
+assert shards == [4, 3], shards
+for key, r in whole.items():
+    for c in ("rays", "points_traced", "psnr", "ssim", "flip", "foveated_flip", "foveated_error", "jod", "jod_nonfoveated",
+              "noise_floor_flip", "noise_floor_jod", "error_profile"):
+        assert r[c] == merged[key][c], (key, c, r[c], merged[key][c])
+PY
+check "merge a shard twice" 1 -- "$fovbench" merge "$dir/sharded/shard-0-of-2" "$dir/sharded/shard-0-of-2" -o "$dir/twice"
+check "merge other display" 1 -- "$fovbench" merge "$dir/whole" "$dir/far" -o "$dir/mixed"
+check "merge onto results" 2 -- "$fovbench" merge "$dir/whole" -o "$dir/merged"
+check "merge nothing"   2 -- "$fovbench" merge -o "$dir/none"
 
 # fovbench compare: two images, every metric.
 refs=("$dir"/out/references/*.exr)
@@ -207,11 +252,11 @@ PY
 
 check "exists without --resume" 1 -- "${sweep[@]}"
 out=$("${sweep[@]}" --resume 2>&1)
-[[ "$out" == *"28 already in"*"0 to measure"* ]] || fail "resume did not skip all: $out"
+[[ "$out" == *"32 already in"*"0 to measure"* ]] || fail "resume did not skip all: $out"
 head -n -1 "$dir/out/results.csv" > "$dir/cut.csv" && mv "$dir/cut.csv" "$dir/out/results.csv"
 out=$("${sweep[@]}" --resume 2>&1)
-[[ "$out" == *"27 already in"*"1 to measure"* ]] || fail "resume did not redo the lost row: $out"
-[[ $(($(wc -l < "$dir/out/results.csv") - 1)) -eq 28 ]] || fail "resumed CSV should hold 28 rows"
+[[ "$out" == *"31 already in"*"1 to measure"* ]] || fail "resume did not redo the lost row: $out"
+[[ $(($(wc -l < "$dir/out/results.csv") - 1)) -eq 32 ]] || fail "resumed CSV should hold 32 rows"
 check "resume, other reference" 1 -- "${base[@]}" --reference-spp 32 --resume
 check "resume, other footprint" 1 -- "${sweep[@]}" --resume --texture-footprint pixel
 check "resume, other fovea" 1 -- "${sweep[@]}" --resume --fovea grid

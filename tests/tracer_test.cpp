@@ -6,6 +6,8 @@
 #include <fstream>
 #include <iostream>
 #include <limits>
+#include <map>
+#include <set>
 
 #include <gtest/gtest.h>
 #include <OpenImageIO/imageio.h>
@@ -257,6 +259,88 @@ TEST(Tracer, ReferenceTileTimesCoverTheScreenAndChangeNothing) {
   const std::vector<double>& tiles = timed.stats.tile_seconds;
   ASSERT_EQ(tiles.size(), size_t(5 * 3));  // ceil(37 / 8) x ceil(20 / 8)
   for (double t : tiles) EXPECT_GT(t, 0.0);
+}
+
+// Rays falling with eccentricity on the full pixel grid (issue 24). A small display seen from
+// far (v = 100: 112 ppd) at scale 10, so the acuity model's spacing grows across its few pixels.
+ray_falloff test_falloff(int w, int h, uint32_t floor) {
+  ray_falloff f;
+  f.model.display = {w, h, 100.0};
+  f.model.scale = 10;
+  f.gaze = {w * 0.3, h * 0.6};
+  f.floor = floor;
+  return f;
+}
+
+TEST(RayFalloff, AFlatRuleIsTheFullResolutionFrameBitForBit) {
+  const auto s = load_scene("builtin");
+  for (pixel_sampler sampler : {pixel_sampler::sobol, pixel_sampler::random}) {
+    trace_params tp;
+    tp.spp = 6;
+    tp.sampler = sampler;
+    const frame full = trace_reference(*s, s->default_camera(), 48, 30, tp).image;
+    tp.falloff = test_falloff(48, 30, 6);
+    const frame flat = trace_reference(*s, s->default_camera(), 48, 30, tp).image;
+    EXPECT_EQ(flat.rgb, full.rgb);
+    EXPECT_EQ(flat.depth, full.depth);
+    EXPECT_EQ(flat.rays, full.rays);
+  }
+}
+
+TEST(RayFalloff, EachPixelCastsItsRuleAndIsThatManyRaysOfTheFullFrame) {
+  const auto s = load_scene("builtin");
+  const int w = 64, h = 40;
+  trace_params tp;
+  tp.spp = 16;
+  tp.falloff = test_falloff(w, h, 2);
+  const falloff_rule rule = make_falloff_rule(*tp.falloff, tp.spp);
+  // The rule as its equation says, away from its thresholds, and falling with distance.
+  const double p0 = point_spacing_px(tp.falloff->model, 0);
+  uint32_t previous = rule.rays_at(0);
+  EXPECT_EQ(previous, 16u);
+  for (double d = 0; d < 150; d += 0.37) {
+    const double q = p0 / point_spacing_px(tp.falloff->model, d);
+    const double exact = std::clamp(16.0 * q * q, 2.0, 16.0);
+    const uint32_t n = rule.rays_at(d);
+    if (std::fabs(exact - std::floor(exact) - 0.5) > 1e-6) {
+      EXPECT_EQ(n, uint32_t(std::llround(exact))) << d;
+    }
+    EXPECT_LE(n, previous);
+    previous = n;
+  }
+  EXPECT_EQ(rule.rays_at(1e6), 2u) << "the floor holds however far";
+  const reference_trace fall = trace_reference(*s, s->default_camera(), w, h, tp);
+  // Every pixel is the full-resolution frame at its own ray count (the first n of its rays),
+  // and the frame's rays are what the rule gives.
+  std::map<uint32_t, frame> at;
+  uint64_t rays = 0;
+  std::set<uint32_t> counts;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const uint32_t n = rule.rays_at(std::hypot(x + 0.5 - tp.falloff->gaze.x, y + 0.5 - tp.falloff->gaze.y));
+      rays += n;
+      counts.insert(n);
+      if (!at.count(n)) {
+        trace_params flat = tp;
+        flat.falloff.reset();
+        flat.spp = n;
+        at[n] = trace_reference(*s, s->default_camera(), w, h, flat).image;
+      }
+      const size_t i = size_t(y) * w + x;
+      ASSERT_EQ(fall.image.rgb[i], at[n].rgb[i]) << x << "," << y << " n=" << n;
+    }
+  EXPECT_EQ(fall.image.rays, rays);
+  EXPECT_GE(counts.size(), 4u) << "the test display spans several ray counts";
+  EXPECT_LT(rays, uint64_t(w) * h * 16);
+  EXPECT_GT(rays, uint64_t(w) * h * 2);
+  // Out of range: refused.
+  trace_params bad = tp;
+  bad.falloff->floor = 17;
+  EXPECT_THROW(trace_reference(*s, s->default_camera(), w, h, bad), std::invalid_argument);
+  bad.falloff->floor = 0;
+  EXPECT_THROW(trace_reference(*s, s->default_camera(), w, h, bad), std::invalid_argument);
+  bad = tp;
+  EXPECT_THROW(trace_reference(*s, s->default_camera(), w + 1, h, bad), std::invalid_argument) << "another display's rule";
 }
 
 // The first 2^m samples of the scrambled (0,2)-sequence put exactly one sample in every

@@ -4,7 +4,9 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <cstdlib>
 #include <fstream>
+#include <iostream>
 #include <map>
 #include <optional>
 #include <memory>
@@ -47,10 +49,10 @@ std::string slug(const std::string& scene) {
 struct config {
   size_t scene;
   row_kind kind;
-  size_t set;        // foveated: the scale's index; uniform: the fraction's; full: unused
+  size_t set;        // foveated and falloff: the scale's index; uniform: the fraction's; full: unused
   size_t gaze;
   method how;
-  uint32_t k, spp;
+  uint32_t k, spp;  // falloff: k is the ray floor
   std::string key;
 };
 
@@ -63,6 +65,9 @@ result_row identity_row(const bench_options& o, const std::vector<named_gaze>& g
   r.cells = {{"scene", o.scenes[c.scene]}, {"gaze", gazes[c.gaze].name}, {"kind", row_kind_name(c.kind)}, {"spp", std::to_string(c.spp)}};
   if (c.kind == row_kind::full) {
     r.cells["method"] = "full", r.cells["pixel_fraction"] = fraction_text(1);
+  } else if (c.kind == row_kind::falloff) {
+    r.cells["method"] = "falloff", r.cells["pixel_fraction"] = fraction_text(1);
+    r.cells["scale"] = fmt::format("{:.2f}", o.scales[c.set]), r.cells["ray_floor"] = std::to_string(c.k);
   } else {
     r.cells["method"] = method_name(c.how), r.cells["k"] = std::to_string(c.k);
     if (c.kind == row_kind::foveated) r.cells["scale"] = fmt::format("{:.2f}", o.scales[c.set]);
@@ -81,13 +86,18 @@ std::vector<config> all_configs(const bench_options& o, const std::vector<named_
   const bool uniform = std::count(o.baselines.begin(), o.baselines.end(), baseline::uniform) > 0;
   const bool full = std::count(o.baselines.begin(), o.baselines.end(), baseline::full) > 0;
   for (size_t sc = 0; sc < o.scenes.size(); ++sc) {
-    for (const auto& [kind, sets] : {std::pair<row_kind, size_t>{row_kind::foveated, o.scales.size()},
+    for (const auto& [kind, sets] : {std::pair<row_kind, size_t>{row_kind::foveated, o.no_sparse ? 0 : o.scales.size()},
                                      {row_kind::uniform, uniform ? o.uniform_fractions.size() : 0}})
       for (size_t si = 0; si < sets; ++si)
         for (size_t g = 0; g < gazes.size(); ++g)
           for (uint32_t spp : o.spps)
             for (method how : o.methods)
               for (uint32_t k : how == method::nn ? std::vector<uint32_t>{1} : o.ks) add(sc, kind, si, g, how, k, spp);
+    for (size_t si = 0; si < o.scales.size(); ++si)
+      for (size_t g = 0; g < gazes.size(); ++g)
+        for (uint32_t spp : o.spps)
+          for (uint32_t floor : o.ray_floors)
+            if (floor < spp) add(sc, row_kind::falloff, si, g, method::nn, floor, spp);
     if (full)
       for (size_t g = 0; g < gazes.size(); ++g)
         for (uint32_t spp : o.spps) add(sc, row_kind::full, 0, g, method::nn, 0, spp);
@@ -273,6 +283,11 @@ display_geometry check_bench_options(const bench_options& o) {
   if (std::count(o.baselines.begin(), o.baselines.end(), baseline::uniform) && o.uniform_fractions.empty())
     throw usage_error("--baselines uniform needs at least one --uniform-fractions value");
   if (!(o.spread_limit > 0 && o.spread_limit <= 10)) throw usage_error("--spread-limit must lie in (0, 10]");
+  for (uint32_t floor : o.ray_floors) {
+    if (floor < 1 || floor > max_spp) throw usage_error(fmt::format("--ray-floors: {} is not a ray count in 1..{}", floor, max_spp));
+    if (std::none_of(o.spps.begin(), o.spps.end(), [&](uint32_t spp) { return floor < spp; }))
+      throw usage_error(fmt::format("--ray-floors {}: no --spp above it to fall from", floor));
+  }
   if (o.temporal_frames == 1 || o.temporal_frames > 200) throw usage_error("--temporal-frames must be 0 or 2..200");
   if (!(o.temporal_fps >= 8 && o.temporal_fps <= 1000)) throw usage_error("--temporal-fps must lie in 8..1000");
   if (!std::isnan(o.budget_psnr) && !std::isnan(o.budget_foveated)) throw usage_error("give one budget");
@@ -289,8 +304,9 @@ display_geometry check_bench_options(const bench_options& o) {
       throw usage_error("--temporal-frames: " + why + " (fewer frames, or --no-jod)");
   // Sets that will be generated need a --points-dir this process can write in: known now,
   // not after the references are traced.
+  if (o.no_sparse && o.ray_floors.empty()) throw usage_error("--no-sparse leaves no foveated scheme: add --ray-floors");
   for (double s : o.scales)
-    if (!fs::exists(bench_pointset_path(o, display, s))) {
+    if (!o.no_sparse && !fs::exists(bench_pointset_path(o, display, s))) {
       require_output_dir("--points-dir", o.points_dir);
       if (const std::string why = memory_problem(knn_table_bytes(display, knn_params{}.k), "generating a set's k-NN table");
           !why.empty())
@@ -492,6 +508,45 @@ class scene_sweep {
       row.cells["full_cpu_ms"] = row.cells["trace_cpu_ms"];
       row.cells["ladder_samples"] = samples_text(ladder().at(c.spp));
       put_errors(row, compare_images(f.image, *truth_, eye_, st_.gazes[c.gaze].at, o_.judging()));
+      st_.finish(c, row);
+    }
+  }
+
+  // The full pixel grid at a foveated sampling rate: each configuration's frames timed
+  // interleaved with the full-resolution frame at its spp (the paired speedup), its errors.
+  void measure_falloff() {
+    for (const config& c : st_.all) {
+      if (c.scene != sc_ || c.kind != row_kind::falloff || st_.done.count(c.key)) continue;
+      const named_gaze& gp = st_.gazes[c.gaze];
+      render_params p = o_.render;
+      p.spp = c.spp;
+      ray_falloff f;
+      f.model = eye_, f.model.scale = o_.scales[c.set], f.gaze = gp.at, f.floor = c.k;
+      const std::string what = fmt::format("falloff s={:.2f} {} spp={} floor={}", o_.scales[c.set], gp.name, c.spp, c.k);
+      std::vector<double> full_ms, full_cpu, frame_ms, frame_cpu;
+      frame image;
+      for (uint32_t n = 0; n < o_.frames; ++n) {
+        st_.say(fmt::format("timing {} ({}/{})", what, n + 1, o_.frames));
+        full_ms.push_back(time_full(c.spp));
+        full_cpu.push_back(fulls_[c.spp].cpu_ms.back());
+        frame_timing t;
+        const double cpu = process_cpu_ms();
+        reference_trace traced = r_.falloff_frame(f, p, &t);
+        frame_cpu.push_back(process_cpu_ms() - cpu);
+        frame_ms.push_back(t.trace_ms);
+        if (image.rgb.empty()) image = std::move(traced.image);
+      }
+      st_.say(fmt::format("measuring {}", what));
+      result_row row = row_for(c);
+      row.cells["points_traced"] = "", row.cells["rays"] = std::to_string(image.rays);
+      row.cells["trace_ms"] = number(summarise(frame_ms).median), row.cells["reconstruct_ms"] = "0";
+      put_timing(row, pair_timings(frame_ms, full_ms), o_.spread_limit);
+      std::vector<double> ratios;
+      for (size_t n = 0; n < full_ms.size(); ++n) ratios.push_back(full_ms[n] / frame_ms[n]);
+      row.cells["speedup_samples"] = samples_text(ratios);
+      row.cells["trace_cpu_ms"] = number(summarise(frame_cpu).median), row.cells["reconstruct_cpu_ms"] = "0";
+      row.cells["full_cpu_ms"] = number(summarise(full_cpu).median);
+      put_errors(row, compare_images(image, *truth_, eye_, gp.at, o_.judging()));
       st_.finish(c, row);
     }
   }
@@ -713,26 +768,114 @@ class scene_sweep {
 
 size_t run_bench(const bench_options& o, const bench_reporter& report) {
   sweep_state st{o, report, check_bench_options(o)};
-  st.results_path = (fs::path(o.out) / "results.csv").string();
+  st.results_path = (fs::path(results_dir(o)) / "results.csv").string();
   require_output_dir("-o", o.out);
   st.gazes = parse_gazes(o.gazes, st.display, o.render.seed);
   st.done = resumed_keys(o, st.display, st.results_path);
   st.all = all_configs(o, st.gazes);
+  if (o.shard_count > 1) {  // this shard's slice: every shard_count-th configuration
+    std::vector<config> mine;
+    for (size_t i = o.shard_index; i < st.all.size(); i += o.shard_count) mine.push_back(st.all[i]);
+    st.all = std::move(mine);
+  }
   for (const config& c : st.all) st.todo += !st.done.count(c.key);
   std::vector<std::shared_ptr<const scene>> scenes = load_needed_scenes(st);
   // Only now is anything written.
   report.line(fmt::format("{} configurations, {} already in {}, {} to measure", st.all.size(), st.all.size() - st.todo,
                           st.results_path, st.todo));
   make_output_dir((fs::path(o.out) / "references").string());
+  make_output_dir(results_dir(o));
   for (size_t sc = 0; sc < o.scenes.size() && st.measured_rows < st.todo; ++sc) {
     if (!scenes[sc]) continue;
     scene_sweep sweep(st, sc, std::move(scenes[sc]));
     sweep.measure_sets(row_kind::foveated);
     sweep.measure_sets(row_kind::uniform);
+    sweep.measure_falloff();
     sweep.measure_full();
   }
   st.say("done");
   return st.measured_rows;
+}
+
+std::string results_dir(const bench_options& o) {
+  if (o.shard_count <= 1) return o.out;
+  return (fs::path(o.out) / fmt::format("shard-{}-of-{}", o.shard_index, o.shard_count)).string();
+}
+
+void parse_shard(const std::string& text, bool given, bench_options& o) {
+  auto whole = [](const std::string& s, long& v) {
+    if (s.empty() || s.size() > 6 || s.find_first_not_of("0123456789") != std::string::npos) return false;
+    v = std::stol(s);
+    return true;
+  };
+  long index = 0, count = 1;
+  if (given) {
+    const size_t slash = text.find('/');
+    if (slash == std::string::npos || !whole(text.substr(0, slash), index) || !whole(text.substr(slash + 1), count) || count < 1 ||
+        index >= count)
+      throw usage_error(fmt::format("--shard: '{}' is not I/N with 0 <= I < N (e.g. 0/4)", text));
+  } else if (const char* n = std::getenv("SLURM_ARRAY_TASK_COUNT")) {
+    const char* id = std::getenv("SLURM_ARRAY_TASK_ID");
+    const char* min = std::getenv("SLURM_ARRAY_TASK_MIN");
+    long first = 0;
+    if (!whole(n, count) || count < 1) throw usage_error(fmt::format("SLURM_ARRAY_TASK_COUNT '{}' is not a count", n));
+    if (!id || !whole(id, index)) throw usage_error("SLURM_ARRAY_TASK_COUNT is set but SLURM_ARRAY_TASK_ID is not a task number");
+    if (min && !whole(min, first)) throw usage_error(fmt::format("SLURM_ARRAY_TASK_MIN '{}' is not a task number", min));
+    if (index < first || index - first >= count)
+      throw usage_error(fmt::format("SLURM_ARRAY_TASK_ID {} lies outside the array's {} tasks from {} (an --array with "
+                                    "a step? give --shard I/N)", index, count, first));
+    index -= first;
+  }
+  o.shard_index = uint32_t(index), o.shard_count = uint32_t(count);
+}
+
+size_t merge_results(const merge_options& m, int argc, char** argv) {
+  if (m.inputs.empty()) throw usage_error("merge: give the results.csv (or directories) to merge");
+  if (m.out.empty()) throw usage_error("merge: -o is required");
+  const std::string out_csv = (fs::path(m.out) / "results.csv").string();
+  if (fs::exists(out_csv)) throw usage_error(fmt::format("-o {}: {} exists; merge into a new directory", m.out, out_csv));
+  require_output_dir("-o", m.out);
+  std::vector<result_row> rows;
+  std::map<std::string, std::string> first_file;  // key -> the file it came from
+  const char* same[] = {"display", "texture_footprint", "fovea", "render_settings", "reference_spp"};
+  std::string first_path;
+  for (const std::string& input : m.inputs) {
+    const std::string path = fs::is_directory(input) ? (fs::path(input) / "results.csv").string() : input;
+    if (fs::equivalent(fs::path(path).parent_path().empty() ? "." : fs::path(path).parent_path(), m.out))
+      throw usage_error(fmt::format("-o {}: also an input; merge into a new directory", m.out));
+    for (result_row& r : read_results(path)) {
+      if (!rows.empty())
+        for (const char* c : same)
+          if (r.text(c) != rows.front().text(c))
+            throw std::runtime_error(fmt::format("{}: its rows have {} {}, those of {} {}: not one sweep", path, c, r.text(c),
+                                                 first_path, rows.front().text(c)));
+      if (const auto [it, added] = first_file.emplace(r.key(), path); !added)
+        throw std::runtime_error(fmt::format("{}: a configuration ({}) also in {}", path, r.key(), it->second));
+      if (rows.empty()) first_path = path;
+      rows.push_back(std::move(r));
+    }
+  }
+  if (rows.empty()) throw std::runtime_error("merge: the inputs hold no rows");
+  bench_options o;  // what the report reads, from the rows and merge's flags
+  o.out = m.out, o.spread_limit = m.spread_limit, o.budget_psnr = m.budget_psnr, o.budget_foveated = m.budget_foveated;
+  o.ks.clear();
+  o.frames = 0;
+  std::set<uint32_t> ks;
+  for (const result_row& r : rows) {
+    if (!r.text("k").empty()) ks.insert(uint32_t(r.number("k")));
+    o.frames = std::max<uint32_t>(o.frames, uint32_t(r.number("frames")));
+  }
+  o.ks.assign(ks.begin(), ks.end());
+  if (o.ks.empty()) o.ks = {1};
+  o.reference_spp = uint32_t(rows.front().number("reference_spp"));
+  make_output_dir(m.out);
+  {
+    results_writer writer(out_csv);
+    for (const result_row& r : rows) writer.append(r);
+  }
+  for (const std::string& why : write_bench_figures(rows, o, m.out)) std::cerr << "fovbench: warning: " << why << "\n";
+  write_bench_report(rows, o, (fs::path(m.out) / "report.md").string(), argc, argv);
+  return rows.size();
 }
 
 }  // namespace fov

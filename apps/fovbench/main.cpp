@@ -75,6 +75,16 @@ int main(int argc, char** argv) {
       ->delimiter(',');
   app.add_option("--uniform-fractions", o.uniform_fractions, "Pixel fractions of the uniform sets, e.g. 0.5,0.25")
       ->delimiter(',');
+  app.add_option("--ray-floors", o.ray_floors,
+                 "Falloff rows: the full pixel grid, rays falling from each --spp at the gaze to each floor below it as "
+                 "the acuity model at each --scales value says (fov::ray_falloff; docs/speed-accuracy.md), e.g. 1,2")
+      ->delimiter(',');
+  std::string shard;
+  app.add_option("--shard", shard,
+                 "Measure the I-th of N slices of the configurations (0 <= I < N; rows in -o/shard-I-of-N, references "
+                 "shared in -o/references; default from SLURM_ARRAY_TASK_ID/COUNT); join with fovbench merge");
+  app.add_flag("--no-sparse", o.no_sparse,
+               "No sparse point sets (no foveated rows, no sets made): the --ray-floors rows and the baselines only");
   app.add_flag("--no-flip", [&o](int64_t) { o.flip = false; }, "Skip FLIP and the foveated FLIP (seconds per row)");
   app.add_flag("--no-jod", [&o](int64_t) { o.jod = false; }, "Skip JOD (FovVideoVDP; a third of a second per FOVE row)");
   fov::add_photometry_flags(app, o.photometry);
@@ -114,6 +124,15 @@ int main(int argc, char** argv) {
   compare->add_option("--flip-map", co.flip_map, "Write the FLIP map (grey = 255 x error)");
   compare->add_option("--foveated-flip-map", co.foveated_flip_map, "Write the foveated FLIP map");
 
+  // fovbench merge DIR... -o OUT: a sharded sweep's shards in one results.csv and report.
+  fov::merge_options mo;
+  CLI::App* merge = app.add_subcommand("merge", "Join several runs' results.csv (a sharded sweep's shards) into one report");
+  merge->add_option("inputs", mo.inputs, "results.csv files or directories holding one")->required();
+  merge->add_option("-o,--output", mo.out, "Output directory (results.csv, figures, report.md)")->required();
+  merge->add_option("--spread-limit", mo.spread_limit, "As the sweep's")->check(CLI::Range(0.0, 10.0));
+  merge->add_option("--budget-psnr", mo.budget_psnr, "As the sweep's");
+  merge->add_option("--budget-foveated", mo.budget_foveated, "As the sweep's");
+
   // fovbench validate-jod DIR: the JOD metric against the published implementation's values.
   std::string validation_dir;
   CLI::App* validate = app.add_subcommand(
@@ -126,6 +145,12 @@ int main(int argc, char** argv) {
       std::cout << fov::run_compare(co);
       return 0;
     }
+    if (merge->parsed()) {
+      if (!std::isnan(mo.budget_psnr) && !std::isnan(mo.budget_foveated)) throw fov::usage_error("give one budget");
+      const size_t n = fov::merge_results(mo, argc, argv);
+      std::cout << fmt::format("{} rows in {}/results.csv; figures and report.md there\n", n, mo.out);
+      return 0;
+    }
     if (validate->parsed()) {
       const fov::jod_validation v = fov::validate_jod(validation_dir);
       std::cout << fov::jod_validation_markdown(v);
@@ -134,8 +159,10 @@ int main(int argc, char** argv) {
                                validation_dir, v.worst);
       return 1;
     }
+    fov::parse_shard(shard, app.count("--shard") > 0, o);
     o.gazes = split_gazes(o.gazes);
     if (o.scenes.empty()) o.scenes = {"builtin"};
+    if (yardstick && o.shard_count > 1) throw fov::usage_error("--yardstick runs whole: no --shard (or Slurm array)");
     if (yardstick) {
       fov::bench_reporter quiet;
       quiet.line = [](const std::string& text) { std::cerr << "fovbench: " << text << "\n"; };
@@ -178,11 +205,11 @@ int main(int argc, char** argv) {
     end_bar();
 
     // Figures and the report from every row, this run's and earlier ones.
-    const std::string results = (std::filesystem::path(o.out) / "results.csv").string();
+    const std::string dir = fov::results_dir(o), results = (std::filesystem::path(dir) / "results.csv").string();
     const std::vector<fov::result_row> rows = fov::read_results(results);
-    for (const std::string& why : fov::write_bench_figures(rows, o, o.out)) std::cerr << "fovbench: warning: " << why << "\n";
-    fov::write_bench_report(rows, o, (std::filesystem::path(o.out) / "report.md").string(), argc, argv);
-    std::cout << fmt::format("{} rows in {}; figures and report.md in {}\n", rows.size(), results, o.out);
+    for (const std::string& why : fov::write_bench_figures(rows, o, dir)) std::cerr << "fovbench: warning: " << why << "\n";
+    fov::write_bench_report(rows, o, (std::filesystem::path(dir) / "report.md").string(), argc, argv);
+    std::cout << fmt::format("{} rows in {}; figures and report.md in {}\n", rows.size(), results, dir);
     return 0;
   });
 }

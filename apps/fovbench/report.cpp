@@ -38,7 +38,7 @@ namespace {
 // the gazes of the sweep: the gaze is not a knob, so the trade is judged on the average.
 struct knob_mean {
   row_kind kind{};
-  std::string method, k, scale, fraction, spp;
+  std::string method, k, scale, fraction, spp, floor;
   double frame_ms = 0, frame_lo = 0, frame_hi = 0, full_ms = 0, speedup = 0, speedup_lo = 0, speedup_hi = 0;
   double psnr = 0, psnr_fovea = 0, foveated_error = 0;
   double flip = 0, flip_fovea = 0, flip_p99 = 0, foveated_flip = 0, foveated_flip_p99 = 0, foveated_flip_worst_band = 0;
@@ -48,6 +48,7 @@ struct knob_mean {
   int gazes = 0;
   std::string label() const {
     if (kind == row_kind::full) return fmt::format("full {}spp", spp);
+    if (kind == row_kind::falloff) return fmt::format("fall s{} {}-{}spp", scale, spp, floor);
     const std::string k_text = method == "nn" ? "" : " k" + k;
     if (kind == row_kind::uniform) return fmt::format("u{} {} {}spp{}", fraction.substr(0, 4), method, spp, k_text);
     return fmt::format("s{} {} {}spp{}", scale, method, spp, k_text);
@@ -71,10 +72,10 @@ std::vector<knob_mean> knob_means(const std::vector<const result_row*>& rows) {
   for (const result_row* r : rows) {
     knob_mean id;
     id.kind = r->kind(), id.method = r->text("method"), id.k = r->text("k"), id.scale = r->text("scale");
-    id.fraction = r->text("pixel_fraction"), id.spp = r->text("spp");
+    id.fraction = r->text("pixel_fraction"), id.spp = r->text("spp"), id.floor = r->text("ray_floor");
     auto it = std::find_if(out.begin(), out.end(), [&](const knob_mean& m) {
       return m.kind == id.kind && m.method == id.method && m.k == id.k && m.scale == id.scale && m.fraction == id.fraction &&
-             m.spp == id.spp;
+             m.spp == id.spp && m.floor == id.floor;
     });
     if (it == out.end()) it = out.insert(out.end(), id);
     it->frame_ms += r->number("frame_ms"), it->frame_lo += r->number("frame_ms_lo"), it->frame_hi += r->number("frame_ms_hi");
@@ -133,7 +134,10 @@ std::vector<std::pair<double, double>> points_of(const std::vector<knob_mean>& m
   return out;
 }
 
-const std::set<row_kind> foveated_kind{row_kind::foveated}, baseline_kinds{row_kind::full, row_kind::uniform};
+// Foveated schemes (sparse sets, and the full grid at a foveated sampling rate) against the
+// baselines a user would render without foveation.
+const std::set<row_kind> foveated_kind{row_kind::foveated, row_kind::falloff},
+    baseline_kinds{row_kind::full, row_kind::uniform};
 
 std::vector<const result_row*> rows_of(const std::vector<result_row>& rows, const std::string& scene) {
   std::vector<const result_row*> mine;
@@ -165,6 +169,7 @@ plot_panel pareto_panel(const std::string& scene, const std::vector<knob_mean>& 
   const group groups[] = {{"foveated nn", row_kind::foveated, "nn", "nn"},
                           {"foveated shepard", row_kind::foveated, "shepard", "shepard"},
                           {"foveated rbf", row_kind::foveated, "rbf", "rbf"},
+                          {"falloff (full grid, rays by eccentricity)", row_kind::falloff, "", "falloff"},
                           {"uniform", row_kind::uniform, "", "uniform"},
                           {"full resolution", row_kind::full, "", "full"}};
   for (const group& g : groups) {
@@ -345,7 +350,7 @@ jod_verdict verdict_in_jod(const std::vector<knob_mean>& means) {
   std::vector<const knob_mean*> fulls, foveated;
   for (const knob_mean& m : means) {
     if (m.kind == row_kind::full && !std::isnan(m.jod)) fulls.push_back(&m);
-    if (m.kind == row_kind::foveated && !std::isnan(m.jod)) foveated.push_back(&m);
+    if (foveated_kind.count(m.kind) && !std::isnan(m.jod)) foveated.push_back(&m);
   }
   std::sort(fulls.begin(), fulls.end(), [](const knob_mean* a, const knob_mean* b) { return std::stoi(a->spp) < std::stoi(b->spp); });
   auto ladder_of = [&](const std::string& spp) -> const std::vector<double>* {

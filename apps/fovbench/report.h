@@ -44,6 +44,15 @@ struct bench_options {
   uint32_t reference_spp = 256;
   std::vector<baseline> baselines{baseline::full};
   std::vector<double> uniform_fractions{0.5, 0.25};
+  // Falloff rows (kind falloff): the full pixel grid, rays falling from each spp at the gaze
+  // to each of these floors (below that spp) as the acuity model at each scale says
+  // (fov::ray_falloff). Empty: none.
+  std::vector<uint32_t> ray_floors;
+  bool no_sparse = false;  // no sparse sets (foveated rows): falloff rows and baselines only
+  // Sharding (fovbench --shard I/N): this run measures configurations i with i % count ==
+  // index of the sweep's list; its rows go to OUT/shard-I-of-N/, references are shared in
+  // OUT/references. count 1: the whole sweep, rows in OUT.
+  uint32_t shard_index = 0, shard_count = 1;
   bool flip = true;  // FLIP and the foveated FLIP (seconds per row on a large screen)
   bool jod = true;   // JOD (FovVideoVDP), foveated at the row's gaze and not
   display_photometry photometry;  // the display's light, for JOD
@@ -62,6 +71,27 @@ struct bench_options {
   double budget_psnr = std::numeric_limits<double>::quiet_NaN();
   double budget_foveated = std::numeric_limits<double>::quiet_NaN();
 };
+
+// Where a run's results.csv, figures and report go: OUT, or OUT/shard-I-of-N.
+std::string results_dir(const bench_options& o);
+
+// --shard I/N, or Slurm's array variables when no --shard is given (SLURM_ARRAY_TASK_ID less
+// SLURM_ARRAY_TASK_MIN, of SLURM_ARRAY_TASK_COUNT); usage_error naming the flag or variable.
+void parse_shard(const std::string& text, bool given, bench_options& o);
+
+// fovbench merge: the rows of several runs' results.csv (a sharded sweep's shards) in one
+// results.csv, figures and report. Each input is a results.csv or a directory holding one.
+struct merge_options {
+  std::vector<std::string> inputs;
+  std::string out;
+  double spread_limit = 0.25;
+  double budget_psnr = std::numeric_limits<double>::quiet_NaN();
+  double budget_foveated = std::numeric_limits<double>::quiet_NaN();
+};
+// Refuses inputs measured differently (display, footprint, fovea, render settings,
+// reference) or holding the same configuration twice; writes OUT/results.csv (never over an
+// existing one), the figures and report.md. Returns the rows merged.
+size_t merge_results(const merge_options& m, int argc, char** argv);
 
 // A scene as titles name it: its file name, "env:" kept ("builtin" stays "builtin").
 std::string short_scene(const std::string& scene);

@@ -20,7 +20,7 @@ namespace fov {
 const std::vector<std::string>& result_columns() {
   static const std::vector<std::string> columns = {
       // What the row is.
-      "scene", "gaze", "gaze_x", "gaze_y", "kind", "scale", "pixel_fraction", "method", "k", "spp", "texture_footprint", "fovea",
+      "scene", "gaze", "gaze_x", "gaze_y", "kind", "scale", "pixel_fraction", "method", "k", "ray_floor", "spp", "texture_footprint", "fovea",
       "display", "ppd",
       // What it cost, timed interleaved with a full-resolution frame at the same spp.
       "points_traced", "rays", "full_rays", "trace_ms", "reconstruct_ms", "frame_ms", "frame_ms_lo", "frame_ms_hi",
@@ -49,8 +49,8 @@ const std::vector<std::string>& result_columns() {
 }
 
 std::string result_row::key() const {
-  return fmt::format("{}|{}|{}|{}|{}|{}|{}|{}", text("scene"), text("gaze"), text("kind"), text("scale"), text("pixel_fraction"),
-                     text("method"), text("k"), text("spp"));
+  return fmt::format("{}|{}|{}|{}|{}|{}|{}|{}|{}", text("scene"), text("gaze"), text("kind"), text("scale"), text("pixel_fraction"),
+                     text("method"), text("k"), text("ray_floor"), text("spp"));
 }
 
 const std::string& result_row::text(const std::string& column) const {
@@ -110,7 +110,7 @@ std::string result_row_problem(const result_row& row) {
     return fmt::format("kind '{}' is not {}", printable(row.text("kind")), label_alternatives(row_kind_labels));
   const std::string& how = row.text("method");
   method m{};
-  if (kind == row_kind::full ? how != "full" : !parse_label(method_labels, how, m))
+  if (kind == row_kind::full ? how != "full" : kind == row_kind::falloff ? how != "falloff" : !parse_label(method_labels, how, m))
     return fmt::format("method '{}' is not one a {} row has", printable(how), row_kind_name(kind));
   for (const char* list : {"error_profile", "speedup_samples", "ladder_samples"}) {
     std::stringstream profile(row.text(list));

@@ -15,16 +15,18 @@ namespace fov {
 
 // A row of results.csv: every knob and every figure, by column name. Numbers are kept as
 // text exactly as written, so a round trip changes nothing.
-// What a results.csv row measures: a foveated set, or a baseline (a uniform set of a
-// fraction of the pixels, or full resolution). Its label is the `kind` column.
-enum class row_kind { foveated, uniform, full };
+// What a results.csv row measures: a foveated set, the full pixel grid at a foveated
+// sampling rate (rays falling from spp at the gaze to a floor, fov::ray_falloff), or a
+// baseline (a uniform set of a fraction of the pixels, or full resolution). Its label is the
+// `kind` column.
+enum class row_kind { foveated, uniform, full, falloff };
 inline constexpr std::pair<const char*, row_kind> row_kind_labels[] = {
-    {"foveated", row_kind::foveated}, {"uniform", row_kind::uniform}, {"full", row_kind::full}};
+    {"foveated", row_kind::foveated}, {"uniform", row_kind::uniform}, {"full", row_kind::full}, {"falloff", row_kind::falloff}};
 inline const char* row_kind_name(row_kind k) { return label_of(row_kind_labels, k); }
 
 struct result_row {
   std::map<std::string, std::string> cells;
-  std::string key() const;  // scene|gaze|kind|scale|pixel_fraction|method|k|spp: what --resume skips on
+  std::string key() const;  // scene|gaze|kind|scale|pixel_fraction|method|k|ray_floor|spp: what --resume skips on
   double number(const std::string& column) const;  // NaN when empty or not a number
   // The kind column; std::logic_error for a row that result_row_problem would refuse.
   row_kind kind() const;

@@ -41,6 +41,9 @@ struct render_options {
   uint32_t taa_frames = 0;
   uint32_t speedup = 0;  // repetitions of the paired timing (0: none)
   uint32_t reference_spp = 0;  // compare against a converged reference traced here (0: none)
+  uint32_t ray_floor = 0;      // with --reference: rays fall from --spp at the gaze to this (0: --spp everywhere)
+  double falloff_scale = 1.0;  // the acuity model's scale s the falloff follows
+  bool falloff_scale_given = false;
 };
 
 // The flags that only make sense together, before anything is read or rendered (exit 2).
@@ -59,6 +62,11 @@ void check_options(const render_options& o, const fov::render_params& p) {
       throw usage_error("--width/--height: " + why);
   if (o.reference && o.taa_frames > 0) throw usage_error("--taa-frames applies to foveated frames, not --reference");
   if (o.reference && o.speedup > 0) throw usage_error("--speedup compares a foveated frame with --reference; give --points instead");
+  if (o.ray_floor > 0 && !o.reference) throw usage_error("--ray-floor: rays fall across the full pixel grid; add --reference");
+  if (o.falloff_scale_given && o.ray_floor == 0) throw usage_error("--falloff-scale needs --ray-floor");
+  if (o.ray_floor > p.spp)
+    throw usage_error(fmt::format("--ray-floor {} exceeds --spp {}: rays fall from --spp at the gaze", o.ray_floor, p.spp));
+  if (!(o.falloff_scale > 0 && o.falloff_scale <= 10)) throw usage_error("--falloff-scale must lie in (0, 10]");
   const bool comparing = !o.compare.empty() || o.reference_spp > 0;
   if (!o.compare.empty() && o.reference_spp > 0) throw usage_error("give --compare or --reference-spp, not both");
   if (o.reference_spp > 0 && o.reference_spp <= p.spp)
@@ -84,6 +92,11 @@ int main(int argc, char** argv) {
   app.add_option("--gaze", o.gaze, "X,Y in screen pixels, centre or corner");
   fov::add_render_flags(app, p);
   app.add_flag("--reference", o.reference, "Render at full resolution instead");
+  app.add_option("--ray-floor", o.ray_floor,
+                 "With --reference: every pixel traced, its rays falling with eccentricity from --spp at the gaze to this "
+                 "floor as the acuity model's point density falls (a foveated sampling rate; docs/reconstruction.md)")
+      ->check(CLI::Range(1u, fov::max_spp));
+  app.add_option("--falloff-scale", o.falloff_scale, "With --ray-floor: the acuity model's scale s (1 = the thesis's model)");
   app.add_option("--width", o.width, "Screen width without --points")->check(CLI::Range(1, 65536));
   app.add_option("--height", o.height, "Screen height without --points")->check(CLI::Range(1, 65536));
   app.add_option("--display", o.display, "Without --points: " + fov::display_help());
@@ -113,6 +126,7 @@ int main(int argc, char** argv) {
   return fov::run_tool("fovrender", app, argc, argv, [&] {
     o.debug_asked = debug->count() > 0;
     o.size_given = app.count("--width") + app.count("--height") > 0;
+    o.falloff_scale_given = app.count("--falloff-scale") > 0;
     if (!o.display.empty()) {
       if (!o.points.empty()) throw usage_error("--display: the set gives the display; drop it with --points");
       if (o.size_given) throw usage_error("--display: give it or --width/--height, not both");
@@ -179,7 +193,15 @@ int main(int argc, char** argv) {
     fov::frame_timing t;
     if (o.reference) {
       if (!o.no_warmup) j["warmup_ms"] = r.warm_up_reference(display.width, display.height, p).trace_ms;
-      image = r.reference(display.width, display.height, p, &t).image;
+      if (o.ray_floor > 0) {
+        fov::ray_falloff f;
+        f.model.display = display, f.model.scale = o.falloff_scale, f.gaze = gaze, f.floor = o.ray_floor;
+        if (const std::string why = fov::falloff_problem(f, p.spp); !why.empty()) throw usage_error("--ray-floor: " + why);
+        image = r.falloff_frame(f, p, &t).image;
+        j["ray_floor"] = o.ray_floor, j["falloff_scale"] = o.falloff_scale;
+      } else {
+        image = r.reference(display.width, display.height, p, &t).image;
+      }
     } else {
       r.use_pointset(set);
       if (p.device == fov::reconstruct_device::opencl) j["device_setup_ms"] = r.device_setup_ms();
@@ -224,7 +246,7 @@ int main(int argc, char** argv) {
     j["width"] = display.width;
     j["height"] = display.height;
     j["spp"] = p.spp;
-    j["method"] = o.reference ? "reference" : fov::method_name(p.reconstruct.how);
+    j["method"] = o.reference ? (o.ray_floor > 0 ? "falloff" : "reference") : fov::method_name(p.reconstruct.how);
 
     for (const std::string& output : o.outputs) fov::write_frame(image, output);
     if (o.debug_asked) {

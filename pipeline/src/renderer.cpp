@@ -211,6 +211,20 @@ reference_trace renderer::reference(int width, int height, const render_params& 
   return out;
 }
 
+reference_trace renderer::falloff_frame(const ray_falloff& f, const render_params& p, frame_timing* t) {
+  pending_.reset();
+  trace_params tp = base_trace(p);
+  tp.falloff = f;
+  const auto t0 = clock_type::now();
+  reference_trace out = trace_reference(*scene_, cam_, f.model.display.width, f.model.display.height, tp);
+  if (t) {
+    *t = frame_timing{};
+    t->trace_ms = ms_since(t0);
+    t->rays = out.image.rays;
+  }
+  return out;
+}
+
 warm_up_report renderer::warm_up(gaze_point gaze, const render_params& p) {
   require_set();
   const trace_params tp = frame_trace_params(p, 0);

@@ -213,33 +213,40 @@ void trace_rays(const scene::impl& d, const light& sun, const camera_frame& f, c
 // A ray sink for trace_rays: averages each run of `spp` consecutive rays, which belong to
 // one owner (a point or a pixel), and hands emit(owner, mean colour, mean depth of the
 // rays that hit or +inf, hits) the result, its colour times `exposure`.
-template <class Emit>
-auto per_owner_mean(uint32_t spp, float exposure, Emit emit) {
-  return [spp, exposure, emit, sum = glm::vec3(0), depth_sum = 0.0, hits = uint32_t(0), seen = uint32_t(0)](
+// `count(owner)` gives each owner's run length (a falloff's pixels differ).
+template <class Count, class Emit>
+auto per_owner_mean_by(Count count, float exposure, Emit emit) {
+  return [count, exposure, emit, sum = glm::vec3(0), depth_sum = 0.0, hits = uint32_t(0), seen = uint32_t(0)](
              const sample_ray& ray, glm::vec3 c, float depth, bool hit) mutable {
     sum += c;
     if (hit) depth_sum += depth, ++hits;
-    if (++seen < spp) return;
-    emit(ray.owner, sum * (exposure / float(spp)), hits ? float(depth_sum / hits) : infinity, hits);
+    const uint32_t n = count(ray.owner);
+    if (++seen < n) return;
+    emit(ray.owner, sum * (exposure / float(n)), hits ? float(depth_sum / hits) : infinity, hits);
     sum = glm::vec3(0);
     depth_sum = 0;
     hits = seen = 0;
   };
 }
 
-// Calls emit(x, y) with the screen positions of samples [first, first + params.spp) of
+template <class Emit>
+auto per_owner_mean(uint32_t spp, float exposure, Emit emit) {
+  return per_owner_mean_by([spp](uint32_t) { return spp; }, exposure, emit);
+}
+
+// Calls emit(x, y) with the screen positions of samples [first, first + count) of
 // pixel (x, y)'s rays, as params.sampler says: sobol (owen_sobol_2d, scrambles seeded by
 // (seed, pixel index)) or random (uniform, from a stream seeded by (seed, pixel index)).
 // A full-resolution pixel casts samples [0, spp); so does a grid point in pattern 0. (x, y)
 // may lie off the screen (a grid point some border pixel reads): it seeds as the index
 // y * width + x would, modulo 2^32.
 template <class Emit>
-void pixel_rays(int x, int y, int width, const trace_params& params, uint32_t first, Emit&& emit) {
+void pixel_rays(int x, int y, int width, const trace_params& params, uint32_t first, uint32_t count, Emit&& emit) {
   const uint32_t pixel = uint32_t(int64_t(y) * width + x);
   if (params.sampler == pixel_sampler::sobol) {
     uint64_t h = stream_seed(params.seed, 0x736f626f6cull, pixel);
     const uint64_t scrambles = splitmix64(h);
-    for (uint32_t s = first; s < first + params.spp; ++s) {
+    for (uint32_t s = first; s < first + count; ++s) {
       const glm::vec2 u = owen_sobol_2d(s, uint32_t(scrambles), uint32_t(scrambles >> 32));
       emit(float(x) + u.x, float(y) + u.y);
     }
@@ -247,7 +254,7 @@ void pixel_rays(int x, int y, int width, const trace_params& params, uint32_t fi
   }
   rng random(stream_seed(params.seed, 0x706978656Cull, pixel));
   for (uint64_t s = 0; s < 2 * uint64_t(first); ++s) random.uniform();
-  for (uint32_t s = 0; s < params.spp; ++s) {
+  for (uint32_t s = 0; s < count; ++s) {
     const float u = float(random.uniform());
     const float v = float(random.uniform());
     emit(float(x) + u, float(y) + v);
@@ -276,7 +283,7 @@ void point_rays(const pointset& set, bool grid_point, uint32_t i, canvas_offset 
   if (params.mirror_y) cy = float(disp.height) - cy;
   if (grid_point) {
     const uint32_t pattern = (params.mirror_x ? 1u : 0u) + (params.mirror_y ? 2u : 0u);
-    pixel_rays(int(std::floor(cx)), int(std::floor(cy)), disp.width, params, pattern * params.spp, emit);
+    pixel_rays(int(std::floor(cx)), int(std::floor(cy)), disp.width, params, pattern * params.spp, params.spp, emit);
     return;
   }
   const float sx = params.mirror_x ? -p.spacing : p.spacing, sy = params.mirror_y ? -p.spacing : p.spacing;
@@ -449,7 +456,20 @@ reference_trace trace_reference(const scene& sc, const camera& cam, int width, i
   out.rgb.assign(size_t(width) * height, glm::vec3(0));
   out.depth.assign(size_t(width) * height, infinity);
   const uint32_t spp = params.spp;
-  const float radius = 0.5f / std::sqrt(float(spp));
+  // Rays per pixel: spp, or the falloff's n(d) (stored per pixel: the mean divides by it).
+  std::vector<uint16_t> rays_of;
+  falloff_rule rule;
+  if (params.falloff) {
+    if (const std::string why = falloff_problem(*params.falloff, spp); !why.empty()) throw std::invalid_argument(why);
+    if (params.falloff->model.display.width != width || params.falloff->model.display.height != height)
+      throw std::invalid_argument("the falloff's display is not the frame's size");
+    rule = make_falloff_rule(*params.falloff, spp);
+    rays_of.resize(size_t(width) * height);
+  }
+  const gaze_point gaze = params.falloff ? params.falloff->gaze : gaze_point{};
+  auto rays_at = [&](int x, int y) {
+    return params.falloff ? rule.rays_at(std::hypot(x + 0.5 - gaze.x, y + 0.5 - gaze.y)) : spp;
+  };
   // 8x8-pixel tiles keep each packet's rays close together.
   constexpr int t = reference_tile;
   const int tiles_x = (width + t - 1) / t, tiles_y = (height + t - 1) / t;
@@ -464,21 +484,74 @@ reference_trace trace_reference(const scene& sc, const camera& cam, int width, i
       for (int y = y0; y < std::min(height, y0 + t); ++y)
         for (int x = x0; x < std::min(width, x0 + t); ++x) {
           const uint32_t pixel = uint32_t(y) * uint32_t(width) + uint32_t(x);
-          pixel_rays(x, y, width, params, 0,
+          const uint32_t n = rays_at(x, y);
+          if (!rays_of.empty()) rays_of[pixel] = uint16_t(n);
+          const float radius = 0.5f / std::sqrt(float(n));
+          pixel_rays(x, y, width, params, 0, n,
                      [&](float sx, float sy) { rays.push_back({sx, sy, radius, pixel}); });
         }
-      trace_rays(d, params.sun ? *params.sun : d.desc.sun, f, rays.data(), rays.size(), params.shadows, timing,
-                 per_owner_mean(spp, exposure_factor(params), [&](uint32_t pixel, glm::vec3 c, float depth, uint32_t) {
-                   out.rgb[pixel] = c;
-                   out.depth[pixel] = depth;
-                 }));
+      auto store = [&](uint32_t pixel, glm::vec3 c, float depth, uint32_t) {
+        out.rgb[pixel] = c;
+        out.depth[pixel] = depth;
+      };
+      if (rays_of.empty())
+        trace_rays(d, params.sun ? *params.sun : d.desc.sun, f, rays.data(), rays.size(), params.shadows, timing,
+                   per_owner_mean(spp, exposure_factor(params), store));
+      else
+        trace_rays(d, params.sun ? *params.sun : d.desc.sun, f, rays.data(), rays.size(), params.shadows, timing,
+                   per_owner_mean_by([&](uint32_t pixel) { return uint32_t(rays_of[pixel]); }, exposure_factor(params), store));
       if (tile_seconds)
         (*tile_seconds)[size_t(tile)] =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - tile_start).count();
     }
   });
-  out.rays = uint64_t(width) * height * spp;
+  out.rays = 0;
+  if (rays_of.empty()) out.rays = uint64_t(width) * height * spp;
+  else
+    for (uint16_t n : rays_of) out.rays += n;
   return result;
+}
+
+std::string falloff_problem(const ray_falloff& f, uint32_t spp) {
+  if (f.floor < 1 || f.floor > spp) return fmt::format("the ray floor must lie in 1..spp = {} (got {})", spp, f.floor);
+  if (const std::string why = validate(f.model); !why.empty()) return why;
+  if (!std::isfinite(f.gaze.x) || !std::isfinite(f.gaze.y)) return "the falloff's gaze is not finite";
+  return "";
+}
+
+falloff_rule make_falloff_rule(const ray_falloff& f, uint32_t spp) {
+  falloff_rule r;
+  r.spp = spp, r.floor = f.floor;
+  const double p0 = point_spacing_px(f.model, 0);
+  auto rays = [&](double d) {
+    const double q = p0 / point_spacing_px(f.model, d);
+    return std::clamp(std::llround(double(spp) * q * q), (long long)f.floor, (long long)spp);
+  };
+  // Farthest a pixel can be from a gaze on (or at the edge of) the screen.
+  const double far = std::hypot(2.0 * f.model.display.width, 2.0 * f.model.display.height);
+  for (uint32_t n = f.floor + 1; n <= spp; ++n) {
+    if (rays(0) < n) {
+      r.thresholds.push_back(-1);
+      continue;
+    }
+    double lo = 0, hi = far;
+    if (rays(hi) >= n) {
+      r.thresholds.push_back(hi);
+      continue;
+    }
+    for (int i = 0; i < 80 && hi - lo > 1e-9; ++i) {
+      const double mid = 0.5 * (lo + hi);
+      (rays(mid) >= n ? lo : hi) = mid;
+    }
+    r.thresholds.push_back(lo);
+  }
+  return r;
+}
+
+uint32_t falloff_rule::rays_at(double d) const {
+  // thresholds is non-increasing: count the entries that still reach d.
+  const auto reach = std::partition_point(thresholds.begin(), thresholds.end(), [d](double t) { return t >= d; });
+  return floor + uint32_t(reach - thresholds.begin());
 }
 
 }  // namespace fov

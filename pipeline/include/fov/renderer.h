@@ -134,6 +134,10 @@ class renderer {
 
   // The full-resolution reference, p.spp rays per pixel (no TAA, no pattern).
   reference_trace reference(int width, int height, const render_params& p, frame_timing* t = nullptr);
+  // Full resolution at a foveated sampling rate (fov::ray_falloff): every pixel of f's
+  // display traced, its rays falling from p.spp at f.gaze to f.floor; no sparse points, no
+  // reconstruction (issue 24). A flat rule (f.floor == p.spp) is reference(), bit for bit.
+  reference_trace falloff_frame(const ray_falloff& f, const render_params& p, frame_timing* t = nullptr);
 
   // Untimed first use: one trace (textures, MIP levels) and one reconstruction (kernel
   // compilation, RBF weights for the screen's tiles) at this gaze. Neither the pattern

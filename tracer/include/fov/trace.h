@@ -51,6 +51,30 @@ inline constexpr std::pair<const char*, pixel_sampler> pixel_sampler_labels[] = 
 // The most rays a point or pixel may cast (hit counts are 16-bit).
 constexpr uint32_t max_spp = 65535;
 
+// A foveated sampling rate on the full pixel grid (issue 24): every pixel is traced, its
+// rays falling with eccentricity as the acuity model's point density falls, from
+// trace_params::spp at the gaze to `floor`:
+//   n(d) = clamp(round(spp * (p(0) / p(d))^2), floor, spp)
+// where p is point_spacing_px of `model` (its display, acuity model and scale) at the pixel
+// centre's distance d from the gaze. A pixel casts the first n of its full-resolution rays,
+// so floor == spp (a flat rule) is the full-resolution frame, bit for bit.
+struct ray_falloff {
+  spacing_model model;
+  gaze_point gaze;
+  uint32_t floor = 1;  // 1..spp
+};
+// "" when the falloff can be traced at spp, else why not.
+std::string falloff_problem(const ray_falloff& f, uint32_t spp);
+
+// n(d) for every distance at once: thresholds[j] is the largest pixel distance from the gaze
+// at which a pixel still casts floor + 1 + j rays (bisection on the model, within 1e-9 px).
+struct falloff_rule {
+  uint32_t spp = 1, floor = 1;
+  std::vector<double> thresholds;  // spp - floor entries, non-increasing
+  uint32_t rays_at(double distance_px) const;
+};
+falloff_rule make_falloff_rule(const ray_falloff& f, uint32_t spp);
+
 struct trace_params {
   uint32_t spp = 32;     // rays per point (foveated) or per pixel (reference)
   uint64_t seed = 1;     // fixes the ray positions: the same every frame
@@ -75,6 +99,8 @@ struct trace_params {
   float exposure_ev = 0;
   // The light to shade with instead of the scene's (its direction, irradiance or position).
   std::optional<light> sun;
+  // Reference only: rays per pixel fall with eccentricity (ray_falloff) instead of spp everywhere.
+  std::optional<ray_falloff> falloff;
 };
 
 // What a trace measured, when trace_params asked for it.
@@ -123,7 +149,8 @@ glm::vec2 owen_sobol_2d(uint32_t s, uint32_t sx, uint32_t sy);
 // stratified points stay stratified.
 glm::vec2 concentric_disc(glm::vec2 u);
 
-// Full resolution: params.spp rays per pixel at params.sampler's positions inside it.
+// Full resolution: params.spp rays per pixel at params.sampler's positions inside it (with
+// params.falloff, the first n(d) of them; the frame's rays count what was cast).
 reference_trace trace_reference(const scene& s, const camera& cam, int width, int height, const trace_params& params);
 
 }  // namespace fov
