@@ -136,10 +136,11 @@ TEST(ResultsCsv, CorruptRowsAreRefusedAndCrlfIsRead) {
            {"psnr", "-inf", "psnr -inf lies outside [0, inf]"},
            {"frame_ms", "0", "frame_ms 0 lies outside (0"},
            {"frame_ms", "-3", "frame_ms -3 lies outside (0"},
-           {"kind", "bogus", "kind 'bogus' is not foveated, uniform or full"},
+           {"kind", "bogus", "kind 'bogus' is not foveated, uniform, full or falloff"},
            {"scale", "1e308", "scale 1e308 lies outside (0, 10]"},
            {"ssim", "1.5", "ssim 1.5 lies outside [-1, 1]"},
            {"method", "full", "method 'full' is not one a foveated row has"},
+           {"kind", "falloff", "method 'nn' is not one a falloff row has"},
            {"error_profile", "abc;def", "error_profile 'abc;def' is not numbers >= 0 joined by ';'"}}) {
     result_row r = sample_row("nn", "1");
     r.cells[column] = bad;

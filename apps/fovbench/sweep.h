@@ -37,7 +37,7 @@ struct result_row {
 const std::vector<std::string>& result_columns();
 
 // Why a row is not one fovbench writes, or "" when it is: the rule every row passes, read
-// back (--resume) or about to be written. Text cells: kind foveated, uniform or full, a
+// back (--resume) or about to be written. Text cells: kind foveated, uniform, full or falloff, a
 // method its kind has, error_profile numbers >= 0 joined by ';'. Numbers (empty where a
 // column does not apply): PSNR >= 0 or inf; SSIM in [-1, 1]; FLIP, geometry shares and
 // pixel_fraction in [0, 1]; times, counts, errors and flicker finite and >= 0; frame and

@@ -45,14 +45,18 @@ OIIO::TextureOpt lookup_options() {
   return opt;
 }
 
-float square_wave_integral(float x) {  // integral of a 0/1 square wave of period 2, high on [1, 2)
-  const float f = std::floor(x / 2);
-  return f + std::max(x - 2 * f - 1, 0.0f);
+double square_wave_integral(double x) {  // integral of a 0/1 square wave of period 2, high on [1, 2)
+  const double f = std::floor(x / 2);
+  return f + std::max(x - 2 * f - 1, 0.0);
 }
 
+// The box-filtered square wave, in [0, 1]. In double: both integrals grow with x while their
+// difference is about w, so in float a small footprint far along the pattern cancelled to
+// noise outside [0, 1] (negative colours on the built-in floor at 256+ rays a pixel, 70 ppd).
 float filtered_square(float x, float w) {
   if (w < 1e-6f) return std::fmod(std::floor(x), 2.0f) != 0 ? 1.0f : 0.0f;
-  return (square_wave_integral(x + w / 2) - square_wave_integral(x - w / 2)) / w;
+  const double half = 0.5 * double(w);
+  return float(std::clamp((square_wave_integral(double(x) + half) - square_wave_integral(double(x) - half)) / double(w), 0.0, 1.0));
 }
 
 uint32_t hash2(int x, int y) {
