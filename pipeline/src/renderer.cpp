@@ -200,23 +200,19 @@ const frame& renderer::foveated(gaze_point gaze, const render_params& p, frame_t
 }
 
 reference_trace renderer::reference(int width, int height, const render_params& p, frame_timing* t) {
-  pending_.reset();
-  const auto t0 = clock_type::now();
-  reference_trace out = trace_reference(*scene_, cam_, width, height, base_trace(p));
-  if (t) {
-    *t = frame_timing{};
-    t->trace_ms = ms_since(t0);
-    t->rays = out.image.rays;
-  }
-  return out;
+  return full_grid(width, height, base_trace(p), t);
 }
 
 reference_trace renderer::falloff_frame(const ray_falloff& f, const render_params& p, frame_timing* t) {
-  pending_.reset();
   trace_params tp = base_trace(p);
   tp.falloff = f;
+  return full_grid(f.model.display.width, f.model.display.height, tp, t);
+}
+
+reference_trace renderer::full_grid(int width, int height, const trace_params& tp, frame_timing* t) {
+  pending_.reset();
   const auto t0 = clock_type::now();
-  reference_trace out = trace_reference(*scene_, cam_, f.model.display.width, f.model.display.height, tp);
+  reference_trace out = trace_reference(*scene_, cam_, width, height, tp);
   if (t) {
     *t = frame_timing{};
     t->trace_ms = ms_since(t0);

@@ -490,16 +490,12 @@ reference_trace trace_reference(const scene& sc, const camera& cam, int width, i
           pixel_rays(x, y, width, params, 0, n,
                      [&](float sx, float sy) { rays.push_back({sx, sy, radius, pixel}); });
         }
-      auto store = [&](uint32_t pixel, glm::vec3 c, float depth, uint32_t) {
-        out.rgb[pixel] = c;
-        out.depth[pixel] = depth;
-      };
-      if (rays_of.empty())
-        trace_rays(d, params.sun ? *params.sun : d.desc.sun, f, rays.data(), rays.size(), params.shadows, timing,
-                   per_owner_mean(spp, exposure_factor(params), store));
-      else
-        trace_rays(d, params.sun ? *params.sun : d.desc.sun, f, rays.data(), rays.size(), params.shadows, timing,
-                   per_owner_mean_by([&](uint32_t pixel) { return uint32_t(rays_of[pixel]); }, exposure_factor(params), store));
+      trace_rays(d, params.sun ? *params.sun : d.desc.sun, f, rays.data(), rays.size(), params.shadows, timing,
+                 per_owner_mean_by([&](uint32_t pixel) { return rays_of.empty() ? spp : uint32_t(rays_of[pixel]); },
+                                   exposure_factor(params), [&](uint32_t pixel, glm::vec3 c, float depth, uint32_t) {
+                                     out.rgb[pixel] = c;
+                                     out.depth[pixel] = depth;
+                                   }));
       if (tile_seconds)
         (*tile_seconds)[size_t(tile)] =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - tile_start).count();
@@ -521,7 +517,7 @@ std::string falloff_problem(const ray_falloff& f, uint32_t spp) {
 
 falloff_rule make_falloff_rule(const ray_falloff& f, uint32_t spp) {
   falloff_rule r;
-  r.spp = spp, r.floor = f.floor;
+  r.floor = f.floor;
   const double p0 = point_spacing_px(f.model, 0);
   auto rays = [&](double d) {
     const double q = p0 / point_spacing_px(f.model, d);
@@ -529,11 +525,7 @@ falloff_rule make_falloff_rule(const ray_falloff& f, uint32_t spp) {
   };
   // Farthest a pixel can be from a gaze on (or at the edge of) the screen.
   const double far = std::hypot(2.0 * f.model.display.width, 2.0 * f.model.display.height);
-  for (uint32_t n = f.floor + 1; n <= spp; ++n) {
-    if (rays(0) < n) {
-      r.thresholds.push_back(-1);
-      continue;
-    }
+  for (uint32_t n = f.floor + 1; n <= spp; ++n) {  // rays(0) is spp: every n is reached at the gaze
     double lo = 0, hi = far;
     if (rays(hi) >= n) {
       r.thresholds.push_back(hi);

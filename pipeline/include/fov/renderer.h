@@ -161,6 +161,8 @@ class renderer {
   // Finds each frame's traced points (make_traced_index), for set_ and the last k traced.
   std::shared_ptr<const traced_index> index_;
   std::shared_ptr<const traced_index> index_for(const trace_params& tp);
+  // Every pixel of a width x height frame traced with tp (reference, falloff_frame), timed.
+  reference_trace full_grid(int width, int height, const trace_params& tp, frame_timing* t);
   std::unique_ptr<cl_reconstructor> device_;
   double device_setup_ms_ = 0;
   taa_state taa_;

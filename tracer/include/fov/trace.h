@@ -69,7 +69,7 @@ std::string falloff_problem(const ray_falloff& f, uint32_t spp);
 // n(d) for every distance at once: thresholds[j] is the largest pixel distance from the gaze
 // at which a pixel still casts floor + 1 + j rays (bisection on the model, within 1e-9 px).
 struct falloff_rule {
-  uint32_t spp = 1, floor = 1;
+  uint32_t floor = 1;
   std::vector<double> thresholds;  // spp - floor entries, non-increasing
   uint32_t rays_at(double distance_px) const;
 };
