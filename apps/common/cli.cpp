@@ -75,9 +75,7 @@ display_geometry require_display(const std::string& flag, const std::string& tex
 }
 
 std::string display_help() {
-  std::string names;
-  for (const display_preset_info& p : display_presets()) names += std::string(names.empty() ? "" : ", ") + p.name;
-  return "The display: a preset (" + names +
+  return "The display: a preset (" + display_preset_names() +
          "; docs/displays.md), WxH (seen from one width), WxH@Nppd (N pixels per degree at the centre), WxH@Ndeg "
          "(a horizontal field of view of N degrees) or WxH@V (seen from V widths)";
 }

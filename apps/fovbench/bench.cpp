@@ -302,14 +302,13 @@ display_geometry check_bench_options(const bench_options& o) {
                                                            o.temporal_frames));
         !why.empty())
       throw usage_error("--temporal-frames: " + why + " (fewer frames, or --no-jod)");
+  if (o.no_sparse && o.ray_floors.empty()) throw usage_error("--no-sparse leaves no foveated scheme: add --ray-floors");
   // Sets that will be generated need a --points-dir this process can write in: known now,
   // not after the references are traced.
-  if (o.no_sparse && o.ray_floors.empty()) throw usage_error("--no-sparse leaves no foveated scheme: add --ray-floors");
   for (double s : o.scales)
     if (!o.no_sparse && !fs::exists(bench_pointset_path(o, display, s))) {
       require_output_dir("--points-dir", o.points_dir);
-      if (const std::string why = memory_problem(knn_table_bytes(display, knn_params{}.k), "generating a set's k-NN table");
-          !why.empty())
+      if (const std::string why = knn_table_memory_problem(display, knn_params{}.k); !why.empty())
         throw usage_error("--display: " + why);
     }
   // -o/references must be (or become) a directory.

@@ -79,9 +79,7 @@ spacing_model model_from(const generate_options& o) {
   if (!parse_table_encoding(o.encoding, e))
     throw usage_error(fmt::format("--encoding: unknown '{}' (ref-left-zstd, raw)", o.encoding));
   if (const std::string why = validate(m); !why.empty()) throw usage_error(why);
-  if (const std::string why = memory_problem(knn_table_bytes(m.display, o.k), fmt::format("the k-NN table (k = {})", o.k));
-      !why.empty())
-    throw usage_error(fmt::format("--display {}x{}: {}", m.display.width, m.display.height, why));
+  if (const std::string why = knn_table_memory_problem(m.display, o.k); !why.empty()) throw usage_error("--display: " + why);
   return m;
 }
 

@@ -31,7 +31,7 @@ struct tile {
 
 class dart_board {
  public:
-  dart_board(const spacing_model& model, const dart_params& params) : model_(model), params_(params) {
+  dart_board(const spacing_model& model, const dart_params& params) : model_(model), params_(params), grid_(model, params) {
     const double w = model.display.width, h = model.display.height;
     grid_radius_ = grid_radius(model, params);
     canvas_w_ = float(2 * w);
@@ -84,14 +84,8 @@ class dart_board {
     return placed;
   }
 
-  // True inside a grid pixel, where no dart may land (in_grid_pixel); the model is evaluated
-  // only within a pixel of the grid's rim.
-  bool in_grid(float x, float y) const {
-    if (grid_radius_ < 0) return false;
-    const double d = std::hypot(double(x) - cx_, double(y) - cy_);
-    if (d > grid_radius_ + 1.5) return false;
-    return in_grid_pixel(model_, params_, x, y);
-  }
+  // True inside a grid pixel, where no dart may land (grid_test::in_grid_pixel).
+  bool in_grid(float x, float y) const { return grid_.in_grid_pixel(x, y); }
 
   float spacing_at(float x, float y) const {
     return float(point_spacing_px(model_, std::hypot(double(x) - cx_, double(y) - cy_)));
@@ -220,6 +214,7 @@ class dart_board {
  private:
   spacing_model model_;
   dart_params params_;
+  grid_test grid_;
   double grid_radius_ = -1;
   float tile_size_;
   int tiles_x_, tiles_y_;

@@ -24,9 +24,7 @@ const std::vector<display_preset_info> presets = {
 };
 
 std::string forms() {
-  std::string names;
-  for (const display_preset_info& p : presets) names += std::string(names.empty() ? "" : ", ") + p.name;
-  return fmt::format("{}, or WxH, WxH@Nppd, WxH@Ndeg, WxH@V (sides {}..{})", names, min_display_side,
+  return fmt::format("{}, or WxH, WxH@Nppd, WxH@Ndeg, WxH@V (sides {}..{})", display_preset_names(), min_display_side,
                      max_display_side);
 }
 
@@ -69,6 +67,12 @@ display_geometry display_preset_info::geometry() const {
 }
 
 const std::vector<display_preset_info>& display_presets() { return presets; }
+
+std::string display_preset_names() {
+  std::string names;
+  for (const display_preset_info& p : presets) names += std::string(names.empty() ? "" : ", ") + p.name;
+  return names;
+}
 
 bool display_preset(const std::string& name, display_geometry& out) {
   for (const display_preset_info& p : presets)

@@ -1,4 +1,5 @@
 #include "fov/knn_table.h"
+#include "fov/files.h"
 
 #include <algorithm>
 #include <stdexcept>
@@ -80,6 +81,10 @@ void knn_builder::rows(uint32_t y0, uint32_t y1, uint32_t* out) const {
       }
     }
   });
+}
+
+std::string knn_table_memory_problem(const display_geometry& d, uint32_t k) {
+  return memory_problem(knn_table_bytes(d, k), fmt::format("the k-NN table of a {}x{} display's set (k = {})", d.width, d.height, k));
 }
 
 knn_table build_knn_table(const std::vector<point>& points, uint32_t canvas_width, uint32_t canvas_height,

@@ -93,22 +93,29 @@ double grid_radius(const spacing_model& model, const dart_params& params) {
   return lo;
 }
 
-grid_test::grid_test(const pointset& set) : set_(&set) {
-  const double r = grid_radius(set.model, set.darts);
+grid_test::grid_test(const spacing_model& model, const dart_params& params) : model_(model), params_(params) {
+  const double r = grid_radius(model, params);
   if (r < 0) return;
   // Within [r - 1e-6, r + 1e-6] px the test evaluates the model, as is_grid_pixel does.
   inside2_ = std::max(0.0, r - 1e-6) * std::max(0.0, r - 1e-6);
   outside2_ = (r + 1e-6) * (r + 1e-6);
+  // A position lies within 0.71 px of its pixel's centre: past r + 1.5, no grid pixel.
+  rim_ = r + 1.5;
 }
 
 bool grid_test::operator()(const point& p) const {
   uint32_t px, py;
   if (outside2_ < 0 || !on_pixel_centre(p, px, py)) return false;
-  const double dx = double(p.x) - set_->model.display.width, dy = double(p.y) - set_->model.display.height;
+  const double dx = double(p.x) - model_.display.width, dy = double(p.y) - model_.display.height;
   const double d2 = dx * dx + dy * dy;
   if (d2 < inside2_) return true;
   if (d2 > outside2_) return false;
-  return is_grid_pixel(set_->model, set_->darts, px, py);
+  return is_grid_pixel(model_, params_, px, py);
+}
+
+bool grid_test::in_grid_pixel(float x, float y) const {
+  if (rim_ < 0 || std::hypot(double(x) - model_.display.width, double(y) - model_.display.height) > rim_) return false;
+  return fov::in_grid_pixel(model_, params_, x, y);
 }
 
 uint64_t count_spacing_violations(const std::vector<point>& points, uint32_t canvas_width,

@@ -389,8 +389,6 @@ pointset load_checked(const std::string& path, const load_params& params) {
   if (!checksum_matches(crc32c(set.points.data(), h.points_bytes), h.points_crc)) throw fail("points checksum mismatch (file corrupted)");
   uint64_t grid_points = 0, hidden_darts = 0;
   const grid_test on_grid(set);
-  const double radius = grid_radius(set.model, set.darts);
-  const double rim = radius < 0 ? -1 : radius + 1.5;  // beyond it no pixel is a grid pixel
   uint64_t previous_code = 0;
   for (const point& p : set.points) {
     if (!(p.x >= 0 && p.x < float(h.canvas_width) && p.y >= 0 && p.y < float(h.canvas_height) && p.spacing > 0 &&
@@ -401,8 +399,7 @@ pointset load_checked(const std::string& path, const load_params& params) {
     previous_code = code;
     const bool grid = on_grid(p);
     grid_points += grid;
-    if (!grid && rim > 0 && std::hypot(double(p.x) - set.model.display.width, double(p.y) - set.model.display.height) <= rim)
-      hidden_darts += in_grid_pixel(set.model, set.darts, p.x, p.y);
+    if (!grid) hidden_darts += on_grid.in_grid_pixel(p.x, p.y);
   }
   if (hidden_darts > 0)
     throw fail(fmt::format("{} darts lie inside grid pixels, where they would be traced and never weigh (a grid set made "

@@ -61,6 +61,8 @@ struct display_preset_info {
   display_geometry geometry() const;
 };
 const std::vector<display_preset_info>& display_presets();
+// Their names, joined by ", " (help texts and messages).
+std::string display_preset_names();
 
 // Named displays. Returns false for an unknown name.
 bool display_preset(const std::string& name, display_geometry& out);

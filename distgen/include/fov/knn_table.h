@@ -40,6 +40,9 @@ inline uint64_t knn_table_bytes(const display_geometry& display, uint32_t k) {
   return 4ull * uint64_t(display.width) * uint64_t(display.height) * k * sizeof(uint32_t);
 }
 
+// "" when that table fits in this machine's memory, else why not (fov::memory_problem).
+std::string knn_table_memory_problem(const display_geometry& display, uint32_t k);
+
 // Builds the whole table in memory.
 knn_table build_knn_table(const std::vector<point>& points, uint32_t canvas_width,
                           uint32_t canvas_height, const knn_params& params);

@@ -182,16 +182,21 @@ std::string pointset_file_name(const spacing_model& model, const dart_params& da
 // shrinks with distance); -1 without a grid, or when even the centre's spacing exceeds it.
 double grid_radius(const spacing_model& model, const dart_params& params);
 
-// is_grid_point for many points (the tracer asks for every traced point): the rim is found
-// once, so only a point within a hair of it evaluates the model. Same answers, tested.
+// is_grid_point and in_grid_pixel for many points (the tracer asks for every traced point,
+// the dart thrower for every dart, the loader for every point): the rim is found once, so
+// only a point near it evaluates the model. Same answers, tested.
 class grid_test {
  public:
-  explicit grid_test(const pointset& set);
-  bool operator()(const point& p) const;
+  grid_test(const spacing_model& model, const dart_params& params);
+  explicit grid_test(const pointset& set) : grid_test(set.model, set.darts) {}
+  bool operator()(const point& p) const;            // is_grid_point
+  bool in_grid_pixel(float x, float y) const;       // fov::in_grid_pixel
 
  private:
-  const pointset* set_;
+  spacing_model model_;
+  dart_params params_;
   double inside2_ = -1, outside2_ = -1;  // squared distances: surely inside, surely outside
+  double rim_ = -1;                      // beyond it no pixel is a grid pixel (-1: no grid)
 };
 
 // 64-bit Morton (Z-order) code of a canvas position, at 1/64-pixel resolution.
