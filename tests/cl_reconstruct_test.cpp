@@ -9,8 +9,11 @@
 #include "fov/cl_reconstruct.h"
 #include "fov/rbf_cache.h"
 #include "fov/dart_throwing.h"
+#include "fov/knn_cells.h"
 #include "fov/knn_table.h"
 #include "opencl_required.h"
+#include "test_samples.h"
+#include "test_sets.h"
 
 namespace fov {
 namespace {
@@ -166,6 +169,48 @@ TEST_F(device_fixture, RbfWeightsAreComputedOncePerTileAndReused) {
   EXPECT_EQ(shape1->seconds(), shape1_seconds);
 }
 
+// Issue 24: the kernels rank a cell's candidates as the C++ path does, so a set that keeps
+// cells gives on the device the frame the same set gives from its table, bit for bit, for
+// every method and with TAA (a grid-fovea set: exact ties; a dart set seen from afar: cells of
+// up to 4 pixels).
+TEST(DeviceCells, KernelsGiveTheTablesFrameBitForBit) {
+  for (bool grid : {true, false}) {
+    const testing::table_and_cells both =
+        testing::both_ways(grid ? testing::partial_grid_model() : testing::small_model(256, 192, 10.0, 4.0),
+                           grid ? testing::grid_darts() : testing::quick_darts(), 20);
+    const pointset &with_table = both.table, &with_cells = both.cells;
+    cl_reconstructor table_device(with_table), cells_device(with_cells);
+    FOV_REQUIRE_DEVICE(table_device);
+    FOV_REQUIRE_DEVICE(cells_device);
+    point_samples s = testing::random_samples(with_table.points.size(), 5);
+    testing::for_each_reconstruction(with_table.model.display, {gaze_point{60, 40}, gaze_point{0, 0}, gaze_point{128, 96}}, s,
+                                     [&](const reconstruct_params& rp) {
+      frame a, b;
+      ASSERT_TRUE(table_device.run(s, rp, a).on_device);
+      ASSERT_TRUE(cells_device.run(s, rp, b).on_device);
+      ASSERT_EQ(a.rgb, b.rgb) << method_name(rp.how) << " k=" << rp.k;
+      ASSERT_EQ(a.depth, b.depth) << method_name(rp.how) << " k=" << rp.k;
+      // and the C++ path on the cells within the kernels' float tolerance
+      const frame c = reconstruct(with_cells, s, rp);
+      for (size_t i = 0; i < c.rgb.size(); ++i)
+        for (int ch = 0; ch < 3; ++ch) ASSERT_NEAR(b.rgb[i][ch], c.rgb[i][ch], 1e-4) << method_name(rp.how) << " pixel " << i;
+    });
+    // TAA on the device over three frames with a moving gaze: the same history either way.
+    taa_state with_table_history, with_cells_history;
+    reconstruct_params rp;
+    for (int f = 0; f < 3; ++f) {
+      s.mirror_x = f == 1;
+      const camera cam = look_at({0.05f * f, 0, 0}, {0.3f, 0, -5}, 70);
+      const gaze_point gaze{40.0 + 20 * f, 30.0};
+      s.offset = offset_for_gaze(with_table.model.display, gaze);
+      frame a, b;
+      ASSERT_TRUE(table_device.run_taa(s, rp, with_table_history, cam, gaze, {}, a).on_device);
+      ASSERT_TRUE(cells_device.run_taa(s, rp, with_cells_history, cam, gaze, {}, b).on_device);
+      ASSERT_EQ(a.rgb, b.rgb) << "TAA frame " << f;
+    }
+  }
+}
+
 TEST_F(device_fixture, TaaOnTheDeviceMatchesTheCppPath) {
   cl_reconstructor device(set);
   FOV_REQUIRE_DEVICE(device);
@@ -211,6 +256,7 @@ TEST_F(device_fixture, KernelConstantsAndStructLayoutComeFromTheHost) {
   const std::string options = cl_reconstructor::kernel_build_options();
   EXPECT_NE(options.find("-DFOV_MAX_K=" + std::to_string(max_knn)), std::string::npos) << options;
   EXPECT_NE(options.find("-DFOV_RBF_TILE=" + std::to_string(rbf_weight_cache::tile)), std::string::npos) << options;
+  EXPECT_NE(options.find("-DFOV_CELL_TILE=" + std::to_string(knn_cells::tile)), std::string::npos) << options;
   EXPECT_NE(options.find(fmt::format("-DFOV_ON_POINT={:.9g}f", on_point_px)), std::string::npos) << options;
   cl_reconstructor device(set);
   FOV_REQUIRE_DEVICE(device);

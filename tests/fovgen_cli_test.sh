@@ -85,6 +85,23 @@ done
 grep -q '"spacing_violations": 0,' <<<"$json" || { echo "FAIL spacing violations not 0"; failures=$((failures + 1)); }
 [[ $(head -c 8 "$dir/p.png" | od -An -c | tr -d ' ') == "211PNG\r\n032\n" ]] || { echo "FAIL plot is not a PNG"; failures=$((failures + 1)); }
 
+# Issue 24: a cells set keeps the points only on disk and finds the table's neighbours at
+# load: the same points traced from a file of the points alone. (Memory: at this size the
+# points are as dense as pixels and the cells take more than the table; knn_cells_test.)
+check "generate cells"    0 -- "$fovgen" "${small[@]}" --k 8 --encoding cells -o "$dir/c.fovset"
+python3 - "$("$fovgen" info "$dir/a.fovset" --gaze 24,20 --json)" "$("$fovgen" info "$dir/c.fovset" --gaze 24,20 --json)" <<'PY' \
+  || fail "a cells set's info differs from the table set's as it should not"
+import json, sys
+a, c = json.loads(sys.argv[1]), json.loads(sys.argv[2])
+assert a["neighbours"] == "table" and c["neighbours"] == "cells", (a["neighbours"], c["neighbours"])
+assert a["k"] == c["k"] and a["points_total"] == c["points_total"], (a["k"], c["k"])
+assert a["points_traced"] == c["points_traced"], (a["points_traced"], c["points_traced"])
+assert c["file_bytes"] == 512 + 12 * c["points_total"], c["file_bytes"]
+assert c["knn_memory_bytes"] > 0 and a["knn_memory_bytes"] == 4 * 96 * 80 * 8, (c, a)
+PY
+check "sweep cells"       0 -- "$fovgen" sweep "${small[@]}" --k 4 --scales 1.0 --encoding cells --skip-existing -o "$dir/cellsweep"
+"$fovgen" info "$dir/cellsweep/48x40-v1-s1.00.fovset" --json | grep -q '"neighbours": "cells",' || fail "a cells sweep wrote a table set"
+
 # A grid fovea: a partial grid (N v = 1280 as on a FOVE, thinned by s = 4), reported by info.
 check "generate grid"     0 -- "$fovgen" --width 128 --height 96 -v 10 --scale 4 --saturation 500 --k 8 --fovea grid -o "$dir/g.fovset"
 grid_json=$("$fovgen" info "$dir/g.fovset" --json)

@@ -86,6 +86,54 @@ TEST_F(PointsetFile, RoundTripsInBothEncodings) {
   }
 }
 
+// Issue 24: a cells file holds the header and points only; loading builds the cells, which
+// give every pixel the table's neighbours. A set holding cells saves as one, byte for byte
+// the file a table set saved with encoding cells gives; a header-only load keeps k.
+TEST_F(PointsetFile, CellsFilesHoldThePointsAndLoadTheTablesNeighbours) {
+  save_params sp;
+  sp.encoding = table_encoding::cells;
+  save_pointset(path("c.fovset"), set_, sp);
+  EXPECT_EQ(fs::file_size(path("c.fovset")), 512 + set_.points.size() * sizeof(point));
+  const pointset loaded = load_pointset(path("c.fovset"));
+  EXPECT_EQ(loaded.table.k, 0u);
+  ASSERT_TRUE(loaded.cells.loaded());
+  EXPECT_EQ(stored_k(loaded), 12u);
+  EXPECT_EQ(0, std::memcmp(loaded.points.data(), set_.points.data(), set_.points.size() * sizeof(point)));
+  uint32_t got[max_knn];
+  for (uint32_t y = 0; y < set_.table.height; ++y)
+    for (uint32_t x = 0; x < set_.table.width; ++x) {
+      pixel_neighbours(loaded, x, y, 12, got);
+      for (uint32_t j = 0; j < 12; ++j) ASSERT_EQ(got[j], set_.table.at(x, y, j)) << x << "," << y << " rank " << j;
+    }
+  save_pointset(path("again.fovset"), loaded);  // a set holding cells saves as cells
+  EXPECT_EQ(read(path("c.fovset")), read(path("again.fovset")));
+  load_params lp;
+  lp.table = false;
+  const pointset header_only = load_pointset(path("c.fovset"), lp);
+  EXPECT_EQ(stored_k(header_only), 12u);
+  EXPECT_FALSE(header_only.cells.loaded());
+  EXPECT_THROW(require_neighbours(header_only), std::invalid_argument);
+  // A cells file that claims a table section, or another group, is refused by name.
+  std::vector<char> bad = read(path("c.fovset"));
+  const uint32_t group = 2;
+  std::vector<char> good = bad;
+  for (size_t at = 0; at + 4 <= 512; at += 4) {  // the group field: the one holding 1 right after k = 12
+    uint32_t a, b;
+    std::memcpy(&a, &good[at], 4), std::memcpy(&b, &good[at + 4], 4);
+    if (a == 12 && b == 1) {
+      std::memcpy(&bad[at + 4], &group, 4);
+      break;
+    }
+  }
+  ASSERT_NE(bad, good);
+  const uint32_t crc = crc32c(bad.data(), 508);  // a valid header checksum: the cells check is reached
+  std::memcpy(&bad[508], &crc, 4);
+  write(path("bad.fovset"), bad);
+  EXPECT_NE(load_error(path("bad.fovset")).find("a cells set with a table section"), std::string::npos)
+      << load_error(path("bad.fovset"));
+  EXPECT_NE(load_error(path("bad.fovset")).find("bad.fovset"), std::string::npos);
+}
+
 TEST_F(PointsetFile, SameSetGivesByteIdenticalFiles) {
   knn_params kp;
   kp.k = 12;

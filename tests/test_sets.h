@@ -2,6 +2,7 @@
 #pragma once
 
 #include "fov/dart_throwing.h"
+#include "fov/knn_cells.h"
 #include "fov/knn_table.h"
 
 namespace fov::testing {
@@ -28,6 +29,23 @@ inline dart_params grid_darts(uint64_t seed = 7) {
   dart_params d = quick_darts(seed);
   d.fovea = fovea_layout::grid;
   return d;
+}
+
+// One set kept both ways: with its exact table and (a copy) with k-NN cells of the same k.
+struct table_and_cells {
+  pointset table, cells;
+};
+inline table_and_cells both_ways(const spacing_model& m, const dart_params& d, uint32_t k) {
+  table_and_cells out;
+  knn_params kp;
+  kp.k = k;
+  out.table = generate_pointset(m, d, kp);
+  out.cells = out.table;
+  out.cells.table = {};
+  knn_cells_params cp;
+  cp.k = k;
+  out.cells.cells = build_knn_cells(out.cells.points, out.cells.canvas_width(), out.cells.canvas_height(), cp);
+  return out;
 }
 
 // Pairs closer than min(p_i, p_j), by checking every pair.

@@ -123,6 +123,16 @@ std::string bench_pointset_path(const bench_options& o, const display_geometry& 
 
 }  // namespace
 
+namespace {
+
+// Sets fovbench makes keep their table where it fits in memory, else k-NN cells (the same
+// neighbours; results.csv's `neighbours` says which a row read).
+knn_storage bench_storage(const display_geometry& display, uint32_t k) {
+  return knn_table_memory_problem(display, k).empty() ? knn_storage::table : knn_storage::cells;
+}
+
+}  // namespace
+
 std::shared_ptr<const pointset> bench_pointset(const bench_options& o, const display_geometry& display, double scale,
                                                const std::function<void(const std::string&)>& say) {
   const std::string path = bench_pointset_path(o, display, scale);
@@ -135,7 +145,10 @@ std::shared_ptr<const pointset> bench_pointset(const bench_options& o, const dis
     darts.fovea = o.fovea;
     darts.grid_spacing = o.grid_spacing;
     make_output_dir(o.points_dir);
-    save_pointset(path, generate_pointset(model, darts, {}));
+    const knn_storage storage = bench_storage(display, knn_params{}.k);
+    if (storage == knn_storage::cells)
+      say(fmt::format("the k-NN table of a {} set would not fit in memory: the set keeps k-NN cells", display_name(display)));
+    save_pointset(path, generate_pointset(model, darts, {}, storage));
   }
   auto set = std::make_shared<const pointset>(load_pointset(path));
   if (fovea_label(set->darts) != fovea_text(o))
@@ -144,7 +157,7 @@ std::shared_ptr<const pointset> bench_pointset(const bench_options& o, const dis
     throw std::runtime_error(fmt::format("{}: made for {} at s = {}, not {} at s = {}", path, display_name(set->model.display),
                                          set->model.scale, display_name(display), scale));
   for (uint32_t k : o.ks)
-    if (k > set->table.k) throw usage_error(fmt::format("--k {} exceeds the k = {} of {}", k, set->table.k, path));
+    if (k > stored_k(*set)) throw usage_error(fmt::format("--k {} exceeds the k = {} of {}", k, stored_k(*set), path));
   return set;
 }
 
@@ -308,8 +321,7 @@ display_geometry check_bench_options(const bench_options& o) {
   for (double s : o.scales)
     if (!o.no_sparse && !fs::exists(bench_pointset_path(o, display, s))) {
       require_output_dir("--points-dir", o.points_dir);
-      if (const std::string why = knn_table_memory_problem(display, knn_params{}.k); !why.empty())
-        throw usage_error("--display: " + why);
+
     }
   // -o/references must be (or become) a directory.
   if (const fs::path refs = fs::path(o.out) / "references"; fs::exists(refs) && !fs::is_directory(refs))
@@ -557,6 +569,12 @@ class scene_sweep {
     std::vector<double> ms, cpu_ms;  // wall and process CPU time of every timing
   };
 
+  // How the set in use keeps its neighbours: its table, or cells (bench_pointset).
+  std::string neighbours_label() const {
+    const pointset* set = r_.current_set();
+    return set ? label_of(knn_storage_labels, set->storage()) : "";
+  }
+
   void use_set(row_kind kind, size_t si) {
     if (kind == row_kind::foveated) {
       r_.use_pointset(bench_pointset(o_, st_.display, o_.scales[si], st_.sayer()));
@@ -565,7 +583,8 @@ class scene_sweep {
       knn_params kp;  // every k the sweep reads
       kp.k = 1;
       for (uint32_t k : o_.ks) kp.k = std::max(kp.k, k);
-      r_.use_pointset(std::make_shared<const pointset>(uniform_pointset(st_.display, o_.uniform_fractions[si], kp)));
+      pointset uniform = uniform_pointset(st_.display, o_.uniform_fractions[si], kp, bench_storage(st_.display, kp.k));
+      r_.use_pointset(std::make_shared<const pointset>(std::move(uniform)));
     }
     if (const std::string warning = r_.device_warning(); !warning.empty()) st_.report.line(warning);
   }
@@ -586,6 +605,7 @@ class scene_sweep {
                       {"texture_footprint", texture_footprint_name(o_.render.footprint)}, {"fovea", fovea_text(o_)},
                       {"display", display_name(st_.display)}, {"ppd", number(pixels_per_degree(st_.display))},
                       {"device", r_.device()}, {"frames", std::to_string(o_.frames)},
+                      {"neighbours", c.kind == row_kind::foveated || c.kind == row_kind::uniform ? neighbours_label() : ""},
                       {"render_settings", render_settings_label(o_.render)},
                       {"full_rays", std::to_string(uint64_t(st_.display.width) * st_.display.height * c.spp)}});
     put_floor(row, floor_at(c.gaze), o_.reference_spp);

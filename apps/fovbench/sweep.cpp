@@ -44,7 +44,7 @@ const std::vector<std::string>& result_columns() {
       // converged path's own floor (a second one, another seed).
       "video_jod", "video_jod_nonfoveated", "video_jod_taa", "video_jod_taa_nonfoveated", "video_jod_full",
       "video_jod_full_nonfoveated", "noise_floor_video_jod", "noise_floor_video_jod_nonfoveated",
-      "error_profile", "device", "frames", "render_settings"};
+      "error_profile", "device", "neighbours", "frames", "render_settings"};
   return columns;
 }
 
@@ -169,7 +169,7 @@ std::vector<result_row> read_results(const std::string& path) {
   if (header != result_columns())
     throw std::runtime_error(fmt::format("{}:1: not a results.csv of this fovbench (columns differ); use another -o", path));
   static const std::set<std::string> text_columns = {"scene",  "gaze",         "kind",   "method",         "texture_footprint",
-                                                     "fovea",  "display", "timing_flag",  "device", "render_settings", "error_profile",
+                                                     "fovea",  "display", "timing_flag",  "device", "neighbours", "render_settings", "error_profile",
                                                      "speedup_samples", "ladder_samples"};
   std::vector<result_row> rows;
   std::map<std::string, int> first_line;  // by key

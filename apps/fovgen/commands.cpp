@@ -18,6 +18,7 @@
 
 #include "../common/cli.h"
 #include "fov/files.h"
+#include "fov/knn_cells.h"
 #include "fov/pointset_io.h"
 #include "plot.h"
 #include "plots.h"
@@ -38,7 +39,9 @@ void add_generate_flags(CLI::App& app, generate_options& o) {
   app.add_option("--group", o.group, "Neighbour ranks per table plane group (layout; see docs)");
   app.add_option("--seed", o.seed, "Random seed; same flags + seed give a byte-identical file");
   app.add_option("--saturation", o.saturation, "Consecutive rejected darts that end a tile's dart throwing");
-  app.add_option("--encoding", o.encoding, "Table encoding on disk: ref-left-zstd (compact) or raw (mmap-able)");
+  app.add_option("--encoding", o.encoding,
+                 "Neighbours on disk: ref-left-zstd (the table, compact), raw (the table, mmap-able) or cells (no table: "
+                 "k-NN cells built from the points at load, memory that grows with the points; for large displays)");
   add_label_option(app, "--fovea", o.fovea, fovea_layout_labels,
                         "darts: Poisson-disc darts everywhere (the thesis); grid: one point per pixel centre "
                         "where the model's spacing is at most --grid-spacing, darts outside");
@@ -77,9 +80,11 @@ spacing_model model_from(const generate_options& o) {
     throw usage_error("--grid-spacing needs --fovea grid");
   table_encoding e;
   if (!parse_table_encoding(o.encoding, e))
-    throw usage_error(fmt::format("--encoding: unknown '{}' (ref-left-zstd, raw)", o.encoding));
+    throw usage_error(fmt::format("--encoding: unknown '{}' (ref-left-zstd, raw, cells)", o.encoding));
   if (const std::string why = validate(m); !why.empty()) throw usage_error(why);
-  if (const std::string why = knn_table_memory_problem(m.display, o.k); !why.empty()) throw usage_error("--display: " + why);
+  if (e != table_encoding::cells)
+    if (const std::string why = knn_table_memory_problem(m.display, o.k); !why.empty())
+      throw usage_error("--display: " + why + "; --encoding cells keeps neighbours in memory that grows with the points");
   return m;
 }
 
@@ -95,8 +100,12 @@ json summary(const pointset& set, const std::string& path) {
   j["scale"] = set.model.scale;
   j["acuity_model"] = acuity_model_name(set.model.acuity.model);
   j["csf"] = {{"ct0", set.model.acuity.ct0}, {"alpha", set.model.acuity.alpha}, {"e2", set.model.acuity.e2}};
-  j["k"] = set.table.k;
-  j["table_group"] = set.table.group;
+  j["k"] = stored_k(set);
+  j["neighbours"] = set.table.k != 0 ? "table" : "cells";
+  if (set.table.k != 0) j["table_group"] = set.table.group;
+  // Bytes the neighbours take in memory once loaded (the table's entries, or the cells').
+  if (set.table.k != 0 && !set.table.entries.empty()) j["knn_memory_bytes"] = set.table.entries.size() * 4;
+  if (set.cells.loaded()) j["knn_memory_bytes"] = set.cells.bytes();
   j["seed"] = set.darts.seed;
   j["saturation_rejections"] = set.darts.saturation_rejections;
   j["fovea"] = label_of(fovea_layout_labels, set.darts.fovea);
@@ -161,9 +170,22 @@ pointset generate_file(const spacing_model& model, const generate_options& o, co
     throw usage_error(fmt::format("--k {} exceeds the {} points of this set; use --k {} or less", o.k,
                                   set.points.size(), set.points.size()));
   const auto start = clock_type::now();
-  knn_builder builder(set.points, set.canvas_width(), set.canvas_height(), o.k);
   save_params save;
   parse_table_encoding(o.encoding, save.encoding);
+  if (save.encoding == table_encoding::cells) {
+    knn_cells_params cp;
+    cp.k = o.k;
+    try {
+      set.cells = build_knn_cells(set.points, set.canvas_width(), set.canvas_height(), cp);
+    } catch (const std::invalid_argument& e) {
+      throw usage_error(std::string("--display: ") + e.what());
+    }
+    set.knn_seconds = std::chrono::duration<double>(clock_type::now() - start).count();
+    save_pointset(path, set, save);
+    write_provenance(set, path);
+    return set;
+  }
+  knn_builder builder(set.points, set.canvas_width(), set.canvas_height(), o.k);
   save_pointset(
       path, set, o.k, o.group,
       [&](uint32_t y0, uint32_t y1, uint32_t* out) {
@@ -240,9 +262,9 @@ int run_generate(const generate_options& o) {
     std::cout << j.dump(2) << "\n";
   } else {
     fmt::print("{}: {} points ({} on the foveal grid, {} + {} darts in phase 2), free area {:.2e}, {} spacing violations, "
-               "darts {:.1f} s + table {:.1f} s, {:.1f} MB\n",
+               "darts {:.1f} s + {} {:.1f} s, {:.1f} MB\n",
                output, set.points.size(), set.stats.grid_points, set.stats.phase1_points, set.stats.phase2_points, set.stats.free_fraction,
-               j["spacing_violations"].get<uint64_t>(), set.stats.seconds, set.knn_seconds,
+               j["spacing_violations"].get<uint64_t>(), set.stats.seconds, set.table.k != 0 ? "table" : "cells", set.knn_seconds,
                j.value("file_bytes", 0.0) / 1e6);
   }
   return 0;
@@ -253,20 +275,22 @@ int run_info(const info_options& o) {
   const uint32_t k_used = o.k;
   const bool as_json = o.json;
   const pointset set = load_pointset(file);  // the whole file, table too: info vouches for it
-  if (k_used > set.table.k) throw usage_error(fmt::format("--k {}: {} stores {} neighbours per pixel", k_used, file, set.table.k));
+  if (k_used > stored_k(set))
+    throw usage_error(fmt::format("--k {}: {} stores {} neighbours per pixel", k_used, file, stored_k(set)));
   json j = summary(set, file);
   read_timings(j, file);
   j["spacing_violations"] = count_spacing_violations(set.points, set.canvas_width(), set.canvas_height());
   if (!gaze_text.empty()) {
     const gaze_point gaze = require_gaze("--gaze", gaze_text, set.model.display);
-    const uint32_t k = k_used ? std::min(k_used, set.table.k) : set.table.k;
+    const uint32_t k = k_used ? std::min(k_used, stored_k(set)) : stored_k(set);
     const traced_set t = count_traced_points(set, gaze, k);
     j["gaze"] = {gaze.x, gaze.y};
     j["k_used"] = k;
     j["points_on_screen"] = t.on_screen;
     j["points_referenced_off_screen"] = t.referenced_off_screen;
     j["points_traced"] = t.total();
-    j["knn_max_radius"] = set.table.max_radius;  // farthest k-th neighbour of any canvas pixel
+    // The farthest k-th neighbour of any canvas pixel (with cells: a bound on it).
+    j["knn_max_radius"] = set.table.k != 0 ? set.table.max_radius : set.cells.max_radius;
     j["traced_fraction"] = double(t.total()) / double(set.points.size());
     // The thesis's rule for comparison: on-screen points plus a fixed 10-pixel margin.
     const canvas_offset o = offset_for_gaze(set.model.display, gaze);
@@ -289,12 +313,12 @@ int run_plot(const plot_options& o) {
   const std::string &plot_file = o.file, &plot_out = o.output, &plot_gaze = o.gaze;
   const uint32_t plot_k = o.k;
   const pointset set = load_pointset(plot_file);  // checked whole, as info does
-  if (plot_k > set.table.k)
-    throw usage_error(fmt::format("--k {}: {} stores {} neighbours per pixel", plot_k, plot_file, set.table.k));
+  if (plot_k > stored_k(set))
+    throw usage_error(fmt::format("--k {}: {} stores {} neighbours per pixel", plot_k, plot_file, stored_k(set)));
   std::optional<gaze_point> gaze;
   if (!plot_gaze.empty()) gaze = require_gaze("--gaze", plot_gaze, set.model.display);
   require_output("-o", plot_out, {plot_file});
-  plot_points(set, plot_out, gaze, plot_k ? plot_k : set.table.k);
+  plot_points(set, plot_out, gaze, plot_k ? plot_k : stored_k(set));
   return 0;
 }
 
@@ -333,9 +357,9 @@ int run_sweep(const sweep_options& o) {
         const pointset old = load_pointset(path, lp);
         // Reuse only a set these exact flags would write again (the file is deterministic).
         reuse = old.model.scale == s && old.darts.seed == sweep_gen.seed &&
-                old.darts.saturation_rejections == sweep_gen.saturation && old.table.k == sweep_gen.k &&
-                fovea_label(old.darts) == fovea_label(layout) &&
-                old.table.group == std::clamp<uint32_t>(sweep_gen.group, 1, sweep_gen.k) &&
+                old.darts.saturation_rejections == sweep_gen.saturation && stored_k(old) == sweep_gen.k &&
+                fovea_label(old.darts) == fovea_label(layout) && (old.table.k == 0) == (sweep_gen.encoding == "cells") &&
+                (old.table.k == 0 || old.table.group == std::clamp<uint32_t>(sweep_gen.group, 1, sweep_gen.k)) &&
                 old.model.display.width == m.display.width && old.model.display.height == m.display.height &&
                 old.model.display.viewing_distance == m.display.viewing_distance;
       } catch (const file_error&) {
@@ -347,8 +371,8 @@ int run_sweep(const sweep_options& o) {
       gen_seconds = made.stats.seconds + made.knn_seconds;
     }
     const pointset set = load_pointset(path);
-    const traced_set centre = count_traced_points(set, screen_centre(m.display), set.table.k);
-    const traced_set corner = count_traced_points(set, {double(m.display.width), double(m.display.height)}, set.table.k);
+    const traced_set centre = count_traced_points(set, screen_centre(m.display), stored_k(set));
+    const traced_set corner = count_traced_points(set, {double(m.display.width), double(m.display.height)}, stored_k(set));
     counts.series[0].x.push_back(s), counts.series[0].y.push_back(double(set.points.size()));
     counts.series[1].x.push_back(s), counts.series[1].y.push_back(double(centre.total()));
     counts.series[2].x.push_back(s), counts.series[2].y.push_back(double(corner.total()));

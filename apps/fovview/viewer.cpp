@@ -310,12 +310,12 @@ int run_viewer(const viewer_options& o, render_params settings) {
       settings.reconstruct.how = c == '1' ? fov::method::nn : c == '2' ? fov::method::shepard : fov::method::rbf;
       if (settings.reconstruct.how == fov::method::rbf) status = "RBF: solving weights once for the screen (seconds)";
     }
-    if (c == '+' || c == '=') settings.reconstruct.k = std::min(settings.reconstruct.k + 1, renderer.current_set()->table.k);
+    if (c == '+' || c == '=') settings.reconstruct.k = std::min(settings.reconstruct.k + 1, stored_k(*renderer.current_set()));
     if (c == '-') settings.reconstruct.k = std::max(settings.reconstruct.k - 1, 1u);
     if ((c == '[' && level > 0) || (c == ']' && level + 1 < family.files.size())) {
       level += c == ']' ? 1 : -1;
       renderer.use_pointset(family.get(level));
-      settings.reconstruct.k = std::min(settings.reconstruct.k, renderer.current_set()->table.k);
+      settings.reconstruct.k = std::min(settings.reconstruct.k, stored_k(*renderer.current_set()));
     }
     if (c == 't') settings.taa = !settings.taa;
     if (c == 'r') show_reference = !show_reference;

@@ -9,23 +9,15 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include "knn_rank.h"
+
 namespace fov {
 
 namespace {
 
-struct ranked {
-  double d2;
-  uint32_t index;
-  bool operator<(const ranked& o) const { return d2 < o.d2 || (d2 == o.d2 && index < o.index); }
-};
-
-double distance2(const point& p, float qx, float qy) {
-  const double dx = double(p.x) - qx, dy = double(p.y) - qy;
-  return dx * dx + dy * dy;
-}
-
-// FLANN ranks in float; ask for this many more and re-rank in double.
-constexpr uint32_t extra_candidates = 6;
+using knn_rank::distance2;
+using knn_rank::extra_candidates;
+using knn_rank::ranked;
 
 }  // namespace
 

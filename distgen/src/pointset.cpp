@@ -14,6 +14,7 @@
 #include <tbb/parallel_reduce.h>
 
 #include "fov/dart_throwing.h"
+#include "fov/knn_cells.h"
 #include "fov/knn_table.h"
 #include "fov/pointset.h"
 
@@ -181,29 +182,68 @@ void set_knn_radii(knn_table& t, const std::vector<point>& points) {
   t.max_radius = t.radius_by_rank.back();
 }
 
-void require_table(const pointset& set) {
+namespace {
+
+bool table_loaded(const pointset& set) {
   const knn_table& t = set.table;
-  if (t.k == 0 || t.width != set.canvas_width() || t.height != set.canvas_height() ||
-      t.entries.size() != t.pixel_count() * t.k)
+  return t.k != 0 && t.width == set.canvas_width() && t.height == set.canvas_height() &&
+         t.entries.size() == t.pixel_count() * t.k;
+}
+
+bool cells_loaded(const pointset& set) {
+  return set.cells.loaded() && set.cells.width == set.canvas_width() && set.cells.height == set.canvas_height();
+}
+
+// The radii the traced-point scan bounds its band with, from the table or the cells.
+struct radii {
+  uint32_t k = 0;
+  const std::vector<float>* by_rank = nullptr;
+  const std::vector<float>* by_tile = nullptr;
+  float max = 0;
+};
+radii radii_of(const pointset& set) {
+  if (table_loaded(set)) return {set.table.k, &set.table.radius_by_rank, &set.table.radius_by_tile, set.table.max_radius};
+  return {set.cells.k, &set.cells.radius_by_rank, &set.cells.radius_by_tile, set.cells.max_radius};
+}
+static_assert(knn_table::radius_tile == knn_cells::tile, "the radii's tiles are the cells' tiles");
+
+}  // namespace
+
+void require_neighbours(const pointset& set) {
+  if (!table_loaded(set) && !cells_loaded(set))
     throw std::invalid_argument("the point set's k-NN table is not loaded");
 }
 
+uint32_t stored_k(const pointset& set) { return set.table.k != 0 ? set.table.k : set.cells.k; }
+
+void pixel_neighbours(const pointset& set, uint32_t x, uint32_t y, uint32_t k, uint32_t* out) {
+  if (set.table.k != 0) {
+    const uint64_t pixel = uint64_t(y) * set.table.width + x;
+    for (uint32_t j = 0; j < k; ++j) out[j] = set.table.entries[set.table.offset(pixel, j)];
+  } else {
+    cell_neighbours(set.cells, set.points, x, y, k, out);
+  }
+}
+
 std::vector<uint8_t> traced_point_mask(const pointset& set, gaze_point gaze, uint32_t k_used) {
-  require_table(set);
+  require_neighbours(set);
   const display_geometry& d = set.model.display;
   const canvas_offset o = offset_for_gaze(d, gaze);
   std::vector<uint8_t> mask(set.points.size(), 0);
   const knn_table& t = set.table;
-  k_used = std::min(k_used, t.k);
+  const bool table = t.k != 0;
+  const radii rad = radii_of(set);
+  k_used = std::min(k_used, rad.k);
   // Only pixels within the k_used-th neighbour's largest radius of the screen edge can
   // read an off-screen point (without known radii, every pixel is scanned). Rows are
   // split over threads; each collects the points it finds, and the marks are written after.
-  const float radius = t.radius_by_rank.size() == t.k ? t.radius_by_rank[k_used - 1] : t.max_radius;
+  const float radius = rad.by_rank->size() == rad.k ? (*rad.by_rank)[k_used - 1] : rad.max;
   const int band = radius > 0 ? int(std::ceil(radius)) + 1 : std::max(d.width, d.height);
   // Pixels whose tile's radius (rank k_used) stays inside the screen are skipped.
-  const uint32_t tiles_x = t.radius_tiles_x();
-  const float* tile_radius = t.radius_by_tile.size() == size_t(tiles_x) * t.radius_tiles_y() * t.k
-                                 ? t.radius_by_tile.data() + (k_used - 1)
+  const uint32_t tile = knn_table::radius_tile;
+  const uint32_t tiles_x = (set.canvas_width() + tile - 1) / tile, tiles_y = (set.canvas_height() + tile - 1) / tile;
+  const float* tile_radius = rad.by_tile->size() == size_t(tiles_x) * tiles_y * rad.k
+                                 ? rad.by_tile->data() + (k_used - 1)
                                  : nullptr;
   // On-screen points first: the band scan then tests a point's byte in the mask (580 KB
   // for the FOVE set, cache-resident) instead of reading its position (16 bytes each).
@@ -217,17 +257,24 @@ std::vector<uint8_t> traced_point_mask(const pointset& set, gaze_point gaze, uin
     std::vector<uint32_t>& acc = referenced[b];
     for (int sy = int(b) * rows_per_block, end = std::min(d.height, sy + rows_per_block); sy < end; ++sy) {
       const bool edge_row = sy < band || sy >= d.height - band;
-      const uint64_t row = uint64_t(sy + o.y) * t.width + uint64_t(o.x);
+      const uint64_t row = uint64_t(sy + o.y) * t.width + uint64_t(o.x);  // table only
       for (int sx = 0; sx < d.width; ++sx) {
         if (!edge_row && sx == band && d.width - band > band) sx = d.width - band;  // skip the interior
         if (tile_radius) {  // this pixel's neighbours all lie within its tile's radius
           const int edge = std::min(std::min(sx, d.width - 1 - sx), std::min(sy, d.height - 1 - sy));
           const uint32_t cx = uint32_t(sx + o.x) / knn_table::radius_tile, cy = uint32_t(sy + o.y) / knn_table::radius_tile;
-          if (tile_radius[(size_t(cy) * tiles_x + cx) * t.k] < float(edge)) continue;
+          if (tile_radius[(size_t(cy) * tiles_x + cx) * rad.k] < float(edge)) continue;
         }
-        for (uint32_t j = 0; j < k_used; ++j) {
-          const uint32_t i = t.entries[t.offset(row + sx, j)];
-          if (!mask[i]) acc.push_back(i);
+        if (table) {
+          for (uint32_t j = 0; j < k_used; ++j) {
+            const uint32_t i = t.entries[t.offset(row + sx, j)];
+            if (!mask[i]) acc.push_back(i);
+          }
+        } else {
+          uint32_t found[max_knn];
+          cell_neighbours(set.cells, set.points, uint32_t(sx + o.x), uint32_t(sy + o.y), k_used, found);
+          for (uint32_t j = 0; j < k_used; ++j)
+            if (!mask[found[j]]) acc.push_back(found[j]);
         }
       }
     }
@@ -282,21 +329,23 @@ bool read_on_screen(const pointset& set, const traced_index& index, uint32_t i, 
       screen.holds(int64_t(r.min_y & low32), min_y) || screen.holds(int64_t(r.max_y & low32), max_y))
     return true;
   // Near a corner of the screen: read the box's on-screen pixels.
-  const knn_table& t = set.table;
+  uint32_t found[max_knn];
   for (int64_t y = std::max(box.y0, screen.y0); y < std::min(box.y1, screen.y1); ++y)
-    for (int64_t x = std::max(box.x0, screen.x0); x < std::min(box.x1, screen.x1); ++x)
+    for (int64_t x = std::max(box.x0, screen.x0); x < std::min(box.x1, screen.x1); ++x) {
+      pixel_neighbours(set, uint32_t(x), uint32_t(y), index.k_used, found);
       for (uint32_t j = 0; j < index.k_used; ++j)
-        if (t.at(uint32_t(x), uint32_t(y), j) == i) return true;
+        if (found[j] == i) return true;
+    }
   return false;
 }
 
 }  // namespace
 
 traced_index make_traced_index(const pointset& set, uint32_t k_used) {
-  require_table(set);
+  require_neighbours(set);
   const knn_table& t = set.table;
   if (k_used < 1) throw std::invalid_argument("k_used must be at least 1");
-  k_used = std::min(k_used, t.k);  // as traced_point_mask reads it
+  k_used = std::min(k_used, stored_k(set));  // as traced_point_mask reads it
   traced_index index;
   index.k_used = k_used;
   const size_t n = set.points.size();
@@ -321,17 +370,26 @@ traced_index make_traced_index(const pointset& set, uint32_t k_used) {
     while (v > cur && !a.compare_exchange_weak(cur, v, std::memory_order_relaxed)) {
     }
   };
-  tbb::parallel_for(tbb::blocked_range<uint32_t>(0, t.height, 8), [&](const tbb::blocked_range<uint32_t>& rows) {
+  auto mark = [&](uint32_t i, uint32_t x, uint32_t y) {
+    const uint64_t xy = uint64_t(x) << 32 | y, yx = uint64_t(y) << 32 | x;
+    lower(sides[4 * size_t(i)], xy);
+    raise(sides[4 * size_t(i) + 1], xy);
+    lower(sides[4 * size_t(i) + 2], yx);
+    raise(sides[4 * size_t(i) + 3], yx);
+  };
+  const uint32_t width = set.canvas_width();
+  tbb::parallel_for(tbb::blocked_range<uint32_t>(0, set.canvas_height(), 8), [&](const tbb::blocked_range<uint32_t>& rows) {
+    uint32_t found[max_knn];
     for (uint32_t y = rows.begin(); y < rows.end(); ++y)
-      for (uint32_t j = 0; j < k_used; ++j)
-        for (uint32_t x = 0; x < t.width; ++x) {
-          const uint32_t i = t.entries[t.offset(uint64_t(y) * t.width + x, j)];
-          const uint64_t xy = uint64_t(x) << 32 | y, yx = uint64_t(y) << 32 | x;
-          lower(sides[4 * size_t(i)], xy);
-          raise(sides[4 * size_t(i) + 1], xy);
-          lower(sides[4 * size_t(i) + 2], yx);
-          raise(sides[4 * size_t(i) + 3], yx);
+      if (t.k != 0) {
+        for (uint32_t j = 0; j < k_used; ++j)
+          for (uint32_t x = 0; x < width; ++x) mark(t.entries[t.offset(uint64_t(y) * width + x, j)], x, y);
+      } else {
+        for (uint32_t x = 0; x < width; ++x) {
+          cell_neighbours(set.cells, set.points, x, y, k_used, found);
+          for (uint32_t j = 0; j < k_used; ++j) mark(found[j], x, y);
         }
+      }
   });
   index.reaches.resize(n);
   float margin = 0;
@@ -348,8 +406,8 @@ traced_index make_traced_index(const pointset& set, uint32_t k_used) {
 }
 
 std::vector<uint32_t> traced_points(const pointset& set, const traced_index& index, gaze_point gaze) {
-  require_table(set);
-  if (index.reaches.size() != set.points.size() || index.k_used < 1 || index.k_used > set.table.k)
+  require_neighbours(set);
+  if (index.reaches.size() != set.points.size() || index.k_used < 1 || index.k_used > stored_k(set))
     throw std::invalid_argument("the traced-point index was not made for this set");
   if (!index.morton) return traced_points(set, gaze, index.k_used);
   const display_geometry& d = set.model.display;
@@ -420,18 +478,34 @@ traced_set count_traced_points(const pointset& set, gaze_point gaze, uint32_t k_
   return out;
 }
 
-pointset generate_pointset(const spacing_model& model, const dart_params& darts, const knn_params& knn) {
+namespace {
+
+void build_neighbours(pointset& set, const knn_params& knn, knn_storage storage) {
+  if (storage == knn_storage::table) {
+    set.table = build_knn_table(set.points, set.canvas_width(), set.canvas_height(), knn);
+  } else {
+    knn_cells_params cp;
+    cp.k = knn.k;
+    set.cells = build_knn_cells(set.points, set.canvas_width(), set.canvas_height(), cp);
+  }
+}
+
+}  // namespace
+
+pointset generate_pointset(const spacing_model& model, const dart_params& darts, const knn_params& knn,
+                           knn_storage storage) {
   pointset set;
   set.model = model;
   set.darts = darts;
   set.points = throw_darts(model, darts, &set.stats);
   const auto start = std::chrono::steady_clock::now();
-  set.table = build_knn_table(set.points, set.canvas_width(), set.canvas_height(), knn);
+  build_neighbours(set, knn, storage);
   set.knn_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return set;
 }
 
-pointset uniform_pointset(const display_geometry& display, double fraction, const knn_params& knn) {
+pointset uniform_pointset(const display_geometry& display, double fraction, const knn_params& knn,
+                          knn_storage storage) {
   int m = -1;
   for (int i = 0; i <= 16; ++i)
     if (fraction == std::ldexp(1.0, -i)) m = i;
@@ -448,7 +522,7 @@ pointset uniform_pointset(const display_geometry& display, double fraction, cons
         set.points.push_back({float(i * block) + 0.5f * float(block), float(j * block) + 0.5f * float(block), spacing});
   sort_morton(set.points);
   set.stats.phase1_points = set.points.size();
-  set.table = build_knn_table(set.points, set.canvas_width(), set.canvas_height(), knn);
+  build_neighbours(set, knn, storage);
   return set;
 }
 

@@ -7,6 +7,7 @@
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
+#include <chrono>
 #include <cstring>
 #include <fstream>
 #include <vector>
@@ -18,6 +19,7 @@
 
 #include "fov/checksum.h"
 #include "fov/files.h"
+#include "fov/knn_cells.h"
 #include "fov/knn_table.h"
 
 namespace fov {
@@ -224,6 +226,7 @@ const char* table_encoding_name(table_encoding e) {
   switch (e) {
     case table_encoding::raw: return "raw";
     case table_encoding::ref_left_zstd: return "ref-left-zstd";
+    case table_encoding::cells: return "cells";
   }
   return "unknown";
 }
@@ -231,6 +234,7 @@ const char* table_encoding_name(table_encoding e) {
 bool parse_table_encoding(const std::string& name, table_encoding& out) {
   if (name == "raw") { out = table_encoding::raw; return true; }
   if (name == "ref-left-zstd") { out = table_encoding::ref_left_zstd; return true; }
+  if (name == "cells") { out = table_encoding::cells; return true; }
   return false;
 }
 
@@ -258,7 +262,10 @@ void save_pointset(const std::string& path, const pointset& set, uint32_t k, uin
     }
   };
 
-  if (params.encoding == table_encoding::raw) {
+  if (params.encoding == table_encoding::cells) {
+    h.table_offset = h.points_offset + h.points_bytes;  // the file ends with the points
+    h.table_bytes = 0;  // nothing: the loader builds the cells from the points
+  } else if (params.encoding == table_encoding::raw) {
     // The in-memory grouped-plane layout, byte for byte.
     knn_table t;
     t.width = width; t.height = height; t.k = k; t.group = h.group;
@@ -301,6 +308,12 @@ void save_pointset(const std::string& path, const pointset& set, uint32_t k, uin
 
 void save_pointset(const std::string& path, const pointset& set, const save_params& params) {
   const knn_table& t = set.table;
+  if (params.encoding == table_encoding::cells || (t.k == 0 && set.cells.k != 0)) {
+    save_params cells = params;
+    cells.encoding = table_encoding::cells;
+    const uint32_t k = t.k != 0 ? t.k : set.cells.k;
+    return save_pointset(path, set, k, 1, [](uint32_t, uint32_t, uint32_t*) {}, cells);
+  }
   save_pointset(path, set, t.k, t.group,
                 [&](uint32_t y0, uint32_t y1, uint32_t* out) {
                   for (uint64_t p = uint64_t(y0) * t.width; p < uint64_t(y1) * t.width; ++p)
@@ -345,7 +358,9 @@ pointset load_checked(const std::string& path, const load_params& params) {
   if (h.canvas_width != 2 * h.width || h.canvas_height != 2 * h.height) throw fail("canvas is not twice the screen");
   if (h.k < 1 || h.k > max_knn) throw fail(fmt::format("k = {} outside 1..{}", h.k, max_knn));
   if (h.group < 1 || h.group > h.k) throw fail("k-NN group size out of range");
-  if (h.encoding > uint32_t(table_encoding::ref_left_zstd)) throw fail(fmt::format("unknown table encoding {}", h.encoding));
+  if (h.encoding > uint32_t(table_encoding::cells)) throw fail(fmt::format("unknown table encoding {}", h.encoding));
+  const bool cells = h.encoding == uint32_t(table_encoding::cells);
+  if (cells && (h.table_bytes != 0 || h.group != 1)) throw fail("a cells set with a table section");
   if (h.chunk_rows == 0) throw fail("chunk_rows is zero");
   if (h.point_count < h.k || h.point_count >= (uint64_t(1) << 32)) throw fail("point count out of range");
   set.darts = {h.seed, h.saturation_rejections, h.central_fraction, h.free_area_probes};
@@ -377,7 +392,7 @@ pointset load_checked(const std::string& path, const load_params& params) {
   // The canvas the header declares, bounded by what the file holds: a compressed table
   // section expands at most max_table_expansion times (above a small floor).
   const uint64_t table_entry_bytes = pixels * h.k * 4;
-  if (h.encoding != uint32_t(table_encoding::raw) &&
+  if (h.encoding == uint32_t(table_encoding::ref_left_zstd) &&
       table_entry_bytes > std::max(min_table_expansion_bound, h.table_bytes * max_table_expansion))
     throw fail(fmt::format("declares a {} x {} canvas with k = {}: {:.2f} GB of k-NN table from a {:.2f} MB table section, more "
                            "than {} times its size (refused)",
@@ -407,6 +422,22 @@ pointset load_checked(const std::string& path, const load_params& params) {
                            hidden_darts));
   if (grid_points != set.stats.grid_points)
     throw fail(fmt::format("{} points on grid pixels, the header says {}", grid_points, set.stats.grid_points));
+  if (cells) {  // the cells' shape is known even when they are not built
+    set.cells.width = h.canvas_width;
+    set.cells.height = h.canvas_height;
+    set.cells.k = h.k;
+    if (!params.table) return set;
+    const auto start = std::chrono::steady_clock::now();
+    try {
+      knn_cells_params cp;
+      cp.k = h.k;
+      set.cells = build_knn_cells(set.points, h.canvas_width, h.canvas_height, cp);
+    } catch (const std::invalid_argument& e) {
+      throw fail(e.what());
+    }
+    set.knn_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return set;
+  }
   knn_table& t = set.table;  // its shape is known even when the entries are not loaded
   t.width = h.canvas_width;
   t.height = h.canvas_height;

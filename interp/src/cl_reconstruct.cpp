@@ -57,6 +57,9 @@ struct cl_reconstructor::impl {
   cl_kernel nn = nullptr, shepard = nullptr, weighted = nullptr, copy = nullptr, taa = nullptr, layout = nullptr;
   cl_mem history = nullptr, taa_out = nullptr;  // TAA: the previous output and the next one
   uint64_t history_generation = 0;              // taa_state::generation that `history` holds
+  // The table, or the cells packed: tiles, then cell offsets from cell_start_at, then
+  // candidates from candidates_at (kernels/reconstruct.cl, neighbours()).
+  cl_ulong cell_start_at = 0, candidates_at = 0;
   cl_mem table = nullptr, position = nullptr, colour = nullptr, depth = nullptr, out_rgb = nullptr, out_depth = nullptr;
   // RBF weights, one slot per (k, kernel, shape) in use: the two used last are kept, so a
   // sweep that alternates two k does not solve its weights again at every switch.
@@ -128,8 +131,20 @@ struct cl_reconstructor::impl {
     check(status, "clCreateKernel(taa_camera_layout)");
 
     const knn_table& t = set.table;
-    table = clCreateBuffer(context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, t.entries.size() * sizeof(uint32_t),
-                           const_cast<uint32_t*>(t.entries.data()), &status);
+    if (t.k != 0) {
+      table = clCreateBuffer(context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, t.entries.size() * sizeof(uint32_t),
+                             const_cast<uint32_t*>(t.entries.data()), &status);
+    } else {  // the cells, packed as the kernels read them: tiles, cell offsets, candidates
+      const knn_cells& c = set.cells;
+      cell_start_at = c.tiles.size();
+      candidates_at = cell_start_at + c.cell_start.size();
+      table = clCreateBuffer(context, CL_MEM_READ_ONLY, (candidates_at + c.candidates.size()) * sizeof(uint32_t), nullptr,
+                             &status);
+      check(status, "cells buffer");
+      for (const auto& [at, part] : {std::pair{size_t(0), &c.tiles}, {cell_start_at, &c.cell_start}, {candidates_at, &c.candidates}})
+        check(clEnqueueWriteBuffer(queue, table, CL_TRUE, at * sizeof(uint32_t), part->size() * sizeof(uint32_t),
+                                   part->data(), 0, nullptr, nullptr), "cells upload");
+    }
     check(status, "table buffer");
     std::vector<cl_float2> xy(set.points.size());
     for (size_t i = 0; i < xy.size(); ++i) xy[i] = {{set.points[i].x, set.points[i].y}};
@@ -155,7 +170,7 @@ struct cl_reconstructor::impl {
 
 cl_reconstructor::cl_reconstructor(const pointset& set, reconstruct_device where)
     : impl_(std::make_unique<impl>()), set_(set) {
-  require_table(set);
+  require_neighbours(set);
   if (where == reconstruct_device::cpp) {
     impl_->reason = "the C++ path was asked for";
     return;
@@ -177,8 +192,8 @@ const std::string& cl_reconstructor::device() const {
 const std::string& cl_reconstructor::reason() const { return impl_->reason; }
 
 std::string cl_reconstructor::kernel_build_options() {
-  return fmt::format("-cl-std=CL1.2 -DFOV_MAX_K={} -DFOV_RBF_TILE={} -DFOV_ON_POINT={:.9g}f", max_knn, rbf_weight_cache::tile,
-                     on_point_px);
+  return fmt::format("-cl-std=CL1.2 -DFOV_MAX_K={} -DFOV_RBF_TILE={} -DFOV_CELL_TILE={} -DFOV_ON_POINT={:.9g}f", max_knn,
+                     rbf_weight_cache::tile, knn_cells::tile, on_point_px);
 }
 
 frame cl_reconstructor::run(const point_samples& samples, const reconstruct_params& params) {
@@ -259,7 +274,9 @@ cl_event cl_reconstructor::launch(const point_samples& samples, const reconstruc
   check(clEnqueueWriteBuffer(d.queue, d.depth, CL_FALSE, 0, samples.depth.size() * sizeof(float), samples.depth.data(),
                              0, nullptr, nullptr), "depth upload");
 
-  const cl_uint canvas_width = t.width, k_stored = t.k, group = t.group, width = cl_uint(set_.model.display.width);
+  const cl_uint cells = t.k == 0 ? 1 : 0, cell_tiles_x = set_.cells.tiles_x();
+  const cl_uint canvas_width = set_.canvas_width(), k_stored = stored_k(set_), group = t.group;
+  const cl_uint width = cl_uint(set_.model.display.width);
   const cl_ulong pixel_count = t.pixel_count();
   const cl_int ox = samples.offset.x, oy = samples.offset.y;
   const cl_uint k = params.k, renka = params.renka ? 1 : 0;
@@ -268,10 +285,10 @@ cl_event cl_reconstructor::launch(const point_samples& samples, const reconstruc
   cl_uint a = 0;
   auto arg = [&](const auto& value) { check(clSetKernelArg(kernel, a++, sizeof(value), &value), "clSetKernelArg"); };
   const cl_uint mirror_x = samples.mirror_x ? 1 : 0, mirror_y = samples.mirror_y ? 1 : 0;
-  arg(d.table), arg(canvas_width), arg(k_stored), arg(group), arg(pixel_count), arg(ox), arg(oy), arg(width);
-  arg(mirror_x), arg(mirror_y);
-  if (params.how == method::shepard) arg(d.position), arg(k), arg(renka);
-  if (rbf) arg(d.position), arg(k), arg(renka), arg(weights), arg(tiles_x);
+  arg(d.table), arg(cells), arg(canvas_width), arg(k_stored), arg(group), arg(pixel_count), arg(cell_tiles_x);
+  arg(d.cell_start_at), arg(d.candidates_at), arg(d.position), arg(ox), arg(oy), arg(width), arg(mirror_x), arg(mirror_y);
+  if (params.how == method::shepard) arg(k), arg(renka);
+  if (rbf) arg(k), arg(renka), arg(weights), arg(tiles_x);
   arg(d.colour), arg(d.depth), arg(d.out_rgb), arg(d.out_depth);
   const size_t global[2] = {size_t(set_.model.display.width), size_t(set_.model.display.height)};
   cl_event done = nullptr;

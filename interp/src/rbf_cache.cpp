@@ -13,12 +13,12 @@ namespace fov {
 
 rbf_weight_cache::rbf_weight_cache(const pointset& set, const reconstruct_params& params)
     : set_(set), params_(params) {
-  require_table(set);
+  require_neighbours(set);
   if (params.how != method::rbf) throw std::invalid_argument("an RBF weight cache needs method rbf");
-  check_reconstruct_params(params, set.table.k);
+  check_reconstruct_params(params, stored_k(set));
   k_ = params.k;
-  tiles_x_ = (set.table.width + tile - 1) / tile;
-  tiles_y_ = (set.table.height + tile - 1) / tile;
+  tiles_x_ = (set.canvas_width() + tile - 1) / tile;
+  tiles_y_ = (set.canvas_height() + tile - 1) / tile;
   ready_.assign(size_t(tiles_x_) * tiles_y_, 0);
   data_.resize(ready_.size() * tile_floats());
 }
@@ -49,7 +49,7 @@ std::vector<uint32_t> rbf_weight_cache::prepare(canvas_offset o) {
       for (uint32_t x = 0; x < tile; ++x) {
         const uint32_t cx = tx * tile + x, cy = ty * tile + y;
         float* dst = out + (size_t(y) * tile + x) * k_;
-        if (cx >= set_.table.width || cy >= set_.table.height) {
+        if (cx >= set_.canvas_width() || cy >= set_.canvas_height()) {
           std::fill(dst, dst + k_, 0.0f);  // past the canvas edge: never read
           continue;
         }

@@ -1,5 +1,6 @@
 #include "fov/reconstruct.h"
 
+#include "fov/knn_cells.h"
 #include "fov/rbf_cache.h"
 
 #include <cmath>
@@ -120,14 +121,14 @@ void shepard_weights(const double* h, uint32_t k, bool renka, double* w) {
 
 void pixel_weights(const pointset& set, const reconstruct_params& params, uint32_t cx, uint32_t cy, double* w,
                    rbf_stats* stats) {
-  const knn_table& t = set.table;
   const uint32_t k = params.k;
-  const uint64_t pixel = uint64_t(cy) * t.width + cx;
+  uint32_t idx[max_knn];
+  pixel_neighbours(set, cx, cy, k, idx);
   const double x = cx + 0.5, y = cy + 0.5;
   double xs[max_knn], ys[max_knn], dist[max_knn];
   double spacing = 0;  // RBF's c scales with the neighbours' mean spacing
   for (uint32_t j = 0; j < k; ++j) {
-    const point& p = set.points[t.entries[t.offset(pixel, j)]];
+    const point& p = set.points[idx[j]];
     xs[j] = p.x, ys[j] = p.y, spacing += p.spacing;
     dist[j] = std::hypot(double(p.x) - x, double(p.y) - y);
   }
@@ -146,7 +147,7 @@ void pixel_weights(const pointset& set, const reconstruct_params& params, uint32
     bool duplicates = false;  // two neighbours all but on top of each other: a near-singular system
     for (uint32_t i = 0; i < k && !duplicates; ++i)
       for (uint32_t j = i + 1; j < k && !duplicates; ++j) {
-        const double a = set.points[t.entries[t.offset(pixel, i)]].spacing, b = set.points[t.entries[t.offset(pixel, j)]].spacing;
+        const double a = set.points[idx[i]].spacing, b = set.points[idx[j]].spacing;
         duplicates = std::hypot(xs[i] - xs[j], ys[i] - ys[j]) < rbf_duplicate_fraction * std::min(a, b);
       }
     if (!duplicates && rbf_weights(xs, ys, k, x, y, params.shape * spacing / k, params.kernel, w, sample ? &condition : nullptr)) {
@@ -166,8 +167,8 @@ void check_reconstruct_params(const reconstruct_params& params, uint32_t k_store
 }
 
 void check_reconstruct_inputs(const pointset& set, const point_samples& samples, const reconstruct_params& params) {
-  require_table(set);
-  check_reconstruct_params(params, set.table.k);
+  require_neighbours(set);
+  check_reconstruct_params(params, stored_k(set));
   if (samples.colour.size() != set.points.size()) throw std::invalid_argument("samples do not belong to this set");
 }
 
@@ -181,6 +182,7 @@ frame reconstruct(const pointset& set, const point_samples& samples, const recon
     if (stats) *stats = cache->stats();
   }
   const knn_table& t = set.table;
+  const bool table = t.k != 0;  // else the cells
   std::mutex stats_lock;
   const int w = set.model.display.width, h = set.model.display.height;
   const canvas_offset o = samples.offset;
@@ -199,23 +201,28 @@ frame reconstruct(const pointset& set, const point_samples& samples, const recon
       // A mirrored pattern: this screen pixel reads the table at the mirrored pixel.
       const int ty = samples.mirror_y ? h - 1 - sy : sy;
       const uint32_t cy = uint32_t(ty + o.y);
-      const uint64_t row = uint64_t(cy) * t.width + uint64_t(o.x);
+      const uint64_t row = uint64_t(cy) * t.width + uint64_t(o.x);  // table only
       const double py = cy + 0.5;
+      uint32_t idx[max_knn];
       for (int sx = 0; sx < w; ++sx) {
         const size_t at = size_t(sy) * w + sx;
         const int tx = samples.mirror_x ? w - 1 - sx : sx;
+        const uint32_t cx = uint32_t(tx + o.x);
+        const uint32_t k_read = params.how == method::nn ? 1 : k;
+        if (table)
+          for (uint32_t j = 0; j < k_read; ++j) idx[j] = t.entries[t.offset(row + tx, j)];
+        else
+          cell_neighbours(set.cells, set.points, cx, cy, k_read, idx);
         if (params.how == method::nn) {
-          const uint32_t i = t.entries[t.offset(row + tx, 0)];
-          out.rgb[at] = samples.colour[i];
-          out.depth[at] = samples.depth[i];
+          out.rgb[at] = samples.colour[idx[0]];
+          out.depth[at] = samples.depth[idx[0]];
           continue;
         }
-        const uint32_t cx = uint32_t(tx + o.x);
         const double px = cx + 0.5;
         uint32_t hits = 0;
         int64_t on_point = -1;  // a neighbour on the pixel centre (a grid point): its index
         for (uint32_t j = 0; j < k; ++j) {
-          const uint32_t i = t.entries[t.offset(row + tx, j)];
+          const uint32_t i = idx[j];
           const point& p = set.points[i];
           dist[j] = std::hypot(double(p.x) - px, double(p.y) - py);
           if (dist[j] < on_point_px && on_point < 0) on_point = i;

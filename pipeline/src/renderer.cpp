@@ -50,7 +50,7 @@ trace_params base_trace(const render_params& p) {
 
 std::string validate(const render_params& p, const pointset* set) {
   if (p.spp < 1 || p.spp > max_spp) return fmt::format("--spp must lie in 1..{} (got {})", max_spp, p.spp);
-  const uint32_t k_max = set ? set->table.k : max_knn;
+  const uint32_t k_max = set ? stored_k(*set) : max_knn;
   if (p.reconstruct.k < 1 || p.reconstruct.k > k_max)
     return fmt::format("--k must lie in 1..{}{} (got {})", k_max, set ? " (the set's k)" : "", p.reconstruct.k);
   if (!(p.reconstruct.shape > 0 && std::isfinite(p.reconstruct.shape)))
@@ -116,7 +116,7 @@ std::string renderer::device_warning() const {
 }
 
 std::shared_ptr<const traced_index> renderer::index_for(const trace_params& tp) {
-  const uint32_t k = std::min(tp.k, set_->table.k);
+  const uint32_t k = std::min(tp.k, stored_k(*set_));
   if (!index_ || index_->k_used != k) index_ = std::make_shared<const traced_index>(make_traced_index(*set_, k));
   return index_;
 }

@@ -425,10 +425,10 @@ points_trace trace_points(const scene& sc, const camera& cam, const pointset& se
 
 points_trace trace_points(const scene& sc, const camera& cam, const pointset& set, const traced_index& index,
                           gaze_point gaze, const trace_params& params) {
-  require_table(set);
-  if (index.k_used != std::min(params.k, set.table.k))
+  require_neighbours(set);
+  if (index.k_used != std::min(params.k, stored_k(set)))
     throw std::invalid_argument(fmt::format("the traced-point index is for k = {}, the trace reads k = {}", index.k_used,
-                                            std::min(params.k, set.table.k)));
+                                            std::min(params.k, stored_k(set))));
   return trace_selected(sc, cam, set, &index, gaze, params);
 }
 

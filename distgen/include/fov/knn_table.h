@@ -53,8 +53,9 @@ std::vector<uint32_t> brute_force_knn(const std::vector<point>& points, float qx
 // Copies a table into another group size (same entries, other layout).
 knn_table regroup(const knn_table& table, uint32_t group);
 
-// Throws darts and builds the table in memory.
-pointset generate_pointset(const spacing_model& model, const dart_params& darts, const knn_params& knn);
+// Throws darts and builds the table (or the cells, knn_cells.h, with knn.k) in memory.
+pointset generate_pointset(const spacing_model& model, const dart_params& darts, const knn_params& knn,
+                           knn_storage storage = knn_storage::table);
 
 // The non-foveated baseline: a set of uniform density `fraction` of the display's pixels
 // (1/2, 1/4, 1/8, ...: 1 / 2^m), built and traced like a foveated one. For fraction 4^-j
@@ -62,6 +63,7 @@ pointset generate_pointset(const spacing_model& model, const dart_params& darts,
 // pixels); for 2 x 4^-j, every other block centre in a checkerboard (a quincunx), spacing
 // sqrt(2) 2^j. Each point's spacing is its nearest neighbour's distance. Throws
 // std::invalid_argument for any other fraction.
-pointset uniform_pointset(const display_geometry& display, double fraction, const knn_params& knn);
+pointset uniform_pointset(const display_geometry& display, double fraction, const knn_params& knn,
+                          knn_storage storage = knn_storage::table);
 
 }  // namespace fov

@@ -128,13 +128,55 @@ struct knn_table {
   }
 };
 
+// The k nearest points of any canvas pixel from storage that grows with the points: the
+// candidates of an adaptive grid of cells (knn_cells.h says how they are built and read).
+struct knn_cells {
+  static constexpr uint32_t tile = 32;       // canvas pixels per tile side
+  static constexpr uint32_t max_level = 5;   // cells of 1, 2, 4, ... 32 pixels
+
+  uint32_t width = 0, height = 0;  // canvas size in pixels
+  uint32_t k = 0;                  // the most neighbours a reader may ask for
+  // Per tile, row-major: its first cell's index << 3 | its level.
+  std::vector<uint32_t> tiles;
+  // Per cell (a tile's cells row-major, tiles in order): the index of its first candidate
+  // in `candidates`; one more entry closes the last cell.
+  std::vector<uint32_t> cell_start;
+  // Point indices; each cell's sorted by distance from the cell's centre (ties: smaller index).
+  std::vector<uint32_t> candidates;
+
+  uint32_t tiles_x() const { return (width + tile - 1) / tile; }
+  uint32_t tiles_y() const { return (height + tile - 1) / tile; }
+  uint64_t cell_count() const { return cell_start.empty() ? 0 : cell_start.size() - 1; }
+  uint64_t bytes() const {
+    return 4 * (uint64_t(tiles.size()) + cell_start.size() + candidates.size());
+  }
+  // Derived, not stored in files (the table's fields of the same names, as bounds):
+  // radius_by_tile[t * k + j] bounds the distance from any pixel centre of tile t to its
+  // first j + 1 neighbours (d_{j+1}(c) + delta over the tile's cells), radius_by_rank[j]
+  // the same over all tiles, max_radius the k-th's.
+  std::vector<float> radius_by_tile, radius_by_rank;
+  float max_radius = 0;
+  bool loaded() const { return k > 0 && tiles.size() == uint64_t(tiles_x()) * tiles_y() && !cell_start.empty(); }
+};
+
+// How a set keeps its neighbours in memory: the exact table (fast to read, 4 k bytes per
+// canvas pixel) or the k-NN cells (ranked per pixel when read, memory that grows with the
+// points). Both give every pixel the same neighbours.
+enum class knn_storage : uint8_t { table, cells };
+inline constexpr std::pair<const char*, knn_storage> knn_storage_labels[] = {{"table", knn_storage::table},
+                                                                            {"cells", knn_storage::cells}};
+
 struct pointset {
   spacing_model model;
   dart_params darts;
   dart_stats stats;
   double knn_seconds = 0;  // wall time; not stored in files
   std::vector<point> points;  // Morton order
+  // The neighbours of every canvas pixel: the exact table, or (for sets too large for one)
+  // the cells; a loaded set holds one of them.
   knn_table table;
+  knn_cells cells;
+  knn_storage storage() const { return table.k == 0 && cells.k != 0 ? knn_storage::cells : knn_storage::table; }
 
   uint32_t canvas_width() const { return 2u * uint32_t(model.display.width); }
   uint32_t canvas_height() const { return 2u * uint32_t(model.display.height); }
@@ -207,9 +249,17 @@ uint64_t morton_code(float x, float y);
 uint64_t count_spacing_violations(const std::vector<point>& points, uint32_t canvas_width,
                                   uint32_t canvas_height);
 
-// Throws std::invalid_argument unless the set's table is loaded and matches its canvas
-// (a set read with load_params::table = false has none).
-void require_table(const pointset& set);
+// Throws std::invalid_argument unless the set's table or cells are loaded and match its
+// canvas (a set read with load_params::table = false has neither).
+void require_neighbours(const pointset& set);
+
+// The most neighbours a reader of the set may ask for: its table's k, else its cells' k
+// (known from the file's header even when neither was loaded; 0 for a set with neither).
+uint32_t stored_k(const pointset& set);
+
+// The k (1..stored_k) nearest points of canvas pixel (x, y)'s centre, nearest first (ties:
+// the smaller index), from the table or the cells: the same answer from either.
+void pixel_neighbours(const pointset& set, uint32_t x, uint32_t y, uint32_t k, uint32_t* out);
 
 // Sets table.radius_by_tile, radius_by_rank (the largest distance from any pixel centre to
 // its j-th neighbour: the maximum over tiles) and max_radius (the k-th, farthest stored).

@@ -18,6 +18,8 @@ inline constexpr uint32_t pointset_header_bytes = 512;
 enum class table_encoding : uint32_t {
   raw = 0,            // fixed-width little-endian uint32 in the grouped-plane layout: mmap and use
   ref_left_zstd = 1,  // ranks coded against the left pixel's list, zstd-compressed in row chunks
+  cells = 2,          // no table on disk: the loader builds k-NN cells (knn_cells.h) from the points,
+                      // so file and memory grow with the points, not with the canvas's pixels
 };
 const char* table_encoding_name(table_encoding encoding);
 bool parse_table_encoding(const std::string& name, table_encoding& out);
@@ -29,7 +31,7 @@ struct save_params {
 };
 
 struct load_params {
-  bool table = true;   // false: header and points only
+  bool table = true;   // false: header and points only (no table read, no cells built)
   uint32_t group = 0;  // layout wanted in memory; 0 = as stored (ref_left_zstd: 4)
 };
 
@@ -46,7 +48,8 @@ using table_row_source = std::function<void(uint32_t y0, uint32_t y1, uint32_t* 
 void save_pointset(const std::string& path, const pointset& set, uint32_t k, uint32_t group,
                    const table_row_source& rows, const save_params& params = {});
 
-// Writes a set whose table is in memory.
+// Writes a set whose table is in memory, or (with encoding cells, or a set holding cells and
+// no table) the set's points for its cells' k.
 void save_pointset(const std::string& path, const pointset& set, const save_params& params = {});
 
 // A compressed table section may expand to at most this many times its size (real sets:
