@@ -108,6 +108,21 @@ check "farther eye"     0 -- "$fovbench" "${common[@]}" --viewing-distance 2 --s
 [[ -s "$dir/sets/64x72-v2-s1.00.fovset" ]] || fail "v = 2 did not write 64x72-v2-s1.00.fovset: $(ls "$dir/sets")"
 grep -q ",64x72-v2,$(python3 -c 'import math; print("%.6g" % (128 * math.pi / 180))')," "$dir/far/results.csv" \
   || fail "v = 2 rows do not name their display and ppd"
+check "bad neighbours"  2 -- "$fovbench" "${common[@]}" --neighbours grid -o "$dir/x"
+# The same sweep reading k-NN cells built from the same set file: the same errors, rows that say so.
+check "cells sweep"     0 -- "$fovbench" "${common[@]}" --viewing-distance 2 --scene builtin --scales 1.0 --methods nn,shepard \
+  --spp 1 --baselines full --reference-spp 4 --neighbours cells -o "$dir/far-cells"
+python3 - "$dir/far/results.csv" "$dir/far-cells/results.csv" <<'PY' || fail "a cells sweep's rows differ from the table's"
+import csv, sys
+table, cells = (list(csv.DictReader(open(p))) for p in sys.argv[1:3])
+sparse = lambda rows: {(r["method"], r["spp"]): r for r in rows if r["kind"] == "foveated"}
+t, c = sparse(table), sparse(cells)
+assert ("nn", "1") in c and ("shepard", "1") in c, c.keys()
+for key, row in c.items():
+    assert row["neighbours"] == "cells" and t.get(key, {}).get("neighbours", "table") == "table", (key, row["neighbours"])
+    if key in t:
+        assert row["psnr"] == t[key]["psnr"] and row["flip"] == t[key]["flip"] and row["jod"] == t[key]["jod"], key
+PY
 check "resume, other display" 1 -- "$fovbench" "${common[@]}" --viewing-distance 2 --scene builtin --scales 1.0 --methods nn \
   --spp 1 --baselines full --reference-spp 16 --resume -o "$dir/out"
 [[ -e "$dir/x" ]] && fail "a refused sweep wrote $dir/x"

@@ -21,6 +21,7 @@
 #include "fov/files.h"
 #include "fov/flicker.h"
 #include "fov/comparison.h"
+#include "fov/knn_cells.h"
 #include "fov/knn_table.h"
 #include "fov/pointset_io.h"
 #include "fov/random.h"
@@ -127,7 +128,8 @@ namespace {
 
 // Sets fovbench makes keep their table where it fits in memory, else k-NN cells (the same
 // neighbours; results.csv's `neighbours` says which a row read).
-knn_storage bench_storage(const display_geometry& display, uint32_t k) {
+knn_storage bench_storage(const bench_options& o, const display_geometry& display, uint32_t k) {
+  if (o.neighbours) return *o.neighbours;
   return knn_table_memory_problem(display, k).empty() ? knn_storage::table : knn_storage::cells;
 }
 
@@ -145,12 +147,31 @@ std::shared_ptr<const pointset> bench_pointset(const bench_options& o, const dis
     darts.fovea = o.fovea;
     darts.grid_spacing = o.grid_spacing;
     make_output_dir(o.points_dir);
-    const knn_storage storage = bench_storage(display, knn_params{}.k);
+    const knn_storage storage = bench_storage(o, display, knn_params{}.k);
     if (storage == knn_storage::cells)
       say(fmt::format("the k-NN table of a {} set would not fit in memory: the set keeps k-NN cells", display_name(display)));
     save_pointset(path, generate_pointset(model, darts, {}, storage));
   }
-  auto set = std::make_shared<const pointset>(load_pointset(path));
+  pointset loaded = load_pointset(path);
+  // A set stored the other way is kept the way asked for: its neighbours built from its points.
+  const knn_storage storage = bench_storage(o, display, stored_k(loaded));
+  if (storage != loaded.storage()) {
+    say(fmt::format("{}: building its k-NN {} (--neighbours)", path, label_of(knn_storage_labels, storage)));
+    if (storage == knn_storage::cells) {
+      knn_cells_params cp;
+      cp.k = loaded.table.k;
+      loaded.cells = build_knn_cells(loaded.points, loaded.canvas_width(), loaded.canvas_height(), cp);
+      loaded.table = {};
+    } else {
+      if (const std::string why = knn_table_memory_problem(display, loaded.cells.k); !why.empty())
+        throw usage_error("--neighbours table: " + why);
+      knn_params kp;
+      kp.k = loaded.cells.k;
+      loaded.table = build_knn_table(loaded.points, loaded.canvas_width(), loaded.canvas_height(), kp);
+      loaded.cells = {};
+    }
+  }
+  auto set = std::make_shared<const pointset>(std::move(loaded));
   if (fovea_label(set->darts) != fovea_text(o))
     throw std::runtime_error(fmt::format("{}: its fovea is {}, not {}", path, fovea_label(set->darts), fovea_text(o)));
   if (display_name(set->model.display) != display_name(display) || set->model.scale != scale)
@@ -583,7 +604,7 @@ class scene_sweep {
       knn_params kp;  // every k the sweep reads
       kp.k = 1;
       for (uint32_t k : o_.ks) kp.k = std::max(kp.k, k);
-      pointset uniform = uniform_pointset(st_.display, o_.uniform_fractions[si], kp, bench_storage(st_.display, kp.k));
+      pointset uniform = uniform_pointset(st_.display, o_.uniform_fractions[si], kp, bench_storage(o_, st_.display, kp.k));
       r_.use_pointset(std::make_shared<const pointset>(std::move(uniform)));
     }
     if (const std::string warning = r_.device_warning(); !warning.empty()) st_.report.line(warning);

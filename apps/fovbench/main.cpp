@@ -60,6 +60,9 @@ int main(int argc, char** argv) {
   app.add_option("--gazes", o.gazes, "centre, corner, X,Y, or N (N seeded random gazes)")->delimiter(';');
   app.add_option("-o,--out", o.out, "Output directory (results.csv, plots, report.md, references/)");
   app.add_option("--points-dir", o.points_dir, "Where point sets are read, or generated when missing");
+  fov::add_label_option(app, "--neighbours", o.neighbours, fov::knn_storage_labels,
+                        "How the sets keep their neighbours: table (fastest to read) or cells (memory that grows with "
+                        "the points; docs/fovgen.md); default: the table where it fits in memory, else cells");
   fov::add_label_option(app, "--fovea", o.fovea, fov::fovea_layout_labels,
                         "The foveated sets' fovea (fovgen --fovea): darts (the thesis) or grid (DISPLAY-sS-grid.fovset)");
   app.add_option("--grid-spacing", o.grid_spacing,

@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <limits>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -35,6 +36,9 @@ struct bench_options {
   // The foveated sets' fovea (fovgen --fovea, --grid-spacing): one per results.csv, like
   // the footprint.
   fovea_layout fovea = fovea_layout::darts;
+  // How the sets keep their neighbours; without a value, the table where it fits in memory,
+  // else k-NN cells (the same frames either way; results.csv's `neighbours` says which).
+  std::optional<knn_storage> neighbours;
   double grid_spacing = dart_params{}.grid_spacing;
   // Settings every configuration shares (seed, shadows, texture footprint, RBF kernel and
   // shape, Renka, device, camera); method, k and spp come from the lists above.
