@@ -132,6 +132,39 @@ TEST_F(PointsetFile, CellsFilesHoldThePointsAndLoadTheTablesNeighbours) {
   EXPECT_NE(load_error(path("bad.fovset")).find("a cells set with a table section"), std::string::npos)
       << load_error(path("bad.fovset"));
   EXPECT_NE(load_error(path("bad.fovset")).find("bad.fovset"), std::string::npos);
+  // The points of a 120 x 100 canvas on a declared 8000 x 8000 one: every empty cell would keep
+  // them all (d_k of its centre spans the canvas), refused once the candidates pass their bound.
+  std::vector<char> huge = good;
+  const uint32_t side = 4000, canvas = 8000;
+  std::memcpy(&huge[16], &side, 4), std::memcpy(&huge[20], &side, 4);  // width, height
+  for (size_t at = 0; at + 8 <= 512; at += 4) {  // canvas_width, canvas_height: 120, 100 before k = 12
+    uint32_t a, b, k;
+    std::memcpy(&a, &good[at], 4), std::memcpy(&b, &good[at + 4], 4), std::memcpy(&k, &good[at + 8], 4);
+    if (a == 120 && b == 100 && k == 12) {
+      std::memcpy(&huge[at], &canvas, 4), std::memcpy(&huge[at + 4], &canvas, 4);
+      break;
+    }
+  }
+  const uint32_t huge_crc = crc32c(huge.data(), 508);
+  std::memcpy(&huge[508], &huge_crc, 4);
+  write(path("huge.fovset"), huge);
+  EXPECT_NE(load_error(path("huge.fovset")).find("candidates (refused)"), std::string::npos) << load_error(path("huge.fovset"));
+  // On a declared 120000 x 120000 canvas the empty tiles alone are 14 M cells: refused by count.
+  std::vector<char> vast = huge;
+  const uint32_t vast_side = 60000, vast_canvas = 120000;
+  std::memcpy(&vast[16], &vast_side, 4), std::memcpy(&vast[20], &vast_side, 4);
+  for (size_t at = 0; at + 8 <= 512; at += 4) {
+    uint32_t a, b;
+    std::memcpy(&a, &huge[at], 4), std::memcpy(&b, &huge[at + 4], 4);
+    if (a == canvas && b == canvas) {
+      std::memcpy(&vast[at], &vast_canvas, 4), std::memcpy(&vast[at + 4], &vast_canvas, 4);
+      break;
+    }
+  }
+  const uint32_t vast_crc = crc32c(vast.data(), 508);
+  std::memcpy(&vast[508], &vast_crc, 4);
+  write(path("vast.fovset"), vast);
+  EXPECT_NE(load_error(path("vast.fovset")).find("per point"), std::string::npos) << load_error(path("vast.fovset"));
 }
 
 TEST_F(PointsetFile, SameSetGivesByteIdenticalFiles) {

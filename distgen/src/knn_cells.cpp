@@ -4,6 +4,7 @@
 #include "fov/knn_table.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -29,7 +30,36 @@ double cell_delta(uint32_t level) { return double((1u << level) - 1) * std::sqrt
 // neighbour re-ranked in double, so that no candidate the bound asks for is lost.
 constexpr double flann_slack = 0.01;
 
+// Each tile's level from the smallest spacing of the points inside it.
+std::vector<uint32_t> tile_levels(const std::vector<point>& points, uint32_t width, uint32_t height, double fraction) {
+  const uint32_t tile = knn_cells::tile, tx = (width + tile - 1) / tile, ty = (height + tile - 1) / tile;
+  std::vector<float> smallest(size_t(tx) * ty, std::numeric_limits<float>::infinity());
+  for (const point& p : points) {
+    if (!(p.x >= 0 && p.y >= 0 && p.x < float(width) && p.y < float(height))) continue;
+    float& s = smallest[size_t(uint32_t(p.y) / tile) * tx + uint32_t(p.x) / tile];
+    s = std::min(s, p.spacing);
+  }
+  std::vector<uint32_t> level(smallest.size());
+  for (size_t t = 0; t < level.size(); ++t) {
+    const double side = fraction * double(smallest[t]);
+    uint32_t l = 0;
+    while (l < knn_cells::max_level && double(2u << l) <= side) ++l;
+    level[t] = l;
+  }
+  return level;
+}
+
+uint64_t cells_of(const std::vector<uint32_t>& level) {
+  uint64_t n = 0;
+  for (uint32_t l : level) n += uint64_t(knn_cells::tile >> l) * (knn_cells::tile >> l);
+  return n;
+}
+
 }  // namespace
+
+uint64_t count_knn_cells(const std::vector<point>& points, uint32_t width, uint32_t height, double cell_fraction) {
+  return cells_of(tile_levels(points, width, height, cell_fraction));
+}
 
 knn_cells build_knn_cells(const std::vector<point>& points, uint32_t width, uint32_t height,
                           const knn_cells_params& params) {
@@ -44,27 +74,12 @@ knn_cells build_knn_cells(const std::vector<point>& points, uint32_t width, uint
   cells.width = width;
   cells.height = height;
   cells.k = params.k;
-  const uint32_t tx = cells.tiles_x(), ty = cells.tiles_y(), tile = knn_cells::tile;
+  const uint32_t tx = cells.tiles_x(), tile = knn_cells::tile;
 
-  // Each tile's level from the smallest spacing of the points inside it.
-  std::vector<float> smallest(size_t(tx) * ty, std::numeric_limits<float>::infinity());
-  for (const point& p : points) {
-    if (!(p.x >= 0 && p.y >= 0 && p.x < float(width) && p.y < float(height))) continue;
-    float& s = smallest[size_t(uint32_t(p.y) / tile) * tx + uint32_t(p.x) / tile];
-    s = std::min(s, p.spacing);
-  }
-  std::vector<uint32_t> level(smallest.size());
-  for (size_t t = 0; t < level.size(); ++t) {
-    const double side = params.cell_fraction * double(smallest[t]);
-    uint32_t l = 0;
-    while (l < knn_cells::max_level && double(2u << l) <= side) ++l;
-    level[t] = l;
-  }
-
+  const std::vector<uint32_t> level = tile_levels(points, width, height, params.cell_fraction);
   // Cells cost 4 bytes each and about k candidates of 4 bytes (more in the fovea): checked
   // before anything is built (a file's points may claim any spacing).
-  uint64_t cell_total = 0;
-  for (uint32_t l : level) cell_total += uint64_t(tile >> l) * (tile >> l);
+  const uint64_t cell_total = cells_of(level);
   if (cell_total >= (uint64_t(1) << 29)) throw std::invalid_argument("more than 2^29 cells; raise the cell fraction");
   if (const std::string why = memory_problem(cell_total * 4 * (1 + 2 * uint64_t(params.k)),
                                              fmt::format("the k-NN cells of a {}x{} canvas (k = {})", width, height, params.k));
@@ -78,7 +93,10 @@ knn_cells build_knn_cells(const std::vector<point>& points, uint32_t width, uint
   // Every tile's candidates, built in parallel, then laid end to end.
   std::vector<std::vector<uint32_t>> tile_candidates(level.size()), tile_starts(level.size());
   const uint32_t kq = uint32_t(std::min<size_t>(points.size(), params.k + extra_candidates));
+  std::atomic<uint64_t> kept{0};  // candidates so far, against params.max_candidates
+  std::atomic<bool> too_many{false};
   tbb::parallel_for(size_t(0), level.size(), [&](size_t t) {
+    if (too_many.load(std::memory_order_relaxed)) return;
     flann::SearchParams search(flann::FLANN_CHECKS_UNLIMITED, 0, true);
     search.cores = 1;
     std::vector<size_t> found(kq);
@@ -110,9 +128,16 @@ knn_cells build_knn_cells(const std::vector<point>& points, uint32_t width, uint
         for (size_t i : near_idx[0]) rank.push_back({distance2(points[i], c[0], c[1]), uint32_t(i)});
         std::sort(rank.begin(), rank.end());
         for (const ranked& r : rank) out.push_back(r.index);
+        if (params.max_candidates && kept.fetch_add(rank.size(), std::memory_order_relaxed) + rank.size() > params.max_candidates) {
+          too_many = true;
+          return;
+        }
       }
   });
 
+  if (too_many)
+    throw std::invalid_argument(fmt::format("the k-NN cells of these {} points would hold more than {} candidates (refused)",
+                                            points.size(), params.max_candidates));
   size_t candidate_total = 0;
   for (size_t t = 0; t < level.size(); ++t) candidate_total += tile_candidates[t].size();
   if (candidate_total >= (uint64_t(1) << 32)) throw std::invalid_argument("more than 2^32 candidates; raise the cell fraction");

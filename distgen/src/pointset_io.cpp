@@ -427,10 +427,17 @@ pointset load_checked(const std::string& path, const load_params& params) {
     set.cells.height = h.canvas_height;
     set.cells.k = h.k;
     if (!params.table) return set;
+    // The work and memory of the cells grow with their count, which the points' spacings
+    // and the canvas fix: bounded by the points the file holds, as a table by its section.
+    const uint64_t cells = count_knn_cells(set.points, h.canvas_width, h.canvas_height);
+    if (cells > std::max(min_cells_bound, max_cells_per_point * h.point_count))
+      throw fail(fmt::format("declares a {} x {} canvas whose k-NN cells ({}) exceed {} per point of its {} (refused)",
+                             h.canvas_width, h.canvas_height, cells, max_cells_per_point, h.point_count));
     const auto start = std::chrono::steady_clock::now();
     try {
       knn_cells_params cp;
       cp.k = h.k;
+      cp.max_candidates = std::max(min_cells_bound, max_candidates_per_point * h.k * h.point_count);
       set.cells = build_knn_cells(set.points, h.canvas_width, h.canvas_height, cp);
     } catch (const std::invalid_argument& e) {
       throw fail(e.what());

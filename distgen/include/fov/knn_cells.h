@@ -28,6 +28,10 @@ struct knn_cells_params {
   // spacing of the points in the tile (1 .. tile pixels): smaller cells keep fewer
   // candidates each but more cells. Must lie in (0, 64].
   double cell_fraction = 1.0;
+  // Past this many candidates in all the build stops and throws (0: no limit). Sets fovgen
+  // makes keep a few k per point; points far from most of the canvas (a hostile file) make
+  // far more, since a cell keeps every point out to its k-th neighbour's distance.
+  uint64_t max_candidates = 0;
 };
 
 
@@ -35,6 +39,10 @@ struct knn_cells_params {
 // 1..max_knn, fewer points than k, or a cell_fraction out of range.
 knn_cells build_knn_cells(const std::vector<point>& points, uint32_t canvas_width, uint32_t canvas_height,
                           const knn_cells_params& params);
+
+// How many cells build_knn_cells would make of these points (cheap: one pass over them).
+uint64_t count_knn_cells(const std::vector<point>& points, uint32_t canvas_width, uint32_t canvas_height,
+                         double cell_fraction = knn_cells_params{}.cell_fraction);
 
 // Sets cells.radius_by_tile, radius_by_rank and max_radius (bounds: see knn_cells); the
 // builder does, and a loader after reading cells.

@@ -59,6 +59,17 @@ void save_pointset(const std::string& path, const pointset& set, const save_para
 constexpr uint64_t max_table_expansion = 1024;
 constexpr uint64_t min_table_expansion_bound = uint64_t(64) << 20;
 
+// A cells file's k-NN cells (their count fixed by the canvas and the points' spacings) may
+// number at most this many per point, except that up to min_cells_bound are always
+// allowed: a file of a few points cannot make its loader build a canvas's worth of cells.
+// (Generated sets keep a few cells per point; a sparse uniform set up to 64.)
+constexpr uint64_t max_cells_per_point = 256;
+constexpr uint64_t min_cells_bound = uint64_t(1) << 20;
+// And they may keep at most this many candidates per point and neighbour (generated sets
+// keep 2-5; docs/benchmarks.md), above the same floor: points gathered far from most of a
+// declared canvas would otherwise make every empty cell keep them all.
+constexpr uint64_t max_candidates_per_point = 16;
+
 // Reads and verifies a file (with table = false, table.entries stays empty but its shape is set): magic, version, checksums, sizes, parameter ranges,
 // the canvas against the table section (max_table_expansion), point coordinates and every
 // table index. Throws file_error naming the file, for running out of memory too.
