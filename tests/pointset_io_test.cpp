@@ -113,58 +113,28 @@ TEST_F(PointsetFile, CellsFilesHoldThePointsAndLoadTheTablesNeighbours) {
   EXPECT_EQ(stored_k(header_only), 12u);
   EXPECT_FALSE(header_only.cells.loaded());
   EXPECT_THROW(require_neighbours(header_only), std::invalid_argument);
-  // A cells file that claims a table section, or another group, is refused by name.
-  std::vector<char> bad = read(path("c.fovset"));
-  const uint32_t group = 2;
-  std::vector<char> good = bad;
-  for (size_t at = 0; at + 4 <= 512; at += 4) {  // the group field: the one holding 1 right after k = 12
-    uint32_t a, b;
-    std::memcpy(&a, &good[at], 4), std::memcpy(&b, &good[at + 4], 4);
-    if (a == 12 && b == 1) {
-      std::memcpy(&bad[at + 4], &group, 4);
-      break;
-    }
-  }
-  ASSERT_NE(bad, good);
-  const uint32_t crc = crc32c(bad.data(), 508);  // a valid header checksum: the cells check is reached
-  std::memcpy(&bad[508], &crc, 4);
-  write(path("bad.fovset"), bad);
-  EXPECT_NE(load_error(path("bad.fovset")).find("a cells set with a table section"), std::string::npos)
-      << load_error(path("bad.fovset"));
-  EXPECT_NE(load_error(path("bad.fovset")).find("bad.fovset"), std::string::npos);
+  // Header fields patched at their offsets (docs/pointset-format.md), the header checksum made
+  // valid again so that the checks behind it are reached.
+  const std::vector<char> good = read(path("c.fovset"));
+  auto patched = [&](std::initializer_list<std::pair<size_t, uint32_t>> fields, const std::string& name) {
+    std::vector<char> bytes = good;
+    for (auto [at, value] : fields) std::memcpy(&bytes[at], &value, 4);
+    const uint32_t crc = crc32c(bytes.data(), 508);
+    std::memcpy(&bytes[508], &crc, 4);
+    write(path(name), bytes);
+    return load_error(path(name));
+  };
+  // A cells file that claims another group is refused by name.
+  const std::string group = patched({{156, 2}}, "bad.fovset");
+  EXPECT_NE(group.find("a cells set with a table section"), std::string::npos) << group;
+  EXPECT_NE(group.find("bad.fovset"), std::string::npos) << group;
   // The points of a 120 x 100 canvas on a declared 8000 x 8000 one: every empty cell would keep
   // them all (d_k of its centre spans the canvas), refused once the candidates pass their bound.
-  std::vector<char> huge = good;
-  const uint32_t side = 4000, canvas = 8000;
-  std::memcpy(&huge[16], &side, 4), std::memcpy(&huge[20], &side, 4);  // width, height
-  for (size_t at = 0; at + 8 <= 512; at += 4) {  // canvas_width, canvas_height: 120, 100 before k = 12
-    uint32_t a, b, k;
-    std::memcpy(&a, &good[at], 4), std::memcpy(&b, &good[at + 4], 4), std::memcpy(&k, &good[at + 8], 4);
-    if (a == 120 && b == 100 && k == 12) {
-      std::memcpy(&huge[at], &canvas, 4), std::memcpy(&huge[at + 4], &canvas, 4);
-      break;
-    }
-  }
-  const uint32_t huge_crc = crc32c(huge.data(), 508);
-  std::memcpy(&huge[508], &huge_crc, 4);
-  write(path("huge.fovset"), huge);
-  EXPECT_NE(load_error(path("huge.fovset")).find("candidates (refused)"), std::string::npos) << load_error(path("huge.fovset"));
+  const std::string huge = patched({{16, 4000}, {20, 4000}, {144, 8000}, {148, 8000}}, "huge.fovset");
+  EXPECT_NE(huge.find("candidates (refused)"), std::string::npos) << huge;
   // On a declared 120000 x 120000 canvas the empty tiles alone are 14 M cells: refused by count.
-  std::vector<char> vast = huge;
-  const uint32_t vast_side = 60000, vast_canvas = 120000;
-  std::memcpy(&vast[16], &vast_side, 4), std::memcpy(&vast[20], &vast_side, 4);
-  for (size_t at = 0; at + 8 <= 512; at += 4) {
-    uint32_t a, b;
-    std::memcpy(&a, &huge[at], 4), std::memcpy(&b, &huge[at + 4], 4);
-    if (a == canvas && b == canvas) {
-      std::memcpy(&vast[at], &vast_canvas, 4), std::memcpy(&vast[at + 4], &vast_canvas, 4);
-      break;
-    }
-  }
-  const uint32_t vast_crc = crc32c(vast.data(), 508);
-  std::memcpy(&vast[508], &vast_crc, 4);
-  write(path("vast.fovset"), vast);
-  EXPECT_NE(load_error(path("vast.fovset")).find("per point"), std::string::npos) << load_error(path("vast.fovset"));
+  const std::string vast = patched({{16, 60000}, {20, 60000}, {144, 120000}, {148, 120000}}, "vast.fovset");
+  EXPECT_NE(vast.find("per point"), std::string::npos) << vast;
 }
 
 TEST_F(PointsetFile, SameSetGivesByteIdenticalFiles) {
