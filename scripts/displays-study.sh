@@ -5,7 +5,7 @@
 # of view set to the display's, the full pixel grid at a foveated sampling rate (rays falling
 # from each spp at a centred gaze to a floor of 1 or 2, --ray-floors) against full resolution
 # at 1-16 spp, judged in JOD against a 128-spp converged reference with its noise floor.
-# Sparse sets are left out (--no-sparse): a 3840 x 3840 set's k-NN table is 4.7 GB at k = 20.
+# Sparse sets are left out (--no-sparse): scripts/sparse-displays.sh measures them (as k-NN cells).
 #   out/displays/DISPLAY/   results.csv, report.md (its verdict) and figures per display
 # Interrupted? Run it again: --resume keeps every finished row.
 set -euo pipefail
