@@ -34,9 +34,9 @@ struct knn_cells_params {
   uint64_t max_candidates = 0;
 };
 
-
 // Builds the cells of these points (parallel). Throws std::invalid_argument for k outside
-// 1..max_knn, fewer points than k, or a cell_fraction out of range.
+// 1..max_knn, fewer points than k, a cell_fraction out of range, cells that would not fit
+// in memory, or more candidates than params.max_candidates.
 knn_cells build_knn_cells(const std::vector<point>& points, uint32_t canvas_width, uint32_t canvas_height,
                           const knn_cells_params& params);
 
@@ -45,7 +45,7 @@ uint64_t count_knn_cells(const std::vector<point>& points, uint32_t canvas_width
                          double cell_fraction = knn_cells_params{}.cell_fraction);
 
 // Sets cells.radius_by_tile, radius_by_rank and max_radius (bounds: see knn_cells); the
-// builder does, and a loader after reading cells.
+// builder calls it.
 void set_cells_radii(knn_cells& cells, const std::vector<point>& points);
 
 // Writes the k nearest points of canvas pixel (x, y)'s centre to out[0..k), nearest first
@@ -55,7 +55,8 @@ uint32_t cell_neighbours(const knn_cells& cells, const std::vector<point>& point
 
 // "" when cells agree with their points: sizes match the canvas, every tile's cells lie in
 // the cell array, offsets ascend, every candidate names a point, and each cell holds at
-// least k candidates. Otherwise what is wrong (a loader's check of a file).
+// least k candidates. Otherwise what is wrong (for cells made or changed by hand: tests, the
+// fuzz target; files never hold cells, loaders build them).
 std::string knn_cells_problem(const knn_cells& cells, size_t point_count);
 
 }  // namespace fov
