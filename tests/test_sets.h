@@ -41,10 +41,7 @@ inline table_and_cells both_ways(const spacing_model& m, const dart_params& d, u
   kp.k = k;
   out.table = generate_pointset(m, d, kp);
   out.cells = out.table;
-  out.cells.table = {};
-  knn_cells_params cp;
-  cp.k = k;
-  out.cells.cells = build_knn_cells(out.cells.points, out.cells.canvas_width(), out.cells.canvas_height(), cp);
+  build_neighbours(out.cells, kp, knn_storage::cells);
   return out;
 }
 

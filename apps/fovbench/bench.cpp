@@ -21,7 +21,6 @@
 #include "fov/files.h"
 #include "fov/flicker.h"
 #include "fov/comparison.h"
-#include "fov/knn_cells.h"
 #include "fov/knn_table.h"
 #include "fov/pointset_io.h"
 #include "fov/random.h"
@@ -157,19 +156,12 @@ std::shared_ptr<const pointset> bench_pointset(const bench_options& o, const dis
   const knn_storage storage = bench_storage(o, display, stored_k(loaded));
   if (storage != loaded.storage()) {
     say(fmt::format("{}: building its k-NN {} (--neighbours)", path, label_of(knn_storage_labels, storage)));
-    if (storage == knn_storage::cells) {
-      knn_cells_params cp;
-      cp.k = loaded.table.k;
-      loaded.cells = build_knn_cells(loaded.points, loaded.canvas_width(), loaded.canvas_height(), cp);
-      loaded.table = {};
-    } else {
-      if (const std::string why = knn_table_memory_problem(display, loaded.cells.k); !why.empty())
+    knn_params kp;
+    kp.k = stored_k(loaded);
+    if (storage == knn_storage::table)
+      if (const std::string why = knn_table_memory_problem(display, kp.k); !why.empty())
         throw usage_error("--neighbours table: " + why);
-      knn_params kp;
-      kp.k = loaded.cells.k;
-      loaded.table = build_knn_table(loaded.points, loaded.canvas_width(), loaded.canvas_height(), kp);
-      loaded.cells = {};
-    }
+    build_neighbours(loaded, kp, storage);
   }
   auto set = std::make_shared<const pointset>(std::move(loaded));
   if (fovea_label(set->darts) != fovea_text(o))
@@ -342,7 +334,6 @@ display_geometry check_bench_options(const bench_options& o) {
   for (double s : o.scales)
     if (!o.no_sparse && !fs::exists(bench_pointset_path(o, display, s))) {
       require_output_dir("--points-dir", o.points_dir);
-
     }
   // -o/references must be (or become) a directory.
   if (const fs::path refs = fs::path(o.out) / "references"; fs::exists(refs) && !fs::is_directory(refs))

@@ -18,7 +18,6 @@
 
 #include "../common/cli.h"
 #include "fov/files.h"
-#include "fov/knn_cells.h"
 #include "fov/pointset_io.h"
 #include "plot.h"
 #include "plots.h"
@@ -101,7 +100,7 @@ json summary(const pointset& set, const std::string& path) {
   j["acuity_model"] = acuity_model_name(set.model.acuity.model);
   j["csf"] = {{"ct0", set.model.acuity.ct0}, {"alpha", set.model.acuity.alpha}, {"e2", set.model.acuity.e2}};
   j["k"] = stored_k(set);
-  j["neighbours"] = set.table.k != 0 ? "table" : "cells";
+  j["neighbours"] = label_of(knn_storage_labels, set.storage());
   if (set.table.k != 0) j["table_group"] = set.table.group;
   // Bytes the neighbours take in memory once loaded (the table's entries, or the cells').
   if (set.table.k != 0 && !set.table.entries.empty()) j["knn_memory_bytes"] = set.table.entries.size() * 4;
@@ -173,10 +172,10 @@ pointset generate_file(const spacing_model& model, const generate_options& o, co
   save_params save;
   parse_table_encoding(o.encoding, save.encoding);
   if (save.encoding == table_encoding::cells) {
-    knn_cells_params cp;
-    cp.k = o.k;
+    knn_params kp;
+    kp.k = o.k;
     try {
-      set.cells = build_knn_cells(set.points, set.canvas_width(), set.canvas_height(), cp);
+      build_neighbours(set, kp, knn_storage::cells);
     } catch (const std::invalid_argument& e) {
       throw usage_error(std::string("--display: ") + e.what());
     }
@@ -264,7 +263,7 @@ int run_generate(const generate_options& o) {
     fmt::print("{}: {} points ({} on the foveal grid, {} + {} darts in phase 2), free area {:.2e}, {} spacing violations, "
                "darts {:.1f} s + {} {:.1f} s, {:.1f} MB\n",
                output, set.points.size(), set.stats.grid_points, set.stats.phase1_points, set.stats.phase2_points, set.stats.free_fraction,
-               j["spacing_violations"].get<uint64_t>(), set.stats.seconds, set.table.k != 0 ? "table" : "cells", set.knn_seconds,
+               j["spacing_violations"].get<uint64_t>(), set.stats.seconds, label_of(knn_storage_labels, set.storage()), set.knn_seconds,
                j.value("file_bytes", 0.0) / 1e6);
   }
   return 0;

@@ -26,6 +26,9 @@ using knn_rank::ranked;
 // The farthest a pixel centre of a cell of 2^level pixels lies from the cell's centre.
 double cell_delta(uint32_t level) { return double((1u << level) - 1) * std::sqrt(0.5); }
 
+// One coordinate of the centre of the cell of 2^level pixels that holds canvas pixel p.
+double cell_centre(uint32_t p, uint32_t level) { return double((p >> level) << level) + 0.5 * double(1u << level); }
+
 // FLANN searches in float: its radius is widened by this much (pixels) and its k-th
 // neighbour re-ranked in double, so that no candidate the bound asks for is lost.
 constexpr double flann_slack = 0.01;
@@ -113,7 +116,7 @@ knn_cells build_knn_cells(const std::vector<point>& points, uint32_t width, uint
     for (uint32_t cy = 0; cy < side; ++cy)
       for (uint32_t cx = 0; cx < side; ++cx) {
         starts.push_back(uint32_t(out.size()));
-        const double c[2] = {x0 + cx * size + 0.5 * size, y0 + cy * size + 0.5 * size};
+        const double c[2] = {cell_centre(x0 + cx * size, l), cell_centre(y0 + cy * size, l)};
         float q[2] = {float(c[0]), float(c[1])};  // exact: halves of integers below 2^24
         flann::Matrix<float> query(q, 1, 2);
         flann::Matrix<size_t> idx(found.data(), 1, kq);
@@ -165,8 +168,8 @@ void set_cells_radii(knn_cells& cells, const std::vector<point>& points) {
     float* r = cells.radius_by_tile.data() + t * k;
     for (uint32_t c = 0; c < side * side; ++c) {
       const uint32_t cell = (cells.tiles[t] >> 3) + c;
-      const double cx = double(uint32_t(t % tx) * tile + (c % side) * size) + 0.5 * size;
-      const double cy = double(uint32_t(t / tx) * tile + (c / side) * size) + 0.5 * size;
+      const double cx = cell_centre(uint32_t(t % tx) * tile + (c % side) * size, l);
+      const double cy = cell_centre(uint32_t(t / tx) * tile + (c / side) * size, l);
       for (uint32_t j = 0; j < k; ++j) {
         const double d = std::sqrt(distance2(points[cells.candidates[cells.cell_start[cell] + j]], cx, cy)) + delta;
         r[j] = std::max(r[j], std::nextafter(float(d), std::numeric_limits<float>::infinity()));
@@ -186,8 +189,7 @@ uint32_t cell_neighbours(const knn_cells& cells, const std::vector<point>& point
   const uint32_t v = cells.tiles[size_t(y / tile) * cells.tiles_x() + x / tile];
   const uint32_t l = v & 7u, side = tile >> l;
   const uint32_t cell = (v >> 3) + ((y % tile) >> l) * side + ((x % tile) >> l);
-  const double half = 0.5 * double(1u << l);
-  const double cx = double((x >> l) << l) + half, cy = double((y >> l) << l) + half;
+  const double cx = cell_centre(x, l), cy = cell_centre(y, l);
   const double qx = double(x) + 0.5, qy = double(y) + 0.5;
   const uint32_t a = cells.cell_start[cell], b = cells.cell_start[cell + 1];
   // The prefix of candidates that can hold the pixel's k nearest (header).
@@ -218,8 +220,9 @@ std::string knn_cells_problem(const knn_cells& cells, size_t point_count) {
   const uint64_t n_cells = cells.cell_count();
   uint64_t expected = 0;
   for (size_t t = 0; t < cells.tiles.size(); ++t) {
-    const uint32_t l = cells.tiles[t] & 7u, side = knn_cells::tile >> (l > knn_cells::max_level ? 0 : l);
+    const uint32_t l = cells.tiles[t] & 7u;
     if (l > knn_cells::max_level) return fmt::format("tile {} has level {} (at most {})", t, l, knn_cells::max_level);
+    const uint32_t side = knn_cells::tile >> l;
     if ((cells.tiles[t] >> 3) != expected) return fmt::format("tile {}'s cells do not follow the previous tile's", t);
     expected += uint64_t(side) * side;
   }

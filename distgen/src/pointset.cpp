@@ -478,19 +478,17 @@ traced_set count_traced_points(const pointset& set, gaze_point gaze, uint32_t k_
   return out;
 }
 
-namespace {
-
 void build_neighbours(pointset& set, const knn_params& knn, knn_storage storage) {
   if (storage == knn_storage::table) {
     set.table = build_knn_table(set.points, set.canvas_width(), set.canvas_height(), knn);
+    set.cells = {};
   } else {
     knn_cells_params cp;
     cp.k = knn.k;
     set.cells = build_knn_cells(set.points, set.canvas_width(), set.canvas_height(), cp);
+    set.table = {};
   }
 }
-
-}  // namespace
 
 pointset generate_pointset(const spacing_model& model, const dart_params& darts, const knn_params& knn,
                            knn_storage storage) {

@@ -253,8 +253,9 @@ void save_pointset(const std::string& path, const pointset& set, uint32_t k, uin
   const uint32_t width = h.canvas_width, height = h.canvas_height;
   const uint32_t chunk_rows = params.chunk_rows;
   const uint32_t chunks = (height + chunk_rows - 1) / chunk_rows;
-  std::vector<uint32_t> band(size_t(chunk_rows) * width * k);
+  std::vector<uint32_t> band;  // a table's rows, band by band (a cells file writes none)
   auto for_each_band = [&](auto&& use) {
+    band.resize(size_t(chunk_rows) * width * k);
     for (uint32_t c = 0; c < chunks; ++c) {
       const uint32_t y0 = c * chunk_rows, y1 = std::min(height, y0 + chunk_rows);
       rows(y0, y1, band.data());

@@ -53,7 +53,11 @@ std::vector<uint32_t> brute_force_knn(const std::vector<point>& points, float qx
 // Copies a table into another group size (same entries, other layout).
 knn_table regroup(const knn_table& table, uint32_t group);
 
-// Throws darts and builds the table (or the cells, knn_cells.h, with knn.k) in memory.
+// Builds the set's neighbours the way asked for, the table (knn: k and group) or the cells
+// (knn_cells.h, with knn.k), and drops the other kind if it held one.
+void build_neighbours(pointset& set, const knn_params& knn, knn_storage storage);
+
+// Throws darts and builds the table (or the cells) in memory.
 pointset generate_pointset(const spacing_model& model, const dart_params& darts, const knn_params& knn,
                            knn_storage storage = knn_storage::table);
 
