@@ -27,6 +27,7 @@ packages=(
   blender-data               # CC0 HDR environment maps: the env: stimulus of fovstair's thesis protocol
   xvfb xauth                 # tests: fovview and fovstair windows run headless under xvfb-run
   clang libclang-rt-dev      # scripts/fuzz.sh: libFuzzer and the sanitizers' runtimes for clang
+  time                       # scripts/cells-bench.sh: GNU time's wall time and peak memory per run
 )
 
 missing=()
