@@ -102,7 +102,28 @@ PY
 check "bad v"           2 -- "$fovbench" "${common[@]}" --viewing-distance 0 -o "$dir/x"
 check "ray floor zero"  2 -- "$fovbench" "${common[@]}" --ray-floors 0 -o "$dir/x"
 check "ray floor high"  2 -- "$fovbench" "${common[@]}" --spp 1,4 --ray-floors 4 -o "$dir/x"
+check "point floor zero" 2 -- "$fovbench" "${common[@]}" --point-ray-floors 0 -o "$dir/x"
+check "point floor high" 2 -- "$fovbench" "${common[@]}" --spp 1,4 --point-ray-floors 4 -o "$dir/x"
+check "point floor, no sets" 2 -- "$fovbench" "${common[@]}" --spp 4 --no-sparse --ray-floors 1 --point-ray-floors 1 -o "$dir/x"
 check "bad ppd display" 2 -- "$fovbench" --display 64x72@0ppd --points-dir "$dir/sets" -o "$dir/x"
+# Rays per point falling with eccentricity (--point-ray-floors): seen from 10 screen widths at
+# scale 4 the model's spacing grows across the screen, so the floor rows trace the same points
+# with fewer rays.
+check "point floors"    0 -- "$fovbench" --display 128x96@10 --points-dir "$dir/sets" --frames 1 --scene builtin \
+  --scales 4.0 --methods nn,shepard --k 4 --spp 4 --point-ray-floors 1,2 --baselines full --reference-spp 8 --no-flip -o "$dir/pf"
+python3 - "$dir/pf/results.csv" <<'PY' || fail "--point-ray-floors rows"
+import csv, sys
+rows = [r for r in csv.DictReader(open(sys.argv[1])) if r["kind"] == "foveated"]
+by = {(r["method"], r["ray_floor"]): r for r in rows}
+assert sorted(by) == sorted((m, f) for m in ("nn", "shepard") for f in ("", "1", "2")), sorted(by)
+for m in ("nn", "shepard"):
+    flat, two, one = by[(m, "")], by[(m, "2")], by[(m, "1")]
+    assert flat["points_traced"] == two["points_traced"] == one["points_traced"], (flat, one)
+    pts = int(flat["points_traced"])
+    assert int(flat["rays"]) == 4 * pts and pts <= int(one["rays"]) < int(two["rays"]) < int(flat["rays"]), (flat, two, one)
+    assert int(one["rays"]) >= pts and int(two["rays"]) >= 2 * pts
+PY
+grep -Eq "s4.00 (nn|shepard) 4-[12]spp" "$dir/pf/report.md" || fail "the report does not name a floor row"
 check "farther eye"     0 -- "$fovbench" "${common[@]}" --viewing-distance 2 --scene builtin --scales 1.0 --methods nn --spp 1 \
   --baselines full --reference-spp 4 -o "$dir/far"
 [[ -s "$dir/sets/64x72-v2-s1.00.fovset" ]] || fail "v = 2 did not write 64x72-v2-s1.00.fovset: $(ls "$dir/sets")"

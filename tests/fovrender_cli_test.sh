@@ -30,6 +30,21 @@ for view in points density eccentricity; do
   check "debug $view"      0 -- "$fovrender" "${set[@]}" --spp 1 --debug-view $view -o "$dir/d.png"
   [[ -s "$dir/d-$view.png" ]] || { echo "FAIL --debug-view $view wrote no d-$view.png"; failures=$((failures + 1)); }
 done
+# --ray-floor: with --reference the full grid's rays fall, with --points each point's (the
+# set's own model: seen from 10 screen widths at scale 4 its spacing grows across the screen).
+"$fovgen" --display 128x96@10 --scale 4 --k 8 --saturation 500 -o "$dir/ppd.fovset" >/dev/null
+check "ray floor above spp" 2 -- "$fovrender" "${set[@]}" --spp 2 --ray-floor 3 -o "$dir/a.png"
+check "ray floor zero"     2 -- "$fovrender" "${set[@]}" --spp 2 --ray-floor 0 -o "$dir/a.png"
+check "scale with points"  2 -- "$fovrender" "${set[@]}" --spp 4 --ray-floor 1 --falloff-scale 2 -o "$dir/a.png"
+check "falloff reference"  0 -- "$fovrender" --reference --display 96x96@60ppd --spp 4 --ray-floor 1 -o "$dir/fall.png"
+python3 - "$fovrender" "$dir" <<'PY' || { echo "FAIL --ray-floor with --points"; failures=$((failures + 1)); }
+import json, subprocess, sys
+run = lambda *a: json.loads(subprocess.run([sys.argv[1], "--points", sys.argv[2] + "/ppd.fovset", "--spp", "4", "--json",
+                                            "--device", "cpp", *a], check=True, capture_output=True, text=True).stdout)
+flat, fall = run("-o", sys.argv[2] + "/flat.png"), run("--ray-floor", "1", "-o", sys.argv[2] + "/pfall.png")
+assert flat["points_traced"] == fall["points_traced"] and flat["rays"] == 4 * flat["points_traced"], (flat, fall)
+assert fall["points_traced"] <= fall["rays"] < flat["rays"] and fall["ray_floor"] == 1 and "ray_floor" not in flat, fall
+PY
 check "taa with reference"  2 -- "$fovrender" --reference "${set[@]}" --taa-frames 4 -o "$dir/a.png"
 check "taa frames"         0 -- "$fovrender" "${set[@]}" --spp 2 --taa-frames 4 -o "$dir/taa.png"
 check "mirrored patterns"  0 -- "$fovrender" "${set[@]}" --spp 2 --taa-frames 4 --pattern mirror -o "$dir/taa-m.png"

@@ -174,7 +174,7 @@ TEST(Tracer, PointRayPositionsAreTheRaysTraced) {
     tp.mirror_x = mirror;
     tp.disc_sampler = sampler;
     const point_samples traced = trace_points(s, cam, set, {40, 50}, with_k(tp, 5)).samples;
-    const std::vector<glm::vec2> at = point_ray_positions(set, traced, tp);
+    const std::vector<glm::vec2> at = point_ray_positions(set, traced, {40, 50}, tp);
     ASSERT_EQ(at.size(), traced.traced.size() * 8);
     size_t checked = 0, mixed = 0;
     for (size_t k = 0; k < traced.traced.size(); ++k) {
@@ -238,7 +238,7 @@ TEST(Sampler, SobolDiscsConvergeFasterThanRandomOnes) {
   tp.disc_sampler = pixel_sampler::sobol;
   const point_samples sobol = trace_points(*s, cam, *set, {48, 54}, tp).samples;
   EXPECT_LT(rmse(sobol), 0.7 * rmse(random)) << rmse(sobol) << " vs " << rmse(random);
-  const std::vector<glm::vec2> at = point_ray_positions(*set, sobol, tp);
+  const std::vector<glm::vec2> at = point_ray_positions(*set, sobol, {48, 54}, tp);
   const canvas_offset o = sobol.offset;
   for (size_t k = 0; k < sobol.traced.size(); ++k) {
     const point& p = set->points[sobol.traced[k]];
@@ -465,6 +465,126 @@ TEST(Tracer, MirroredPatternsTraceTheSetPlacedForTheMirroredGaze) {
   size_t differ = 0;
   for (uint32_t i : m.traced) differ += m.colour[i] != plain.colour[i];
   EXPECT_GT(differ, m.traced.size() / 2);  // ... seen at mirrored screen positions
+}
+
+// Rays per point falling with eccentricity (trace_params::ray_floor, issue 24) on a set whose
+// model's spacing grows across its screen, with a grid fovea: darts and grid points both.
+TEST(PointRays, AFlatRuleIsTheThesissTraceBitForBit) {
+  const auto s = load_scene("builtin");
+  knn_params kp;
+  kp.k = 5;
+  const pointset set = generate_pointset(testing::partial_grid_model(), testing::grid_darts(), kp);
+  const gaze_point g{50.3, 41.7};
+  for (const bool mirror : {false, true})
+    for (const pixel_sampler sampler : {pixel_sampler::random, pixel_sampler::sobol}) {
+      trace_params tp;
+      tp.spp = 6;
+      tp.k = 5;
+      tp.mirror_x = tp.mirror_y = mirror;
+      tp.disc_sampler = sampler;
+      const point_samples thesis = trace_points(*s, s->default_camera(), set, g, tp).samples;
+      tp.ray_floor = 6;
+      const point_samples flat = trace_points(*s, s->default_camera(), set, g, tp).samples;
+      EXPECT_EQ(flat.traced, thesis.traced);
+      EXPECT_EQ(flat.colour, thesis.colour);
+      EXPECT_EQ(flat.depth, thesis.depth);
+      EXPECT_EQ(flat.hits, thesis.hits);
+      EXPECT_EQ(flat.rays, thesis.rays);
+      EXPECT_EQ(flat.rays, thesis.traced.size() * 6);
+    }
+}
+
+TEST(PointRays, EachPointCastsItsRuleAndIsThatManyRaysOfAFlatTrace) {
+  const auto s = load_scene("builtin");
+  const camera cam = s->default_camera();
+  knn_params kp;
+  kp.k = 5;
+  const pointset set = generate_pointset(testing::partial_grid_model(), testing::grid_darts(), kp);
+  const int w = set.model.display.width, h = set.model.display.height;
+  const gaze_point g{50.3, 41.7};
+  for (const bool mirror : {false, true}) {
+    trace_params tp;
+    tp.spp = 16;
+    tp.k = 5;
+    tp.ray_floor = 2;
+    tp.mirror_x = mirror;
+    const falloff_rule rule = point_ray_rule(set, g, tp.spp, tp.ray_floor);
+    const point_samples fall = trace_points(*s, cam, set, g, tp).samples;
+    const std::vector<glm::vec2> at = point_ray_positions(set, fall, g, tp);
+    // The rule at each point's screen position; its rays are the first n of the flat trace's.
+    std::map<uint32_t, point_samples> flat_at;
+    uint64_t rays = 0;
+    size_t grid = 0, darts = 0, next = 0;
+    std::set<uint32_t> counts;
+    for (size_t k = 0; k < fall.traced.size(); ++k) {
+      const uint32_t i = fall.traced[k];
+      const point& p = set.points[i];
+      float x = p.x - float(fall.offset.x), y = p.y - float(fall.offset.y);
+      if (mirror) x = float(w) - x;
+      const uint32_t n = rule.rays_at(std::hypot(double(x) - g.x, double(y) - g.y));
+      rays += n;
+      counts.insert(n);
+      (is_grid_point(set, p) ? grid : darts) += 1;
+      if (!flat_at.count(n)) {
+        trace_params flat = tp;
+        flat.ray_floor = 0;
+        flat.spp = n;
+        flat_at[n] = trace_points(*s, cam, set, g, flat).samples;
+      }
+      ASSERT_EQ(fall.colour[i], flat_at[n].colour[i]) << "point " << i << " n=" << n;
+      ASSERT_EQ(fall.hits[i], flat_at[n].hits[i]);
+      for (uint32_t r = 0; r < n; ++r, ++next)  // its rays, in order, inside its disc or pixel
+        ASSERT_LE(glm::distance(at[next], glm::vec2(x, y)), std::max(p.spacing, 0.71f) * 1.0001f);
+    }
+    EXPECT_EQ(next, at.size()) << "point_ray_positions lists the rays the rule gives, no more";
+    EXPECT_EQ(fall.rays, rays);
+    EXPECT_GE(counts.size(), 4u) << "the set spans several ray counts";
+    EXPECT_GT(grid, 500u);
+    EXPECT_GT(darts, 500u);
+    EXPECT_LT(rays, fall.traced.size() * 16);  // the budget: at most spp a point, at least the floor
+    EXPECT_GE(rays, fall.traced.size() * 2);
+    EXPECT_EQ(*counts.begin(), 2u) << "the periphery reaches the floor";
+    EXPECT_EQ(*counts.rbegin(), 16u);
+  }
+  // Out of range: refused.
+  trace_params bad;
+  bad.spp = 4;
+  bad.k = 5;
+  bad.ray_floor = 5;
+  EXPECT_THROW(trace_points(*s, cam, set, g, bad), std::invalid_argument);
+}
+
+// The hybrid (a grid fovea whose points' rays fall, darts beyond): each grid point is the
+// full grid's falloff frame's pixel (same model, gaze, spp and floor) bit for bit.
+TEST(PointRays, GridPointsAreTheFalloffFramesPixels) {
+  const auto s = load_scene("builtin");
+  const camera cam = s->default_camera();
+  knn_params kp;
+  kp.k = 5;
+  const pointset set = generate_pointset(testing::partial_grid_model(), testing::grid_darts(), kp);
+  const int w = set.model.display.width, h = set.model.display.height;
+  const gaze_point g{50.3, 41.7};
+  trace_params tp;
+  tp.spp = 16;
+  tp.k = 5;
+  tp.ray_floor = 1;
+  const point_samples hybrid = trace_points(*s, cam, set, g, tp).samples;
+  trace_params full = tp;
+  full.falloff = ray_falloff{set.model, g, 1};
+  const frame fall = trace_reference(*s, cam, w, h, full).image;
+  size_t grid = 0, below_spp = 0;
+  const falloff_rule rule = point_ray_rule(set, g, 16, 1);
+  for (uint32_t i : hybrid.traced) {
+    const point& p = set.points[i];
+    if (!is_grid_point(set, p)) continue;
+    const float x = p.x - float(hybrid.offset.x), y = p.y - float(hybrid.offset.y);
+    if (x < 0 || y < 0 || x >= float(w) || y >= float(h)) continue;
+    ASSERT_EQ(hybrid.colour[i], fall.rgb[size_t(y) * w + size_t(x)]) << x << "," << y;
+    ++grid;
+    below_spp += rule.rays_at(std::hypot(x - g.x, y - g.y)) < 16;
+  }
+  EXPECT_GT(grid, 500u);
+  EXPECT_GT(below_spp, 100u) << "the grid's own rays fall too, or the test proves nothing about the rule";
 }
 
 // Writes a 64x32 lat-long image whose texels are coloured by the axis closest to their direction.

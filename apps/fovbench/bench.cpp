@@ -52,7 +52,8 @@ struct config {
   size_t set;        // foveated and falloff: the scale's index; uniform: the fraction's; full: unused
   size_t gaze;
   method how;
-  uint32_t k, spp;  // falloff: k is the ray floor
+  uint32_t k, spp;
+  uint32_t floor;  // falloff, and foveated under --point-ray-floors: the ray floor (0: spp everywhere)
   std::string key;
 };
 
@@ -67,19 +68,29 @@ result_row identity_row(const bench_options& o, const std::vector<named_gaze>& g
     r.cells["method"] = "full", r.cells["pixel_fraction"] = fraction_text(1);
   } else if (c.kind == row_kind::falloff) {
     r.cells["method"] = "falloff", r.cells["pixel_fraction"] = fraction_text(1);
-    r.cells["scale"] = fmt::format("{:.2f}", o.scales[c.set]), r.cells["ray_floor"] = std::to_string(c.k);
+    r.cells["scale"] = fmt::format("{:.2f}", o.scales[c.set]), r.cells["ray_floor"] = std::to_string(c.floor);
   } else {
     r.cells["method"] = method_name(c.how), r.cells["k"] = std::to_string(c.k);
+    if (c.floor > 0) r.cells["ray_floor"] = std::to_string(c.floor);
     if (c.kind == row_kind::foveated) r.cells["scale"] = fmt::format("{:.2f}", o.scales[c.set]);
     else r.cells["pixel_fraction"] = fraction_text(o.uniform_fractions[c.set]);
   }
   return r;
 }
 
+// A foveated set's ray floors at one spp: 0 (every point casts spp, the thesis), then each
+// --point-ray-floors value below spp (rays falling with eccentricity to it).
+std::vector<uint32_t> point_floors(const bench_options& o, uint32_t spp) {
+  std::vector<uint32_t> out{0};
+  for (uint32_t floor : o.point_ray_floors)
+    if (floor < spp) out.push_back(floor);
+  return out;
+}
+
 std::vector<config> all_configs(const bench_options& o, const std::vector<named_gaze>& gazes) {
   std::vector<config> all;
-  auto add = [&](size_t sc, row_kind kind, size_t set, size_t g, method how, uint32_t k, uint32_t spp) {
-    config c{sc, kind, set, g, how, k, spp, ""};
+  auto add = [&](size_t sc, row_kind kind, size_t set, size_t g, method how, uint32_t k, uint32_t spp, uint32_t floor) {
+    config c{sc, kind, set, g, how, k, spp, floor, ""};
     c.key = identity_row(o, gazes, c).key();
     if (std::none_of(all.begin(), all.end(), [&](const config& d) { return d.key == c.key; })) all.push_back(c);
   };
@@ -91,16 +102,17 @@ std::vector<config> all_configs(const bench_options& o, const std::vector<named_
       for (size_t si = 0; si < sets; ++si)
         for (size_t g = 0; g < gazes.size(); ++g)
           for (uint32_t spp : o.spps)
-            for (method how : o.methods)
-              for (uint32_t k : how == method::nn ? std::vector<uint32_t>{1} : o.ks) add(sc, kind, si, g, how, k, spp);
+            for (uint32_t floor : kind == row_kind::foveated ? point_floors(o, spp) : std::vector<uint32_t>{0})
+              for (method how : o.methods)
+                for (uint32_t k : how == method::nn ? std::vector<uint32_t>{1} : o.ks) add(sc, kind, si, g, how, k, spp, floor);
     for (size_t si = 0; si < o.scales.size(); ++si)
       for (size_t g = 0; g < gazes.size(); ++g)
         for (uint32_t spp : o.spps)
           for (uint32_t floor : o.ray_floors)
-            if (floor < spp) add(sc, row_kind::falloff, si, g, method::nn, floor, spp);
+            if (floor < spp) add(sc, row_kind::falloff, si, g, method::nn, 0, spp, floor);
     if (full)
       for (size_t g = 0; g < gazes.size(); ++g)
-        for (uint32_t spp : o.spps) add(sc, row_kind::full, 0, g, method::nn, 0, spp);
+        for (uint32_t spp : o.spps) add(sc, row_kind::full, 0, g, method::nn, 0, spp, 0);
   }
   return all;
 }
@@ -309,11 +321,14 @@ display_geometry check_bench_options(const bench_options& o) {
   if (std::count(o.baselines.begin(), o.baselines.end(), baseline::uniform) && o.uniform_fractions.empty())
     throw usage_error("--baselines uniform needs at least one --uniform-fractions value");
   if (!(o.spread_limit > 0 && o.spread_limit <= 10)) throw usage_error("--spread-limit must lie in (0, 10]");
-  for (uint32_t floor : o.ray_floors) {
-    if (floor < 1 || floor > max_spp) throw usage_error(fmt::format("--ray-floors: {} is not a ray count in 1..{}", floor, max_spp));
-    if (std::none_of(o.spps.begin(), o.spps.end(), [&](uint32_t spp) { return floor < spp; }))
-      throw usage_error(fmt::format("--ray-floors {}: no --spp above it to fall from", floor));
-  }
+  for (const auto& [flag, floors] : {std::pair<const char*, const std::vector<uint32_t>&>{"--ray-floors", o.ray_floors},
+                                      {"--point-ray-floors", o.point_ray_floors}})
+    for (uint32_t floor : floors) {
+      if (floor < 1 || floor > max_spp) throw usage_error(fmt::format("{}: {} is not a ray count in 1..{}", flag, floor, max_spp));
+      if (std::none_of(o.spps.begin(), o.spps.end(), [&](uint32_t spp) { return floor < spp; }))
+        throw usage_error(fmt::format("{} {}: no --spp above it to fall from", flag, floor));
+    }
+  if (o.no_sparse && !o.point_ray_floors.empty()) throw usage_error("--point-ray-floors: --no-sparse leaves no point set to trace");
   if (o.temporal_frames == 1 || o.temporal_frames > 200) throw usage_error("--temporal-frames must be 0 or 2..200");
   if (!(o.temporal_fps >= 8 && o.temporal_fps <= 1000)) throw usage_error("--temporal-fps must lie in 8..1000");
   if (!std::isnan(o.budget_psnr) && !std::isnan(o.budget_foveated)) throw usage_error("give one budget");
@@ -508,7 +523,9 @@ class scene_sweep {
       if (!st_.needed([&](const config& c) { return c.scene == sc_ && c.kind == kind && c.set == si; })) continue;
       use_set(kind, si);
       for (size_t g = 0; g < st_.gazes.size(); ++g)
-        for (uint32_t spp : o_.spps) measure_group(kind, si, g, spp);
+        for (uint32_t spp : o_.spps)
+          for (uint32_t floor : kind == row_kind::foveated ? point_floors(o_, spp) : std::vector<uint32_t>{0})
+            measure_group(kind, si, g, spp, floor);
     }
   }
 
@@ -544,8 +561,8 @@ class scene_sweep {
       render_params p = o_.render;
       p.spp = c.spp;
       ray_falloff f;
-      f.model = eye_, f.model.scale = o_.scales[c.set], f.gaze = gp.at, f.floor = c.k;
-      const std::string what = fmt::format("falloff s={:.2f} {} spp={} floor={}", o_.scales[c.set], gp.name, c.spp, c.k);
+      f.model = eye_, f.model.scale = o_.scales[c.set], f.gaze = gp.at, f.floor = c.floor;
+      const std::string what = fmt::format("falloff s={:.2f} {} spp={} floor={}", o_.scales[c.set], gp.name, c.spp, c.floor);
       std::vector<double> full_ms, full_cpu, frame_ms, frame_cpu;
       frame image;
       for (uint32_t n = 0; n < o_.frames; ++n) {
@@ -660,18 +677,21 @@ class scene_sweep {
 
   // Every configuration of one set, gaze and spp still to do: one trace, every method timed
   // interleaved with the full-resolution frame, then each measured and written.
-  void measure_group(row_kind kind, size_t si, size_t g, uint32_t spp) {
+  void measure_group(row_kind kind, size_t si, size_t g, uint32_t spp, uint32_t floor) {
     std::vector<const config*> here;
     for (const config& c : st_.all)
-      if (c.scene == sc_ && c.kind == kind && c.set == si && c.gaze == g && c.spp == spp && !st_.done.count(c.key))
+      if (c.scene == sc_ && c.kind == kind && c.set == si && c.gaze == g && c.spp == spp && c.floor == floor &&
+          !st_.done.count(c.key))
         here.push_back(&c);
     if (here.empty()) return;
-    const std::string what = kind == row_kind::foveated ? fmt::format("s={:.2f}", o_.scales[si])
-                                                        : fmt::format("uniform {}", fraction_text(o_.uniform_fractions[si]));
+    const std::string what = kind == row_kind::foveated
+                                 ? fmt::format("s={:.2f}{}", o_.scales[si], floor ? fmt::format(" floor={}", floor) : "")
+                                 : fmt::format("uniform {}", fraction_text(o_.uniform_fractions[si]));
     const std::string scene = slug(o_.scenes[sc_]);
     const named_gaze& gp = st_.gazes[g];
     render_params p = o_.render;
     p.spp = spp;
+    p.ray_floor = floor;
     // One untimed trace at the largest k read gives every method its colours (a point's
     // rays do not depend on k); each method's first launch is untimed too.
     uint32_t widest = 0;

@@ -82,6 +82,10 @@ int main(int argc, char** argv) {
                  "Falloff rows: the full pixel grid, rays falling from each --spp at the gaze to each floor below it as "
                  "the acuity model at each --scales value says (fov::ray_falloff; docs/speed-accuracy.md), e.g. 1,2")
       ->delimiter(',');
+  app.add_option("--point-ray-floors", o.point_ray_floors,
+                 "Foveated rows also with each point's rays falling from each --spp at the gaze to each floor below it "
+                 "(fov::point_ray_rule: the set's own model; with --fovea grid the hybrid), e.g. 1")
+      ->delimiter(',');
   std::string shard;
   app.add_option("--shard", shard,
                  "Measure the I-th of N slices of the configurations (0 <= I < N; rows in -o/shard-I-of-N, references "

@@ -51,6 +51,7 @@ struct knob_mean {
     if (kind == row_kind::falloff) return fmt::format("fall s{} {}-{}spp", scale, spp, floor);
     const std::string k_text = method == "nn" ? "" : " k" + k;
     if (kind == row_kind::uniform) return fmt::format("u{} {} {}spp{}", fraction.substr(0, 4), method, spp, k_text);
+    if (!floor.empty()) return fmt::format("s{} {} {}-{}spp{}", scale, method, spp, floor, k_text);
     return fmt::format("s{} {} {}spp{}", scale, method, spp, k_text);
   }
   // The mean of a named error column.

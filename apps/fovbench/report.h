@@ -52,6 +52,10 @@ struct bench_options {
   // to each of these floors (below that spp) as the acuity model at each scale says
   // (fov::ray_falloff). Empty: none.
   std::vector<uint32_t> ray_floors;
+  // Foveated rows also with each point's rays falling with eccentricity from each spp to
+  // each of these floors (below that spp; fov::point_ray_rule, the set's own model), beside
+  // the rows where every point casts spp. Empty: none.
+  std::vector<uint32_t> point_ray_floors;
   bool no_sparse = false;  // no sparse sets (foveated rows): falloff rows and baselines only
   // Sharding (fovbench --shard I/N): this run measures configurations i with i % count ==
   // index of the sweep's list; its rows go to OUT/shard-I-of-N/, references are shared in

@@ -41,7 +41,7 @@ struct render_options {
   uint32_t taa_frames = 0;
   uint32_t speedup = 0;  // repetitions of the paired timing (0: none)
   uint32_t reference_spp = 0;  // compare against a converged reference traced here (0: none)
-  uint32_t ray_floor = 0;      // with --reference: rays fall from --spp at the gaze to this (0: --spp everywhere)
+  uint32_t ray_floor = 0;      // rays fall from --spp at the gaze to this (0: --spp everywhere)
   double falloff_scale = 1.0;  // the acuity model's scale s the falloff follows
   bool falloff_scale_given = false;
 };
@@ -62,8 +62,8 @@ void check_options(const render_options& o, const fov::render_params& p) {
       throw usage_error("--width/--height: " + why);
   if (o.reference && o.taa_frames > 0) throw usage_error("--taa-frames applies to foveated frames, not --reference");
   if (o.reference && o.speedup > 0) throw usage_error("--speedup compares a foveated frame with --reference; give --points instead");
-  if (o.ray_floor > 0 && !o.reference) throw usage_error("--ray-floor: rays fall across the full pixel grid; add --reference");
-  if (o.falloff_scale_given && o.ray_floor == 0) throw usage_error("--falloff-scale needs --ray-floor");
+  if (o.falloff_scale_given && (o.ray_floor == 0 || !o.reference))
+    throw usage_error("--falloff-scale needs --reference --ray-floor (a point set's rays follow the set's own scale)");
   if (o.ray_floor > p.spp)
     throw usage_error(fmt::format("--ray-floor {} exceeds --spp {}: rays fall from --spp at the gaze", o.ray_floor, p.spp));
   if (!(o.falloff_scale > 0 && o.falloff_scale <= 10)) throw usage_error("--falloff-scale must lie in (0, 10]");
@@ -93,8 +93,9 @@ int main(int argc, char** argv) {
   fov::add_render_flags(app, p);
   app.add_flag("--reference", o.reference, "Render at full resolution instead");
   app.add_option("--ray-floor", o.ray_floor,
-                 "With --reference: every pixel traced, its rays falling with eccentricity from --spp at the gaze to this "
-                 "floor as the acuity model's point density falls (a foveated sampling rate; docs/reconstruction.md)")
+                 "Rays falling with eccentricity from --spp at the gaze to this floor as the acuity model's point density "
+                 "falls: with --reference every pixel traced so (a foveated sampling rate), with --points each point "
+                 "(the set's own model; a grid fovea's points as the full grid's pixels; docs/reconstruction.md)")
       ->check(CLI::Range(1u, fov::max_spp));
   app.add_option("--falloff-scale", o.falloff_scale, "With --ray-floor: the acuity model's scale s (1 = the thesis's model)");
   app.add_option("--width", o.width, "Screen width without --points")->check(CLI::Range(1, 65536));
@@ -136,6 +137,7 @@ int main(int argc, char** argv) {
     o.photometry_given = app.count("--peak-luminance") + app.count("--contrast") + app.count("--ambient") > 0;
     check_options(o, p);
     p.taa = o.taa_frames > 0;
+    if (!o.reference) p.ray_floor = o.ray_floor;
     if (o.debug_asked && o.debug_output.empty()) {
       const std::filesystem::path first(o.outputs.front());
       o.debug_output = (first.parent_path() / (first.stem().string() + "-" + fov::label_of(fov::debug_view_labels, o.debug)))
@@ -234,6 +236,7 @@ int main(int argc, char** argv) {
                     {"condition_sampled_pixels", t.rbf.sampled}};
       if (p.taa) j["taa_frames"] = o.taa_frames, j["pattern"] = fov::label_of(fov::ray_pattern_labels, p.pattern);
       j["k"] = p.reconstruct.k;
+      if (p.ray_floor > 0) j["ray_floor"] = p.ray_floor;
       j["texture_footprint"] = fov::texture_footprint_name(p.footprint);
     }
     // A frame's cost: tracing, reconstruction and TAA (setup, loading and warm-up are reported apart).

@@ -23,7 +23,8 @@ double ms_since(clock_type::time_point t) {
 bool same_trace(const render_params& a, const render_params& b) {
   return a.spp == b.spp && a.seed == b.seed && a.shadows == b.shadows && a.footprint == b.footprint &&
          a.reconstruct.k == b.reconstruct.k && a.taa == b.taa && a.pattern == b.pattern && a.exposure_ev == b.exposure_ev && a.disc_sampler == b.disc_sampler &&
-         a.sun_direction == b.sun_direction && a.sun_irradiance == b.sun_irradiance;
+         a.sun_direction == b.sun_direction && a.sun_irradiance == b.sun_irradiance &&
+         a.reference_sampler == b.reference_sampler && a.ray_floor == b.ray_floor;
 }
 
 // The tracing half of the params, without a frame's pattern.
@@ -43,6 +44,7 @@ trace_params base_trace(const render_params& p) {
     tp.sun = sun;
   }
   tp.k = p.reconstruct.k;
+  tp.ray_floor = p.ray_floor;
   return tp;
 }
 
@@ -50,6 +52,8 @@ trace_params base_trace(const render_params& p) {
 
 std::string validate(const render_params& p, const pointset* set) {
   if (p.spp < 1 || p.spp > max_spp) return fmt::format("--spp must lie in 1..{} (got {})", max_spp, p.spp);
+  if (p.ray_floor > p.spp)
+    return fmt::format("--ray-floor must lie in 1..--spp = {} (got {}): rays fall from --spp at the gaze", p.spp, p.ray_floor);
   const uint32_t k_max = set ? stored_k(*set) : max_knn;
   if (p.reconstruct.k < 1 || p.reconstruct.k > k_max)
     return fmt::format("--k must lie in 1..{}{} (got {})", k_max, set ? " (the set's k)" : "", p.reconstruct.k);

@@ -158,7 +158,7 @@ void BM_BareEmbreeSameRays(benchmark::State& state) {
   fov::trace_params tp;
   tp.spp = uint32_t(state.range(1));
   const fov::point_samples traced = fov::trace_points(s, bench_camera(s), set, {width / 2.0, height / 2.0}, with_k(tp, set.table.k)).samples;
-  const std::vector<glm::vec2> at = fov::point_ray_positions(set, traced, tp);
+  const std::vector<glm::vec2> at = fov::point_ray_positions(set, traced, {width / 2.0, height / 2.0}, tp);
   const fov::camera_frame f = fov::make_frame(bench_camera(s), width, height);
   RTCScene top = s.internals().top;
   const size_t task = std::max<size_t>(1, 256 / tp.spp) * tp.spp;

@@ -229,11 +229,6 @@ auto per_owner_mean_by(Count count, float exposure, Emit emit) {
   };
 }
 
-template <class Emit>
-auto per_owner_mean(uint32_t spp, float exposure, Emit emit) {
-  return per_owner_mean_by([spp](uint32_t) { return spp; }, exposure, emit);
-}
-
 // Calls emit(x, y) with the screen positions of samples [first, first + count) of
 // pixel (x, y)'s rays, as params.sampler says: sobol (owen_sobol_2d, scrambles seeded by
 // (seed, pixel index)) or random (uniform, from a stream seeded by (seed, pixel index)).
@@ -261,11 +256,11 @@ void pixel_rays(int x, int y, int width, const trace_params& params, uint32_t fi
   }
 }
 
-// Calls emit(x, y) with the screen position of each of point i's params.spp rays. A grid
+// Calls emit(x, y) with the screen position of each of point i's first n rays (n <= params.spp). A grid
 // point (grid_point: is_grid_point, asked once by the caller) stands for the screen pixel it lands on and casts that pixel's rays
-// (pixel_rays), samples [pattern * spp, (pattern + 1) * spp) with pattern = mirror_x +
+// (pixel_rays), samples [pattern * n, (pattern + 1) * n) with pattern = mirror_x +
 // 2 mirror_y: pattern 0 casts exactly the full-resolution frame's rays, and the four
-// mirrored patterns together a 4 spp-sample stratified set for TAA to average. Any other
+// mirrored patterns together a 4 n-sample stratified set for TAA to average. Any other
 // point casts rays inside the disc of radius p around it, as params.disc_sampler says:
 // random (uniform, rejection from the square: one splitmix64 draw gives both coordinates,
 // 24 bits each, from a stream seeded by (seed, i)) or sobol (the scrambled Sobol points of
@@ -274,7 +269,7 @@ void pixel_rays(int x, int y, int width, const trace_params& params, uint32_t fi
 // frame. The set is placed at `offset` and mirrored as trace_params says (the disc too).
 template <class Emit>
 void point_rays(const pointset& set, bool grid_point, uint32_t i, canvas_offset offset, const trace_params& params,
-                Emit&& emit) {
+                uint32_t n, Emit&& emit) {
   const display_geometry& disp = set.model.display;
   const point& p = set.points[i];
   uint64_t random = stream_seed(params.seed, 0x7261797375ull, i);
@@ -283,20 +278,20 @@ void point_rays(const pointset& set, bool grid_point, uint32_t i, canvas_offset 
   if (params.mirror_y) cy = float(disp.height) - cy;
   if (grid_point) {
     const uint32_t pattern = (params.mirror_x ? 1u : 0u) + (params.mirror_y ? 2u : 0u);
-    pixel_rays(int(std::floor(cx)), int(std::floor(cy)), disp.width, params, pattern * params.spp, params.spp, emit);
+    pixel_rays(int(std::floor(cx)), int(std::floor(cy)), disp.width, params, pattern * n, n, emit);
     return;
   }
   const float sx = params.mirror_x ? -p.spacing : p.spacing, sy = params.mirror_y ? -p.spacing : p.spacing;
   if (params.disc_sampler == pixel_sampler::sobol) {
     const uint64_t scrambles = splitmix64(random);
-    for (uint32_t s = 0; s < params.spp; ++s) {
+    for (uint32_t s = 0; s < n; ++s) {
       const glm::vec2 q = owen_sobol_2d(s, uint32_t(scrambles), uint32_t(scrambles >> 32));
       const glm::vec2 d = concentric_disc(q);
       emit(cx + sx * d.x, cy + sy * d.y);
     }
     return;
   }
-  for (uint32_t s = 0; s < params.spp; ++s) {
+  for (uint32_t s = 0; s < n; ++s) {
     float u, v;
     do {
       const uint64_t bits = splitmix64(random);
@@ -332,6 +327,8 @@ float exposure_factor(const trace_params& p) { return std::exp2(p.exposure_ev); 
 
 void check(const trace_params& p, int width, int height) {
   if (p.spp < 1 || p.spp > max_spp) throw std::invalid_argument(fmt::format("spp must lie in 1..{}", max_spp));
+  if (p.ray_floor > p.spp)
+    throw std::invalid_argument(fmt::format("the ray floor must lie in 1..spp = {} (got {})", p.spp, p.ray_floor));
   if (!(std::fabs(p.exposure_ev) <= 20)) throw std::invalid_argument("exposure must lie in -20..20 EV");
   if (width < 1 || height < 1) throw std::invalid_argument("screen size must be positive");
 }
@@ -362,6 +359,26 @@ glm::vec2 owen_sobol_2d(uint32_t s, uint32_t sx, uint32_t sy) {
 
 namespace {
 
+// Each traced point's rays (indexed like samples.traced): spp, or point_ray_rule's n(d) at the
+// point's screen position (placed and mirrored as samples says).
+std::vector<uint16_t> traced_point_rays(const pointset& set, const point_samples& samples, gaze_point gaze,
+                                        const trace_params& params) {
+  std::vector<uint16_t> n(samples.traced.size(), uint16_t(params.spp));
+  if (params.ray_floor == 0) return n;
+  const falloff_rule rule = point_ray_rule(set, gaze, params.spp, params.ray_floor);
+  const display_geometry& disp = set.model.display;
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, n.size(), 4096), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t k = r.begin(); k < r.end(); ++k) {
+      const point& p = set.points[samples.traced[k]];
+      double x = double(p.x) - samples.offset.x, y = double(p.y) - samples.offset.y;
+      if (samples.mirror_x) x = disp.width - x;
+      if (samples.mirror_y) y = disp.height - y;
+      n[k] = uint16_t(rule.rays_at(std::hypot(x - gaze.x, y - gaze.y)));
+    }
+  });
+  return n;
+}
+
 // trace_points, its traced points found with `index` where there is one.
 points_trace trace_selected(const scene& sc, const camera& cam, const pointset& set, const traced_index* index,
                             gaze_point gaze, const trace_params& params) {
@@ -390,29 +407,39 @@ points_trace trace_selected(const scene& sc, const camera& cam, const pointset& 
       });
   if (timing_total) choose.mark(timing_total->setup);
   const uint32_t spp = params.spp;
-  const float radius_scale = 1.0f / std::sqrt(float(spp));
+  // Rays per traced point (a falling rule's counts; per point index for the mean to divide by).
+  const std::vector<uint16_t> rays_of_traced = traced_point_rays(set, out, gaze, params);
+  std::vector<uint16_t> rays_of;
+  if (params.ray_floor > 0) {
+    rays_of.assign(n, 0);
+    for (size_t k = 0; k < out.traced.size(); ++k) rays_of[out.traced[k]] = rays_of_traced[k];
+  }
   const bool pixel_footprint = params.footprint == texture_footprint::pixel;
   const grid_test on_grid(set);
-  const size_t chunk = std::max<size_t>(1, 256 / spp);  // points per task: about 256 rays
+  const size_t chunk = std::max<size_t>(1, 256 / spp);  // points per task: about 256 rays at the gaze
   tbb::parallel_for(tbb::blocked_range<size_t>(0, out.traced.size(), chunk), [&](const tbb::blocked_range<size_t>& r) {
     task_timing timing(timing_total);
     std::vector<sample_ray> rays;
     rays.reserve((r.end() - r.begin()) * spp);
     for (size_t k = r.begin(); k < r.end(); ++k) {
       const uint32_t i = out.traced[k];
+      const uint32_t rays_here = rays_of_traced[k];
       // A grid point's rays are a pixel's: they filter textures as a full-resolution pixel's do.
       const bool grid_point = on_grid(set.points[i]);
-      const float radius = (pixel_footprint || grid_point ? 0.5f : set.points[i].spacing) * radius_scale;
-      point_rays(set, grid_point, i, out.offset, params, [&](float x, float y) { rays.push_back({x, y, radius, i}); });
+      const float radius = (pixel_footprint || grid_point ? 0.5f : set.points[i].spacing) * (1.0f / std::sqrt(float(rays_here)));
+      point_rays(set, grid_point, i, out.offset, params, rays_here,
+                 [&](float x, float y) { rays.push_back({x, y, radius, i}); });
     }
     trace_rays(d, params.sun ? *params.sun : d.desc.sun, f, rays.data(), rays.size(), params.shadows, timing,
-               per_owner_mean(spp, exposure_factor(params), [&](uint32_t i, glm::vec3 c, float depth, uint32_t hits) {
-                 out.colour[i] = c;
-                 out.depth[i] = depth;
-                 out.hits[i] = uint16_t(hits);
-               }));
+               per_owner_mean_by([&](uint32_t i) { return rays_of.empty() ? spp : uint32_t(rays_of[i]); },
+                                 exposure_factor(params), [&](uint32_t i, glm::vec3 c, float depth, uint32_t hits) {
+                                   out.colour[i] = c;
+                                   out.depth[i] = depth;
+                                   out.hits[i] = uint16_t(hits);
+                                 }));
   });
-  out.rays = uint64_t(out.traced.size()) * spp;
+  out.rays = 0;
+  for (uint16_t r : rays_of_traced) out.rays += r;
   return result;
 }
 
@@ -432,14 +459,19 @@ points_trace trace_points(const scene& sc, const camera& cam, const pointset& se
   return trace_selected(sc, cam, set, &index, gaze, params);
 }
 
-std::vector<glm::vec2> point_ray_positions(const pointset& set, const point_samples& samples, const trace_params& params) {
+std::vector<glm::vec2> point_ray_positions(const pointset& set, const point_samples& samples, gaze_point gaze,
+                                          const trace_params& params) {
   check(params, set.model.display.width, set.model.display.height);
+  const std::vector<uint16_t> rays_of = traced_point_rays(set, samples, gaze, params);
   std::vector<glm::vec2> out;
   out.reserve(samples.traced.size() * params.spp);
   trace_params placed = params;  // the placement trace_points used
   placed.mirror_x = samples.mirror_x, placed.mirror_y = samples.mirror_y;
   const grid_test on_grid(set);
-  for (uint32_t i : samples.traced) point_rays(set, on_grid(set.points[i]), i, samples.offset, placed, [&](float x, float y) { out.emplace_back(x, y); });
+  for (size_t k = 0; k < samples.traced.size(); ++k) {
+    const uint32_t i = samples.traced[k];
+    point_rays(set, on_grid(set.points[i]), i, samples.offset, placed, rays_of[k], [&](float x, float y) { out.emplace_back(x, y); });
+  }
   return out;
 }
 
@@ -538,6 +570,13 @@ falloff_rule make_falloff_rule(const ray_falloff& f, uint32_t spp) {
     r.thresholds.push_back(lo);
   }
   return r;
+}
+
+falloff_rule point_ray_rule(const pointset& set, gaze_point gaze, uint32_t spp, uint32_t floor) {
+  ray_falloff f;
+  f.model = set.model, f.gaze = gaze, f.floor = floor;
+  if (const std::string why = falloff_problem(f, spp); !why.empty()) throw std::invalid_argument(why);
+  return make_falloff_rule(f, spp);
 }
 
 uint32_t falloff_rule::rays_at(double d) const {

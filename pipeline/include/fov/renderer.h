@@ -42,6 +42,9 @@ struct render_params {
   texture_footprint footprint = texture_footprint::disc;
   pixel_sampler reference_sampler = pixel_sampler::sobol;  // full-resolution pixels' ray positions (grid points' too)
   pixel_sampler disc_sampler = pixel_sampler::random;      // foveated points' ray positions (the thesis's)
+  // Foveated points' rays fall with eccentricity from spp at the gaze to this floor
+  // (trace_params::ray_floor, point_ray_rule); 0 = spp at every point (the thesis).
+  uint32_t ray_floor = 0;
   float exposure_ev = 0;  // every colour times 2^exposure_ev (trace_params::exposure_ev)
   // A directional sun replacing the scene's light when either is set (the other part
   // then the default light's): direction towards the light, irradiance per channel.

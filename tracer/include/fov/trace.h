@@ -101,7 +101,24 @@ struct trace_params {
   std::optional<light> sun;
   // Reference only: rays per pixel fall with eccentricity (ray_falloff) instead of spp everywhere.
   std::optional<ray_falloff> falloff;
+  // Foveated only: 0 = every point casts spp rays (the thesis); 1..spp = a point's rays fall
+  // with eccentricity as the full grid's do (point_ray_rule), from spp at the gaze to this floor.
+  uint32_t ray_floor = 0;
 };
+
+// The rays of a foveated point (trace_params::ray_floor > 0): the falloff of the set's own
+// model (display, acuity model, scale) at the frame's gaze, read at the distance d of the
+// point's screen position from the gaze:
+//   n(d) = clamp(round(spp * (p(0) / p(d))^2), floor, spp).
+// A dart's own spacing is its model's p at its distance from the canvas centre (the gaze, up
+// to its rounding to a whole pixel), so a rule of the point's footprint, spp (p(0) / p_i)^2,
+// counts the same rays: one rule serves both. A
+// grid point lies on its pixel's centre, so it casts the first n(d) of its pixel's rays, as
+// that pixel does in the full grid's falloff frame (ray_falloff at the same model and gaze):
+// a grid fovea with falling rays is the hybrid of issue 24 (the grid where the model's
+// spacing is near a pixel, sparse points beyond). A point's n rays are the first n of its
+// spp-ray stream, so its colour is what it gets in a flat trace at spp = n.
+falloff_rule point_ray_rule(const pointset& set, gaze_point gaze, uint32_t spp, uint32_t floor);
 
 // What a trace measured, when trace_params asked for it.
 struct trace_stats {
@@ -124,10 +141,11 @@ struct reference_trace {
 constexpr int reference_tile = 8;
 
 // Traces every point the screen needs for this gaze (traced_point_mask with params.k):
-// each casts params.spp rays through positions in the disc of radius p around it
-// (params.disc_sampler; fixed per point: seeded by params.seed and the point's index), and
-// a grid point (is_grid_point) its screen pixel's rays (params.sampler, seeded by the pixel;
-// mirrored pattern n = mirror_x + 2 mirror_y casts the pixel's samples n spp .. (n+1) spp - 1).
+// each casts r = params.spp rays (or its point_ray_rule count under params.ray_floor)
+// through positions in the disc of radius p around it (params.disc_sampler; fixed per
+// point: seeded by params.seed and the point's index), and a grid point (is_grid_point) its
+// screen pixel's rays (params.sampler, seeded by the pixel; mirrored pattern
+// n = mirror_x + 2 mirror_y casts the pixel's samples n r .. (n+1) r - 1).
 points_trace trace_points(const scene& s, const camera& cam, const pointset& set, gaze_point gaze,
                           const trace_params& params);
 // The same frame, its traced points found with `index` (make_traced_index(set, params.k),
@@ -136,9 +154,11 @@ points_trace trace_points(const scene& s, const camera& cam, const pointset& set
                           gaze_point gaze, const trace_params& params);
 
 // The screen positions (pixels) of the rays trace_points cast for `samples` (its traced
-// points, placement and mirroring), in the order it cast them: params.spp per point.
+// points, placement and mirroring, at `gaze`), in the order it cast them: params.spp per
+// point, or each point's n(d) under params.ray_floor (point_ray_rule).
 // The same rays without the tracer, for a bare intersection loop over them.
-std::vector<glm::vec2> point_ray_positions(const pointset& set, const point_samples& samples, const trace_params& params);
+std::vector<glm::vec2> point_ray_positions(const pointset& set, const point_samples& samples, gaze_point gaze,
+                                          const trace_params& params);
 
 // Sample s of the Owen-scrambled Sobol (0,2)-sequence with scrambles `sx`, `sy`: a point
 // of [0, 1)^2. The first 2^m samples put one sample in every elementary interval of
