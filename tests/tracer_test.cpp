@@ -467,14 +467,23 @@ TEST(Tracer, MirroredPatternsTraceTheSetPlacedForTheMirroredGaze) {
   EXPECT_GT(differ, m.traced.size() / 2);  // ... seen at mirrored screen positions
 }
 
-// Rays per point falling with eccentricity (trace_params::ray_floor, issue 24) on a set whose
-// model's spacing grows across its screen, with a grid fovea: darts and grid points both.
+// A grid-fovea set whose model's spacing grows across its screen (made once): grid points
+// and darts both, for the grid's pixel rays and for rays per point falling with
+// eccentricity (trace_params::ray_floor, issue 24).
+const pointset& grid_fovea_set() {
+  static const pointset set = [] {
+    knn_params kp;
+    kp.k = 5;
+    return generate_pointset(testing::partial_grid_model(), testing::grid_darts(), kp);
+  }();
+  return set;
+}
+const gaze_point off_centre_gaze{50.3, 41.7};  // off the centre and off the pixel grid
+
 TEST(PointRays, AFlatRuleIsTheThesissTraceBitForBit) {
   const auto s = load_scene("builtin");
-  knn_params kp;
-  kp.k = 5;
-  const pointset set = generate_pointset(testing::partial_grid_model(), testing::grid_darts(), kp);
-  const gaze_point g{50.3, 41.7};
+  const pointset& set = grid_fovea_set();
+  const gaze_point g = off_centre_gaze;
   for (const bool mirror : {false, true})
     for (const pixel_sampler sampler : {pixel_sampler::random, pixel_sampler::sobol}) {
       trace_params tp;
@@ -497,11 +506,9 @@ TEST(PointRays, AFlatRuleIsTheThesissTraceBitForBit) {
 TEST(PointRays, EachPointCastsItsRuleAndIsThatManyRaysOfAFlatTrace) {
   const auto s = load_scene("builtin");
   const camera cam = s->default_camera();
-  knn_params kp;
-  kp.k = 5;
-  const pointset set = generate_pointset(testing::partial_grid_model(), testing::grid_darts(), kp);
-  const int w = set.model.display.width, h = set.model.display.height;
-  const gaze_point g{50.3, 41.7};
+  const pointset& set = grid_fovea_set();
+  const int w = set.model.display.width;
+  const gaze_point g = off_centre_gaze;
   for (const bool mirror : {false, true}) {
     trace_params tp;
     tp.spp = 16;
@@ -559,11 +566,9 @@ TEST(PointRays, EachPointCastsItsRuleAndIsThatManyRaysOfAFlatTrace) {
 TEST(PointRays, GridPointsAreTheFalloffFramesPixels) {
   const auto s = load_scene("builtin");
   const camera cam = s->default_camera();
-  knn_params kp;
-  kp.k = 5;
-  const pointset set = generate_pointset(testing::partial_grid_model(), testing::grid_darts(), kp);
+  const pointset& set = grid_fovea_set();
   const int w = set.model.display.width, h = set.model.display.height;
-  const gaze_point g{50.3, 41.7};
+  const gaze_point g = off_centre_gaze;
   trace_params tp;
   tp.spp = 16;
   tp.k = 5;
@@ -620,9 +625,7 @@ TEST(FovealGrid, MirroredPatternsCastTheNextSamplesOfEachPixel) {
   // half-plane with a slanted edge: a pixel on the edge is the share of its rays on one side.
   scene s(emitter({{-100, -100, -5}, {0.4f, -100, -5}, {-0.4f, 100, -5}, {-100, 100, -5}}, {1, 0, 0}));
   const camera cam = look_at({0, 0, 0}, {0, 0, -1}, 90);
-  knn_params kp;
-  kp.k = 5;
-  const pointset set = generate_pointset(testing::partial_grid_model(), testing::grid_darts(), kp);
+  const pointset& set = grid_fovea_set();
   const int w = set.model.display.width, h = set.model.display.height;
   const gaze_point g = screen_centre(set.model.display);
   trace_params tp;

@@ -211,8 +211,8 @@ std::vector<std::string> write_bench_figures(const std::vector<result_row>& rows
     if (metric == "foveated_flip") pareto_flip.push_back(pareto_panel(scene, means, "flip"));
 
     // Error by eccentricity: each method at the smallest and largest scale, and the
-    // full-resolution frame, at the first gaze, the most rays per sample and the first k
-    // listed (nn: 1).
+    // full-resolution frame, at the first gaze, the most rays per sample (every point
+    // casting them: no --point-ray-floors rows) and the first k listed (nn: 1).
     plot_panel e;
     const std::string gaze = mine.empty() ? "" : mine[0]->text("gaze");
     double lo_scale = 1e9, hi_scale = 0, top_spp = 0;
@@ -229,7 +229,8 @@ std::vector<std::string> write_bench_figures(const std::vector<result_row>& rows
       const double s = r->number("scale");
       const bool full = r->kind() == row_kind::full;
       if (r->text("gaze") != gaze || r->number("spp") != top_spp) continue;
-      if (!full && (r->kind() != row_kind::foveated || (s != lo_scale && s != hi_scale))) continue;
+      if (!full && (r->kind() != row_kind::foveated || (s != lo_scale && s != hi_scale) || !r->text("ray_floor").empty()))
+        continue;
       const std::string id = r->text("kind") + "|" + r->text("method") + "|" + r->text("scale");
       if (drawn.count(id) || (!full && r->text("method") != "nn" && r->text("k") != std::to_string(o.ks.empty() ? 5 : o.ks[0])))
         continue;
@@ -247,7 +248,8 @@ std::vector<std::string> write_bench_figures(const std::vector<result_row>& rows
     profiles.push_back(e);
 
     // Same-spp speedup against scale: per method (at the first k listed; nn at 1) and spp,
-    // means over gazes, bars from the slowest to the fastest paired repetition.
+    // every point casting spp rays (no --point-ray-floors rows), means over gazes, bars from
+    // the slowest to the fastest paired repetition.
     plot_panel sp;
     sp.title = "Speedup over full resolution, same spp: " + short_scene(scene) + " (mean over gazes)";
     sp.x_label = "point-set scale s";
@@ -256,7 +258,7 @@ std::vector<std::string> write_bench_figures(const std::vector<result_row>& rows
     // One colour per method; the spp sets the line style.
     std::map<std::pair<std::string, int>, std::map<double, const knob_mean*>> curves;
     for (const knob_mean& m : means) {
-      if (m.kind != row_kind::foveated || (m.method != "nn" && m.k != first_k)) continue;
+      if (m.kind != row_kind::foveated || (m.method != "nn" && m.k != first_k) || !m.floor.empty()) continue;
       curves[{m.method, std::stoi(m.spp)}][std::stod(m.scale)] = &m;
     }
     std::vector<int> spps;
