@@ -95,7 +95,7 @@ int main(int argc, char** argv) {
   app.add_option("--ray-floor", o.ray_floor,
                  "Rays falling with eccentricity from --spp at the gaze to this floor as the acuity model's point density "
                  "falls: with --reference every pixel traced so (a foveated sampling rate), with --points each point "
-                 "(the set's own model; a grid fovea's points as the full grid's pixels; docs/reconstruction.md)")
+                 "(the set's own model; a grid fovea's points as the full grid's pixels; docs/tracer.md)")
       ->check(CLI::Range(1u, fov::max_spp));
   app.add_option("--falloff-scale", o.falloff_scale, "With --ray-floor: the acuity model's scale s (1 = the thesis's model)");
   app.add_option("--width", o.width, "Screen width without --points")->check(CLI::Range(1, 65536));
