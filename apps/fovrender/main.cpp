@@ -97,7 +97,9 @@ int main(int argc, char** argv) {
                  "falls: with --reference every pixel traced so (a foveated sampling rate), with --points each point "
                  "(the set's own model; a grid fovea's points as the full grid's pixels; docs/tracer.md)")
       ->check(CLI::Range(1u, fov::max_spp));
-  app.add_option("--falloff-scale", o.falloff_scale, "With --ray-floor: the acuity model's scale s (1 = the thesis's model)");
+  app.add_option("--falloff-scale", o.falloff_scale,
+                 "With --reference --ray-floor: the acuity model's scale s the full grid's rays follow (1 = the thesis's "
+                 "model; a point set's rays follow its own)");
   app.add_option("--width", o.width, "Screen width without --points")->check(CLI::Range(1, 65536));
   app.add_option("--height", o.height, "Screen height without --points")->check(CLI::Range(1, 65536));
   app.add_option("--display", o.display, "Without --points: " + fov::display_help());
