@@ -78,12 +78,13 @@ result_row identity_row(const bench_options& o, const std::vector<named_gaze>& g
   return r;
 }
 
-// A foveated set's ray floors at one spp: 0 (every point casts spp, the thesis), then each
-// --point-ray-floors value below spp (rays falling with eccentricity to it).
-std::vector<uint32_t> point_floors(const bench_options& o, uint32_t spp) {
+// A set's ray floors at one spp: 0 (every point casts spp, the thesis), then for a foveated
+// set each --point-ray-floors value below spp (rays falling with eccentricity to it).
+std::vector<uint32_t> point_floors(const bench_options& o, row_kind kind, uint32_t spp) {
   std::vector<uint32_t> out{0};
-  for (uint32_t floor : o.point_ray_floors)
-    if (floor < spp) out.push_back(floor);
+  if (kind == row_kind::foveated)
+    for (uint32_t floor : o.point_ray_floors)
+      if (floor < spp) out.push_back(floor);
   return out;
 }
 
@@ -102,7 +103,7 @@ std::vector<config> all_configs(const bench_options& o, const std::vector<named_
       for (size_t si = 0; si < sets; ++si)
         for (size_t g = 0; g < gazes.size(); ++g)
           for (uint32_t spp : o.spps)
-            for (uint32_t floor : kind == row_kind::foveated ? point_floors(o, spp) : std::vector<uint32_t>{0})
+            for (uint32_t floor : point_floors(o, kind, spp))
               for (method how : o.methods)
                 for (uint32_t k : how == method::nn ? std::vector<uint32_t>{1} : o.ks) add(sc, kind, si, g, how, k, spp, floor);
     for (size_t si = 0; si < o.scales.size(); ++si)
@@ -524,7 +525,7 @@ class scene_sweep {
       use_set(kind, si);
       for (size_t g = 0; g < st_.gazes.size(); ++g)
         for (uint32_t spp : o_.spps)
-          for (uint32_t floor : kind == row_kind::foveated ? point_floors(o_, spp) : std::vector<uint32_t>{0})
+          for (uint32_t floor : point_floors(o_, kind, spp))
             measure_group(kind, si, g, spp, floor);
     }
   }

@@ -256,6 +256,15 @@ void pixel_rays(int x, int y, int width, const trace_params& params, uint32_t fi
   }
 }
 
+// Where point p lands on the screen: the set placed at `offset` (canvas = screen + offset),
+// then mirrored left-right and/or top-bottom (exact in float: the offset is whole pixels).
+glm::vec2 placed_position(const display_geometry& disp, const point& p, canvas_offset offset, bool mirror_x, bool mirror_y) {
+  float cx = p.x - float(offset.x), cy = p.y - float(offset.y);
+  if (mirror_x) cx = float(disp.width) - cx;
+  if (mirror_y) cy = float(disp.height) - cy;
+  return {cx, cy};
+}
+
 // Calls emit(x, y) with the screen position of each of point i's first n rays (n <= params.spp). A grid
 // point (grid_point: is_grid_point, asked once by the caller) stands for the screen pixel it lands on and casts that pixel's rays
 // (pixel_rays), samples [pattern * n, (pattern + 1) * n) with pattern = mirror_x +
@@ -273,9 +282,8 @@ void point_rays(const pointset& set, bool grid_point, uint32_t i, canvas_offset 
   const display_geometry& disp = set.model.display;
   const point& p = set.points[i];
   uint64_t random = stream_seed(params.seed, 0x7261797375ull, i);
-  float cx = p.x - float(offset.x), cy = p.y - float(offset.y);
-  if (params.mirror_x) cx = float(disp.width) - cx;
-  if (params.mirror_y) cy = float(disp.height) - cy;
+  const glm::vec2 at = placed_position(disp, p, offset, params.mirror_x, params.mirror_y);
+  const float cx = at.x, cy = at.y;
   if (grid_point) {
     const uint32_t pattern = (params.mirror_x ? 1u : 0u) + (params.mirror_y ? 2u : 0u);
     pixel_rays(int(std::floor(cx)), int(std::floor(cy)), disp.width, params, pattern * n, n, emit);
@@ -366,14 +374,11 @@ std::vector<uint16_t> traced_point_rays(const pointset& set, const point_samples
   std::vector<uint16_t> n(samples.traced.size(), uint16_t(params.spp));
   if (params.ray_floor == 0) return n;
   const falloff_rule rule = point_ray_rule(set, gaze, params.spp, params.ray_floor);
-  const display_geometry& disp = set.model.display;
   tbb::parallel_for(tbb::blocked_range<size_t>(0, n.size(), 4096), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t k = r.begin(); k < r.end(); ++k) {
-      const point& p = set.points[samples.traced[k]];
-      double x = double(p.x) - samples.offset.x, y = double(p.y) - samples.offset.y;
-      if (samples.mirror_x) x = disp.width - x;
-      if (samples.mirror_y) y = disp.height - y;
-      n[k] = uint16_t(rule.rays_at(std::hypot(x - gaze.x, y - gaze.y)));
+      const glm::vec2 at = placed_position(set.model.display, set.points[samples.traced[k]], samples.offset,
+                                           samples.mirror_x, samples.mirror_y);
+      n[k] = uint16_t(rule.rays_at(std::hypot(double(at.x) - gaze.x, double(at.y) - gaze.y)));
     }
   });
   return n;
@@ -407,13 +412,8 @@ points_trace trace_selected(const scene& sc, const camera& cam, const pointset& 
       });
   if (timing_total) choose.mark(timing_total->setup);
   const uint32_t spp = params.spp;
-  // Rays per traced point (a falling rule's counts; per point index for the mean to divide by).
+  // Rays per traced point; a ray's owner is its point's place in out.traced.
   const std::vector<uint16_t> rays_of_traced = traced_point_rays(set, out, gaze, params);
-  std::vector<uint16_t> rays_of;
-  if (params.ray_floor > 0) {
-    rays_of.assign(n, 0);
-    for (size_t k = 0; k < out.traced.size(); ++k) rays_of[out.traced[k]] = rays_of_traced[k];
-  }
   const bool pixel_footprint = params.footprint == texture_footprint::pixel;
   const grid_test on_grid(set);
   const size_t chunk = std::max<size_t>(1, 256 / spp);  // points per task: about 256 rays at the gaze
@@ -428,11 +428,12 @@ points_trace trace_selected(const scene& sc, const camera& cam, const pointset& 
       const bool grid_point = on_grid(set.points[i]);
       const float radius = (pixel_footprint || grid_point ? 0.5f : set.points[i].spacing) * (1.0f / std::sqrt(float(rays_here)));
       point_rays(set, grid_point, i, out.offset, params, rays_here,
-                 [&](float x, float y) { rays.push_back({x, y, radius, i}); });
+                 [&](float x, float y) { rays.push_back({x, y, radius, uint32_t(k)}); });
     }
     trace_rays(d, params.sun ? *params.sun : d.desc.sun, f, rays.data(), rays.size(), params.shadows, timing,
-               per_owner_mean_by([&](uint32_t i) { return rays_of.empty() ? spp : uint32_t(rays_of[i]); },
-                                 exposure_factor(params), [&](uint32_t i, glm::vec3 c, float depth, uint32_t hits) {
+               per_owner_mean_by([&](uint32_t k) { return uint32_t(rays_of_traced[k]); }, exposure_factor(params),
+                                 [&](uint32_t k, glm::vec3 c, float depth, uint32_t hits) {
+                                   const uint32_t i = out.traced[k];
                                    out.colour[i] = c;
                                    out.depth[i] = depth;
                                    out.hits[i] = uint16_t(hits);
