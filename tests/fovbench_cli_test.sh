@@ -27,6 +27,12 @@ check "bad temporal fps" 2 -- "$fovbench" "${common[@]}" --temporal-frames 2 --t
 check "bad spread"      2 -- "$fovbench" "${common[@]}" --spread-limit 0 -o "$dir/x"
 check "budget nan"      2 -- "$fovbench" "${common[@]}" --budget-psnr nan -o "$dir/x"
 check "foveated budget inf" 2 -- "$fovbench" "${common[@]}" --budget-foveated inf -o "$dir/x"
+check "taa one frame"   2 -- "$fovbench" "${common[@]}" --taa-frames 1 -o "$dir/x"
+check "taa too many"    2 -- "$fovbench" "${common[@]}" --taa-frames 4,257 -o "$dir/x"
+check "taa not a count" 2 -- "$fovbench" "${common[@]}" --taa-frames many -o "$dir/x"
+check "pattern, no taa" 2 -- "$fovbench" "${common[@]}" --pattern mirror -o "$dir/x"
+check "bad pattern"     2 -- "$fovbench" "${common[@]}" --taa-frames 4 --pattern swirl -o "$dir/x"
+check "taa yardstick"   2 -- "$fovbench" "${common[@]}" --taa-frames 4 --yardstick -o "$dir/x"
 echo "a file" > "$dir/plain"
 check "-o a file"       2 -- "$fovbench" "${common[@]}" -o "$dir/plain"
 [[ -e "$dir/x" ]] && fail "a refused sweep wrote $dir/x"
@@ -171,9 +177,10 @@ grep -q "Timing noise" "$dir/out/report.md" || fail "report.md states no timing 
 grep -q "Fastest within the budget" "$dir/out/report.md" || fail "report.md names no fastest configuration"
 
 # Shards: two slices of a small sweep (one by --shard, one by Slurm's variables) sharing one
-# reference cache, merged, hold the one run's rows with the same errors.
+# reference cache, merged, hold the one run's rows with the same errors; every row also in
+# steady state after 3 frames of TAA (mirrored patterns), which must be as deterministic.
 small=("$fovbench" "${common[@]}" --scene builtin --scales 1.0 --methods nn,shepard --k 4 --spp 1,2 --baselines full
-       --reference-spp 4 --ray-floors 1)
+       --reference-spp 16 --ray-floors 1 --taa-frames 3 --pattern mirror)
 check "bad shard"       2 -- "${small[@]}" --shard 2/2 -o "$dir/x"
 check "bad shard text"  2 -- "${small[@]}" --shard 1of2 -o "$dir/x"
 check "bad slurm id"    2 -- env SLURM_ARRAY_TASK_COUNT=2 SLURM_ARRAY_TASK_ID=x "${small[@]}" -o "$dir/x"
@@ -184,15 +191,29 @@ check "shard 0 of 2"    0 -- "${small[@]}" --shard 0/2 -o "$dir/sharded"
 check "shard 1 of 2"    0 -- env SLURM_ARRAY_TASK_COUNT=2 SLURM_ARRAY_TASK_ID=4 SLURM_ARRAY_TASK_MIN=3 "${small[@]}" -o "$dir/sharded"
 check "merge"           0 -- "$fovbench" merge "$dir/sharded/shard-0-of-2" "$dir/sharded/shard-1-of-2/results.csv" -o "$dir/merged"
 [[ -s "$dir/merged/report.md" && -s "$dir/merged/pareto_jod.png" ]] || fail "merge wrote no report or figures"
+grep -q '^\*\*builtin, TAA steady state (3 frames, mirror)\*\*: ' "$dir/merged/report.md" || fail "the report has no steady-state verdict"
+grep -q '^## builtin, TAA steady state (3 frames, mirror)$' "$dir/merged/report.md" || fail "the report has no steady-state section"
 python3 - "$dir/whole/results.csv" "$dir/merged/results.csv" "$dir/sharded" <<'PY' || fail "merged shards differ from one run"
 import csv, sys, os
 def rows(p):
-    return {"|".join(r[c] for c in ("scene", "gaze", "kind", "scale", "method", "k", "ray_floor", "spp")): r
+    return {"|".join(r[c] for c in ("scene", "gaze", "kind", "scale", "method", "k", "ray_floor", "spp", "taa_frames",
+                                    "taa_pattern")): r
             for r in csv.DictReader(open(p))}
 whole, merged = rows(sys.argv[1]), rows(sys.argv[2])
-assert set(whole) == set(merged) and len(whole) == 7, (sorted(whole), sorted(merged))
+assert set(whole) == set(merged) and len(whole) == 14, (sorted(whole), sorted(merged))
 shards = [len(list(csv.DictReader(open(os.path.join(sys.argv[3], d, "results.csv"))))) for d in ("shard-0-of-2", "shard-1-of-2")]
-assert shards == [4, 3], shards
+assert shards == [7, 7], shards
+# Each configuration once as a single frame and once in steady state; TAA costs time on
+# both sides of every pair, and on the full grid its blend of three patterns errs less.
+steady = {k: r for k, r in whole.items() if r["taa_frames"]}
+assert len(steady) == 7 and all(r["taa_frames"] == "3" and r["taa_pattern"] == "mirror" for r in steady.values()), steady
+for k, r in steady.items():
+    single = whole[k.replace("|3|mirror", "||")]
+    if r["kind"] != "falloff":  # timed in the same repetitions as its single frame
+        assert float(r["frame_ms"]) > float(single["frame_ms"]) and float(r["full_ms"]) > float(single["full_ms"]), (k, r["frame_ms"])
+    if r["kind"] == "full":
+        assert float(r["psnr"]) > float(single["psnr"]) + 0.5, (k, r["psnr"], single["psnr"])
+        assert float(r["jod"]) > float(single["jod"]), (k, r["jod"], single["jod"])
 for key, r in whole.items():
     for c in ("rays", "points_traced", "psnr", "ssim", "flip", "foveated_flip", "foveated_error", "jod", "jod_nonfoveated",
               "noise_floor_flip", "noise_floor_jod", "error_profile"):

@@ -36,6 +36,7 @@ result_row sample_row(const std::string& method, const std::string& spp) {
   r.cells["psnr"] = "inf";
   r.cells["flicker"] = "";
   r.cells["error_profile"] = "0.1;0.2;0.05";
+  r.cells["taa_frames"] = r.cells["taa_pattern"] = "";  // a single frame
   return r;
 }
 
@@ -150,6 +151,24 @@ TEST(ResultsCsv, CorruptRowsAreRefusedAndCrlfIsRead) {
     EXPECT_NE(e.find(":2: " + why), std::string::npos) << e;
   }
   EXPECT_EQ(result_row_problem(sample_row("nn", "1")), "");
+  // A steady-state row names a whole number of frames 2..max_taa_frames and a pattern; a
+  // single frame neither.
+  result_row steady = sample_row("nn", "1");
+  steady.cells["taa_frames"] = "16", steady.cells["taa_pattern"] = "mirror";
+  EXPECT_EQ(result_row_problem(steady), "");
+  EXPECT_NE(steady.key(), sample_row("nn", "1").key());
+  for (const auto& [frames, pattern, why] : std::vector<std::tuple<std::string, std::string, std::string>>{
+           {"1", "mirror", "taa_frames '1' is not a whole number in 2..256"},
+           {"2.5", "mirror", "taa_frames '2.5' is not a whole number in 2..256"},
+           {"257", "reseed", "taa_frames '257' is not a whole number in 2..256"},
+           {"x", "reseed", "taa_frames 'x' is not a whole number in 2..256"},
+           {"4", "swirl", "taa_pattern 'swirl' is not reseed, mirror or fixed"},
+           {"4", "", "taa_pattern '' is not reseed, mirror or fixed"},
+           {"", "mirror", "taa_pattern 'mirror' without taa_frames"}}) {
+    result_row r = sample_row("nn", "1");
+    r.cells["taa_frames"] = frames, r.cells["taa_pattern"] = pattern;
+    EXPECT_EQ(result_row_problem(r), why) << frames << " " << pattern;
+  }
   write(lines, "\r\n");
   EXPECT_EQ(read_results(path).size(), 2u);
 }

@@ -166,6 +166,65 @@ TEST_F(pipeline, TaaFramesMatchTheLibraryPairFrameByFrame) {
   }
 }
 
+TEST_F(pipeline, SteadyStateIsTheTaaSequenceFromFrameZeroWhateverCameBefore) {
+  const gaze_point g{30, 20};
+  for (ray_pattern pattern : {ray_pattern::reseed, ray_pattern::mirror}) {
+    render_params p = params;
+    p.pattern = pattern;
+    // The sequence by hand: frame n traced in pattern n, blended from an empty history.
+    render_params taa = p;
+    taa.taa = true;
+    renderer fresh(scn, taa);
+    fresh.use_pointset(set);
+    frame by_hand;
+    for (int n = 0; n < 5; ++n) by_hand = fresh.foveated(g, taa);
+    // steady_state on a renderer that traced and blended other frames before.
+    renderer used(scn, p);
+    used.use_pointset(set);
+    for (int n = 0; n < 3; ++n) used.foveated({10, 10}, taa);
+    const frame got = used.steady_state(g, p, 5);
+    EXPECT_EQ(max_difference(got, by_hand), 0.0f) << label_of(ray_pattern_labels, pattern);
+    // One frame passes through TAA: the single frame, bit for bit.
+    renderer single(scn, p);
+    single.use_pointset(set);
+    EXPECT_EQ(max_difference(used.steady_state(g, p, 1), single.foveated(g, p)), 0.0f) << label_of(ray_pattern_labels, pattern);
+    EXPECT_GT(max_difference(got, single.foveated(g, p)), 0.01f) << "five frames blended are one frame";
+  }
+}
+
+TEST_F(pipeline, FullGridSteadyStateBlendsTheFramesOfEachPattern) {
+  const display_geometry d = set->model.display;
+  const gaze_point g{30, 20};
+  renderer r(scn, params);
+  const camera cam = setup_camera(*scn);
+  // One frame: the full-resolution frame (and the falloff frame) itself.
+  EXPECT_EQ(max_difference(r.full_steady_state(d, g, params, 1), r.reference(d.width, d.height, params).image), 0.0f);
+  ray_falloff f;
+  f.model.display = d, f.gaze = g, f.floor = 1;
+  EXPECT_EQ(max_difference(r.full_steady_state(d, g, params, 1, &f), r.falloff_frame(f, params).image), 0.0f);
+  // Several: taa_resolve over frame n's pattern (reseed: seed + n; mirror: samples m spp ..).
+  for (ray_pattern pattern : {ray_pattern::reseed, ray_pattern::mirror}) {
+    render_params p = params;
+    p.pattern = pattern;
+    render_params taa = p;
+    taa.taa = true;
+    taa_state state;
+    frame expected;
+    for (uint64_t n = 0; n < 6; ++n)
+      expected = taa_resolve(state, trace_reference(*scn, cam, d.width, d.height, renderer::frame_trace_params(taa, n)).image,
+                             cam, d, g);
+    const frame got = r.full_steady_state(d, g, p, 6);
+    EXPECT_EQ(max_difference(got, expected), 0.0f) << label_of(ray_pattern_labels, pattern);
+    // and it is closer to a converged frame than one frame is: the rays of several patterns.
+    render_params converged = params;
+    converged.spp = 256;
+    converged.seed = converged_seeds(params.seed).first;
+    const frame truth = r.reference(d.width, d.height, converged).image;
+    const double one = mean_abs(r.reference(d.width, d.height, params).image, truth), blended = mean_abs(got, truth);
+    EXPECT_LT(blended, 0.8 * one) << label_of(ray_pattern_labels, pattern) << ": " << blended << " vs one frame's " << one;
+  }
+}
+
 TEST_F(pipeline, TracingAheadGivesTheSameFrame) {
   renderer in_turn(scn, params), ahead(scn, params);
   in_turn.use_pointset(set);

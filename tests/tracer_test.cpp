@@ -564,32 +564,44 @@ TEST(PointRays, EachPointCastsItsRuleAndIsThatManyRaysOfAFlatTrace) {
 // The hybrid (a grid fovea whose points' rays fall, darts beyond): each grid point is the
 // full grid's falloff frame's pixel (same model, gaze, spp and floor) bit for bit.
 TEST(PointRays, GridPointsAreTheFalloffFramesPixels) {
+  // In every TAA pattern: pattern m (mirror_x + 2 mirror_y) places the set mirrored, and a
+  // grid point casts its pixel's samples m n .. (m + 1) n - 1, as that pixel does in the full
+  // grid's frame in pattern m (so TAA over either blends the same four sample sets).
   const auto s = load_scene("builtin");
   const camera cam = s->default_camera();
   const pointset& set = grid_fovea_set();
   const int w = set.model.display.width, h = set.model.display.height;
   const gaze_point g = off_centre_gaze;
-  trace_params tp;
-  tp.spp = 16;
-  tp.k = 5;
-  tp.ray_floor = 1;
-  const point_samples hybrid = trace_points(*s, cam, set, g, tp).samples;
-  trace_params full = tp;
-  full.falloff = ray_falloff{set.model, g, 1};
-  const frame fall = trace_reference(*s, cam, w, h, full).image;
-  size_t grid = 0, below_spp = 0;
-  const falloff_rule rule = point_ray_rule(set, g, 16, 1);
-  for (uint32_t i : hybrid.traced) {
-    const point& p = set.points[i];
-    if (!is_grid_point(set, p)) continue;
-    const float x = p.x - float(hybrid.offset.x), y = p.y - float(hybrid.offset.y);
-    if (x < 0 || y < 0 || x >= float(w) || y >= float(h)) continue;
-    ASSERT_EQ(hybrid.colour[i], fall.rgb[size_t(y) * w + size_t(x)]) << x << "," << y;
-    ++grid;
-    below_spp += rule.rays_at(std::hypot(x - g.x, y - g.y)) < 16;
+  frame first;
+  for (uint32_t pattern = 0; pattern < 4; ++pattern) {
+    trace_params tp;
+    tp.spp = 16;
+    tp.k = 5;
+    tp.ray_floor = 1;
+    tp.mirror_x = pattern & 1, tp.mirror_y = pattern & 2;
+    const point_samples hybrid = trace_points(*s, cam, set, g, tp).samples;
+    trace_params full = tp;
+    full.falloff = ray_falloff{set.model, g, 1};
+    const frame fall = trace_reference(*s, cam, w, h, full).image;
+    size_t grid = 0, below_spp = 0;
+    const falloff_rule rule = point_ray_rule(set, g, 16, 1);
+    for (uint32_t i : hybrid.traced) {
+      const point& p = set.points[i];
+      if (!is_grid_point(set, p)) continue;
+      float x = p.x - float(hybrid.offset.x), y = p.y - float(hybrid.offset.y);
+      if (tp.mirror_x) x = float(w) - x;
+      if (tp.mirror_y) y = float(h) - y;
+      if (x < 0 || y < 0 || x >= float(w) || y >= float(h)) continue;
+      ASSERT_EQ(hybrid.colour[i], fall.rgb[size_t(y) * w + size_t(x)]) << x << "," << y << " in pattern " << pattern;
+      ++grid;
+      below_spp += rule.rays_at(std::hypot(x - g.x, y - g.y)) < 16;
+    }
+    EXPECT_GT(grid, 500u) << "pattern " << pattern;
+    EXPECT_GT(below_spp, 100u) << "the grid's own rays fall too, or the test proves nothing about the rule";
+    // The patterns cast other samples: the frames differ.
+    if (pattern == 0) first = fall;
+    else EXPECT_NE(fall.rgb, first.rgb) << "pattern " << pattern << " cast pattern 0's samples";
   }
-  EXPECT_GT(grid, 500u);
-  EXPECT_GT(below_spp, 100u) << "the grid's own rays fall too, or the test proves nothing about the rule";
 }
 
 // Writes a 64x32 lat-long image whose texels are coloured by the axis closest to their direction.

@@ -54,6 +54,7 @@ struct config {
   method how;
   uint32_t k, spp;
   uint32_t floor;  // falloff, and foveated under --point-ray-floors: the ray floor (0: spp everywhere)
+  uint32_t taa;    // 0: a single frame; N: the steady state after N frames of TAA (--taa-frames)
   std::string key;
 };
 
@@ -64,6 +65,7 @@ std::string fraction_text(double f) { return fmt::format("{:.4f}", f); }
 result_row identity_row(const bench_options& o, const std::vector<named_gaze>& gazes, const config& c) {
   result_row r;
   r.cells = {{"scene", o.scenes[c.scene]}, {"gaze", gazes[c.gaze].name}, {"kind", row_kind_name(c.kind)}, {"spp", std::to_string(c.spp)}};
+  if (c.taa) r.cells["taa_frames"] = std::to_string(c.taa), r.cells["taa_pattern"] = label_of(ray_pattern_labels, o.render.pattern);
   if (c.kind == row_kind::full) {
     r.cells["method"] = "full", r.cells["pixel_fraction"] = fraction_text(1);
   } else if (c.kind == row_kind::falloff) {
@@ -90,10 +92,15 @@ std::vector<uint32_t> point_floors(const bench_options& o, row_kind kind, uint32
 
 std::vector<config> all_configs(const bench_options& o, const std::vector<named_gaze>& gazes) {
   std::vector<config> all;
+  // Each configuration as a single frame, then in steady state after each --taa-frames N.
+  std::vector<uint32_t> taas{0};
+  taas.insert(taas.end(), o.taa_frames.begin(), o.taa_frames.end());
   auto add = [&](size_t sc, row_kind kind, size_t set, size_t g, method how, uint32_t k, uint32_t spp, uint32_t floor) {
-    config c{sc, kind, set, g, how, k, spp, floor, ""};
-    c.key = identity_row(o, gazes, c).key();
-    if (std::none_of(all.begin(), all.end(), [&](const config& d) { return d.key == c.key; })) all.push_back(c);
+    for (uint32_t taa : taas) {
+      config c{sc, kind, set, g, how, k, spp, floor, taa, ""};
+      c.key = identity_row(o, gazes, c).key();
+      if (std::none_of(all.begin(), all.end(), [&](const config& d) { return d.key == c.key; })) all.push_back(c);
+    }
   };
   const bool uniform = std::count(o.baselines.begin(), o.baselines.end(), baseline::uniform) > 0;
   const bool full = std::count(o.baselines.begin(), o.baselines.end(), baseline::full) > 0;
@@ -330,6 +337,9 @@ display_geometry check_bench_options(const bench_options& o) {
         throw usage_error(fmt::format("{} {}: no --spp above it to fall from", flag, floor));
     }
   if (o.no_sparse && !o.point_ray_floors.empty()) throw usage_error("--point-ray-floors: --no-sparse leaves no point set to trace");
+  for (uint32_t n : o.taa_frames)
+    if (n < 2 || n > max_taa_frames)
+      throw usage_error(fmt::format("--taa-frames: {} is outside 2..{} (a single frame is every row's own)", n, max_taa_frames));
   if (o.temporal_frames == 1 || o.temporal_frames > 200) throw usage_error("--temporal-frames must be 0 or 2..200");
   if (!(o.temporal_fps >= 8 && o.temporal_fps <= 1000)) throw usage_error("--temporal-fps must lie in 8..1000");
   if (!std::isnan(o.budget_psnr) && !std::isnan(o.budget_foveated)) throw usage_error("give one budget");
@@ -540,15 +550,25 @@ class scene_sweep {
         st_.say(fmt::format("timing full resolution spp={}", c.spp));
         time_full(c.spp);
       }
-      st_.say(fmt::format("measuring full resolution {} spp={}", st_.gazes[c.gaze].name, c.spp));
+      const std::vector<double>& ladder_samples = ladder(c.taa > 0).at(c.spp);  // timed first: every full row reads the same timings
+      const named_gaze& gp = st_.gazes[c.gaze];
+      st_.say(fmt::format("measuring full resolution {} spp={}{}", gp.name, c.spp, taa_text(c)));
       result_row row = row_for(c);
       row.cells["points_traced"] = "", row.cells["rays"] = std::to_string(f.image.rays);
       row.cells["trace_ms"] = number(summarise(f.ms).median), row.cells["reconstruct_ms"] = "0";
-      put_timing(row, pair_timings(f.ms, f.ms), o_.spread_limit);
+      // With TAA: each timing of the frame plus its TAA resolve's, timed right after it.
+      const std::vector<double> ms = c.taa ? plus(f.ms, f.taa_ms) : f.ms;
+      put_timing(row, pair_timings(ms, ms), o_.spread_limit);
       row.cells["trace_cpu_ms"] = number(summarise(f.cpu_ms).median), row.cells["reconstruct_cpu_ms"] = "0";
       row.cells["full_cpu_ms"] = row.cells["trace_cpu_ms"];
-      row.cells["ladder_samples"] = samples_text(ladder().at(c.spp));
-      put_errors(row, compare_images(f.image, *truth_, eye_, st_.gazes[c.gaze].at, o_.judging()));
+      row.cells["ladder_samples"] = samples_text(ladder_samples);
+      if (c.taa) {
+        render_params p = o_.render;
+        p.spp = c.spp;
+        put_errors(row, compare_images(r_.full_steady_state(st_.display, gp.at, p, c.taa), *truth_, eye_, gp.at, o_.judging()));
+      } else {
+        put_errors(row, compare_images(f.image, *truth_, eye_, gp.at, o_.judging()));
+      }
       st_.finish(c, row);
     }
   }
@@ -563,20 +583,24 @@ class scene_sweep {
       p.spp = c.spp;
       ray_falloff f;
       f.model = eye_, f.model.scale = o_.scales[c.set], f.gaze = gp.at, f.floor = c.floor;
-      const std::string what = fmt::format("falloff s={:.2f} {} spp={} floor={}", o_.scales[c.set], gp.name, c.spp, c.floor);
+      const std::string what =
+          fmt::format("falloff s={:.2f} {} spp={} floor={}{}", o_.scales[c.set], gp.name, c.spp, c.floor, taa_text(c));
       std::vector<double> full_ms, full_cpu, frame_ms, frame_cpu;
       frame image;
       for (uint32_t n = 0; n < o_.frames; ++n) {
         st_.say(fmt::format("timing {} ({}/{})", what, n + 1, o_.frames));
         full_ms.push_back(time_full(c.spp));
         full_cpu.push_back(fulls_[c.spp].cpu_ms.back());
+        if (c.taa) full_ms.back() += fulls_[c.spp].taa_ms.back();
         frame_timing t;
         const double cpu = process_cpu_ms();
         reference_trace traced = r_.falloff_frame(f, p, &t);
         frame_cpu.push_back(process_cpu_ms() - cpu);
         frame_ms.push_back(t.trace_ms);
+        if (c.taa) frame_ms.back() += time_resolve(traced.image);
         if (image.rgb.empty()) image = std::move(traced.image);
       }
+      if (c.taa) image = r_.full_steady_state(st_.display, gp.at, p, c.taa, &f);
       st_.say(fmt::format("measuring {}", what));
       result_row row = row_for(c);
       row.cells["points_traced"] = "", row.cells["rays"] = std::to_string(image.rays);
@@ -597,7 +621,26 @@ class scene_sweep {
   struct full_frame {
     frame image;
     std::vector<double> ms, cpu_ms;  // wall and process CPU time of every timing
+    std::vector<double> taa_ms;      // with --taa-frames: a TAA resolve of it, timed right after each
   };
+
+  static std::vector<double> plus(const std::vector<double>& a, const std::vector<double>& b) {
+    std::vector<double> out(a);
+    for (size_t i = 0; i < out.size() && i < b.size(); ++i) out[i] += b[i];
+    return out;
+  }
+  static std::string taa_text(const config& c) { return c.taa ? fmt::format(" taa={}", c.taa) : ""; }
+
+  // One TAA resolve of a full-grid frame (taa_resolve, C++: what a full-resolution renderer
+  // adds per frame) into a history of the sweep's own, timed; the first one, which passes the
+  // frame through, is untimed.
+  double time_resolve(const frame& image) {
+    const gaze_point centre{st_.display.width / 2.0, st_.display.height / 2.0};
+    if (!full_history_.valid) taa_resolve(full_history_, image, r_.cam(), st_.display, centre, o_.render.temporal);
+    const auto t0 = std::chrono::steady_clock::now();
+    taa_resolve(full_history_, image, r_.cam(), st_.display, centre, o_.render.temporal);
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  }
 
   // How the set in use keeps its neighbours: its table, or cells (bench_pointset).
   std::string neighbours_label() const {
@@ -650,8 +693,9 @@ class scene_sweep {
     reference_trace traced = r_.reference(st_.display.width, st_.display.height, p, &t);
     full_frame& f = fulls_[spp];
     f.cpu_ms.push_back(process_cpu_ms() - cpu);
-    if (f.image.rgb.empty()) f.image = std::move(traced.image);
     f.ms.push_back(t.trace_ms);
+    if (!o_.taa_frames.empty()) f.taa_ms.push_back(time_resolve(traced.image));
+    if (f.image.rgb.empty()) f.image = std::move(traced.image);
     return t.trace_ms;
   }
 
@@ -659,25 +703,30 @@ class scene_sweep {
   // the sweep back to back (ascending); per repetition, each spp's time over the lowest's.
   // Chained with a configuration's paired ratio, it prices the configuration against a
   // full-resolution frame at another spp without comparing times taken minutes apart.
-  const std::map<uint32_t, std::vector<double>>& ladder() {
+  // With TAA (taa): each frame's time plus its TAA resolve's, timed right after it.
+  const std::map<uint32_t, std::vector<double>>& ladder(bool taa) {
     if (ladder_.empty()) {
       std::vector<uint32_t> spps = o_.spps;
       std::sort(spps.begin(), spps.end());
       for (uint32_t f = 0; f < o_.frames; ++f) {
         st_.say(fmt::format("timing the full-resolution ladder ({}/{})", f + 1, o_.frames));
-        double lowest = 0;
+        double lowest = 0, lowest_taa = 0;
         for (uint32_t spp : spps) {
           const double ms = time_full(spp);
-          if (spp == spps.front()) lowest = ms;
+          const double with_taa = o_.taa_frames.empty() ? ms : ms + fulls_[spp].taa_ms.back();
+          if (spp == spps.front()) lowest = ms, lowest_taa = with_taa;
           ladder_[spp].push_back(ms / lowest);
+          ladder_taa_[spp].push_back(with_taa / lowest_taa);
         }
       }
     }
-    return ladder_;
+    return taa ? ladder_taa_ : ladder_;
   }
 
   // Every configuration of one set, gaze and spp still to do: one trace, every method timed
-  // interleaved with the full-resolution frame, then each measured and written.
+  // interleaved with the full-resolution frame, then each measured and written. A method's
+  // single-frame and steady-state (TAA) rows share its timings: with TAA rows each
+  // repetition reconstructs with TAA, the single frame's time leaving TAA's out.
   void measure_group(row_kind kind, size_t si, size_t g, uint32_t spp, uint32_t floor) {
     std::vector<const config*> here;
     for (const config& c : st_.all)
@@ -693,34 +742,44 @@ class scene_sweep {
     render_params p = o_.render;
     p.spp = spp;
     p.ray_floor = floor;
-    // One untimed trace at the largest k read gives every method its colours (a point's
-    // rays do not depend on k); each method's first launch is untimed too.
-    uint32_t widest = 0;
+    const bool with_taa = std::any_of(here.begin(), here.end(), [](const config* c) { return c->taa > 0; });
+    // The reconstructions to time: each method and k once, whatever rows it has.
+    using recon = std::pair<method, uint32_t>;
+    std::vector<recon> recons;
     std::vector<uint32_t> ks;
+    uint32_t widest = 0;
     for (const config* c : here) {
       widest = std::max(widest, c->k);
       if (std::find(ks.begin(), ks.end(), c->k) == ks.end()) ks.push_back(c->k);
+      if (std::find(recons.begin(), recons.end(), recon{c->how, c->k}) == recons.end()) recons.push_back({c->how, c->k});
     }
+    // One untimed trace at the largest k read gives every method its colours (a point's
+    // rays do not depend on k); each method's first launch is untimed too.
     st_.say(fmt::format("tracing {} {} {} spp={}", scene, what, gp.name, spp));
     p.reconstruct.k = widest;
     frame_timing untimed;
     const point_samples samples = r_.trace(gp.at, p, untimed).samples;
-    for (const config* c : here) {
-      p.reconstruct.how = c->how, p.reconstruct.k = c->k;
+    for (const recon& m : recons) {
+      p.reconstruct.how = m.first, p.reconstruct.k = m.second;
       r_.prepare(samples, p);
+    }
+    if (with_taa) {  // a TAA history to blend with: the first resolve only passes the frame through
+      frame_timing t;
+      p.taa = true;
+      r_.reconstruct(samples, gp.at, p, t);
     }
     // Interleaved: each repetition times the full-resolution frame, every k's trace and
     // every method's reconstruction once, so slow phases of a shared machine hit all of
     // them alike and each speedup is a ratio of neighbouring runs.
-    std::vector<double> full_ms, full_cpu;
+    std::vector<double> full_ms, full_taa_ms, full_cpu;
     std::map<uint32_t, std::vector<double>> trace_ms, trace_cpu;
-    std::map<const config*, std::vector<double>> reconstruct_cpu;
+    std::map<recon, std::vector<double>> reconstruct_ms, taa_ms, reconstruct_cpu;
     std::map<uint32_t, uint64_t> rays, points;
-    std::map<const config*, std::vector<double>> frame_ms;
     for (uint32_t f = 0; f < o_.frames; ++f) {
       st_.say(fmt::format("timing {} {} {} spp={} ({}/{})", scene, what, gp.name, spp, f + 1, o_.frames));
       full_ms.push_back(time_full(spp));
       full_cpu.push_back(fulls_[spp].cpu_ms.back());
+      if (with_taa) full_taa_ms.push_back(fulls_[spp].taa_ms.back());
       for (uint32_t k : ks) {
         p.reconstruct.k = k;
         frame_timing t;
@@ -730,36 +789,41 @@ class scene_sweep {
         trace_ms[k].push_back(t.trace_ms);
         rays[k] = t.rays, points[k] = t.points_traced;
       }
-      for (const config* c : here) {
-        p.reconstruct.how = c->how, p.reconstruct.k = c->k;
+      for (const recon& m : recons) {
+        p.reconstruct.how = m.first, p.reconstruct.k = m.second;
+        p.taa = with_taa;
         frame_timing t;
         const double cpu = process_cpu_ms();
         r_.reconstruct(samples, gp.at, p, t);
-        reconstruct_cpu[c].push_back(process_cpu_ms() - cpu);
-        frame_ms[c].push_back(trace_ms[c->k].back() + t.reconstruct_ms);
+        reconstruct_cpu[m].push_back(process_cpu_ms() - cpu);
+        reconstruct_ms[m].push_back(t.reconstruct_ms);
+        taa_ms[m].push_back(t.taa_ms);
       }
     }
+    p.taa = false;
     for (const config* c : here) {
-      st_.say(fmt::format("measuring {} {} {} {} k={} spp={}", scene, what, gp.name, method_name(c->how), c->k, spp));
+      st_.say(fmt::format("measuring {} {} {} {} k={} spp={}{}", scene, what, gp.name, method_name(c->how), c->k, spp, taa_text(*c)));
+      const recon m{c->how, c->k};
       p.reconstruct.how = c->how, p.reconstruct.k = c->k;
       frame_timing t;
-      const frame image = r_.reconstruct(samples, gp.at, p, t);
+      const frame image = c->taa ? r_.steady_state(gp.at, p, c->taa) : r_.reconstruct(samples, gp.at, p, t);
       result_row row = row_for(*c);
       const std::vector<double>& traces = trace_ms[c->k];
       row.cells["points_traced"] = std::to_string(points[c->k]), row.cells["rays"] = std::to_string(rays[c->k]);
       row.cells["trace_ms"] = number(summarise(traces).median);
-      std::vector<double> rec;
-      for (size_t f = 0; f < traces.size(); ++f) rec.push_back(frame_ms[c][f] - traces[f]);
-      row.cells["reconstruct_ms"] = number(summarise(rec).median);
-      put_timing(row, pair_timings(frame_ms[c], full_ms), o_.spread_limit);
+      row.cells["reconstruct_ms"] = number(summarise(reconstruct_ms[m]).median);
+      std::vector<double> frame_ms = plus(traces, reconstruct_ms[m]);
+      if (c->taa) frame_ms = plus(frame_ms, taa_ms[m]);
+      const std::vector<double> full = c->taa ? plus(full_ms, full_taa_ms) : full_ms;
+      put_timing(row, pair_timings(frame_ms, full), o_.spread_limit);
       std::vector<double> ratios;
-      for (size_t f = 0; f < full_ms.size(); ++f) ratios.push_back(full_ms[f] / frame_ms[c][f]);
+      for (size_t f = 0; f < full.size(); ++f) ratios.push_back(full[f] / frame_ms[f]);
       row.cells["speedup_samples"] = samples_text(ratios);
       row.cells["trace_cpu_ms"] = number(summarise(trace_cpu[c->k]).median);
-      row.cells["reconstruct_cpu_ms"] = number(summarise(reconstruct_cpu[c]).median);
+      row.cells["reconstruct_cpu_ms"] = number(summarise(reconstruct_cpu[m]).median);
       row.cells["full_cpu_ms"] = number(summarise(full_cpu).median);
       put_errors(row, compare_images(image, *truth_, eye_, gp.at, o_.judging()));
-      if (o_.temporal_frames >= 2) {
+      if (o_.temporal_frames >= 2 && !c->taa) {
         st_.say(fmt::format("temporal {} {} {} k={} spp={}", scene, what, method_name(c->how), c->k, spp));
         const flicker_params fp = temporal_path();
         const flicker_report fl = measure_flicker(r_, gp.at, p, fp, o_.jod ? path_at(c->gaze).frames : std::vector<frame>{});
@@ -813,7 +877,8 @@ class scene_sweep {
   std::map<size_t, comparison> floors_;
   std::map<size_t, path_truth> paths_;
   std::map<uint32_t, full_frame> fulls_;
-  std::map<uint32_t, std::vector<double>> ladder_;
+  std::map<uint32_t, std::vector<double>> ladder_, ladder_taa_;
+  taa_state full_history_;  // time_resolve's
 };
 
 }  // namespace

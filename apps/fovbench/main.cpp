@@ -68,7 +68,12 @@ int main(int argc, char** argv) {
   app.add_option("--grid-spacing", o.grid_spacing,
                  "With --fovea grid: the largest model spacing (px, 0.5..4) with grid points (DISPLAY-sS-grid-P.fovset "
                  "unless 1)");
-  fov::add_render_flags(app, o.render, fov::flags_trace | fov::flags_reconstruct | fov::flags_device | fov::flags_view);
+  fov::add_render_flags(app, o.render,
+                        fov::flags_trace | fov::flags_reconstruct | fov::flags_device | fov::flags_view | fov::flags_pattern);
+  app.add_option("--taa-frames", o.taa_frames,
+                 "Every row also in steady state: its errors after each N frames of TAA with a still view (rays in "
+                 "--pattern's patterns), its time a frame's plus TAA's against full resolution with TAA, e.g. 16")
+      ->delimiter(',');
   app.add_option("--frames", o.frames, "Timed repetitions per configuration, interleaved with the full-resolution frame (median, min, max)")
       ->capture_default_str();
   app.add_option("--reference-spp", o.reference_spp, "Rays per pixel of the converged reference every error is measured against")
@@ -170,6 +175,9 @@ int main(int argc, char** argv) {
     o.gazes = split_gazes(o.gazes);
     if (o.scenes.empty()) o.scenes = {"builtin"};
     if (yardstick && o.shard_count > 1) throw fov::usage_error("--yardstick runs whole: no --shard (or Slurm array)");
+    if (yardstick && !o.taa_frames.empty()) throw fov::usage_error("--taa-frames: --yardstick runs its own TAA sequences");
+    if (app.count("--pattern") && o.taa_frames.empty())
+      throw fov::usage_error("--pattern applies to the steady-state rows: add --taa-frames");
     if (yardstick) {
       fov::bench_reporter quiet;
       quiet.line = [](const std::string& text) { std::cerr << "fovbench: " << text << "\n"; };

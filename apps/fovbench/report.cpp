@@ -18,10 +18,24 @@ namespace fov {
 namespace {
 
 
-std::vector<std::string> scenes_of(const std::vector<result_row>& rows) {
-  std::vector<std::string> out;
-  for (const result_row& r : rows)
-    if (std::find(out.begin(), out.end(), r.text("scene")) == out.end()) out.push_back(r.text("scene"));
+// The report's unit: the rows of one scene, as single frames or in one steady state under
+// TAA (taa_frames and taa_pattern): each is judged on its own, against its own baselines.
+struct sweep_part {
+  std::string scene, taa_frames, taa_pattern;
+  bool operator==(const sweep_part& o) const {
+    return scene == o.scene && taa_frames == o.taa_frames && taa_pattern == o.taa_pattern;
+  }
+  bool holds(const result_row& r) const {
+    return r.text("scene") == scene && r.text("taa_frames") == taa_frames && r.text("taa_pattern") == taa_pattern;
+  }
+};
+
+std::vector<sweep_part> scenes_of(const std::vector<result_row>& rows) {
+  std::vector<sweep_part> out;
+  for (const result_row& r : rows) {
+    const sweep_part part{r.text("scene"), r.text("taa_frames"), r.text("taa_pattern")};
+    if (std::find(out.begin(), out.end(), part) == out.end()) out.push_back(part);
+  }
   return out;
 }
 
@@ -140,20 +154,26 @@ std::vector<std::pair<double, double>> points_of(const std::vector<knob_mean>& m
 const std::set<row_kind> foveated_kind{row_kind::foveated, row_kind::falloff},
     baseline_kinds{row_kind::full, row_kind::uniform};
 
-std::vector<const result_row*> rows_of(const std::vector<result_row>& rows, const std::string& scene) {
+std::vector<const result_row*> rows_of(const std::vector<result_row>& rows, const sweep_part& part) {
   std::vector<const result_row*> mine;
   for (const result_row& r : rows)
-    if (r.text("scene") == scene) mine.push_back(&r);
+    if (part.holds(r)) mine.push_back(&r);
   return mine;
+}
+
+// "builtin", or "builtin, TAA steady state (16 frames, mirror)".
+std::string part_title(const sweep_part& part) {
+  if (part.taa_frames.empty()) return short_scene(part.scene);
+  return fmt::format("{}, TAA steady state ({} frames, {})", short_scene(part.scene), part.taa_frames, part.taa_pattern);
 }
 
 // The Pareto figure of one scene: every configuration's mean (frame time with its
 // repetitions' min-max as a horizontal bar, error or JOD), both fronts drawn and their
 // points labelled. JOD is better higher; the errors lower.
-plot_panel pareto_panel(const std::string& scene, const std::vector<knob_mean>& means, const std::string& metric) {
+plot_panel pareto_panel(const sweep_part& scene, const std::vector<knob_mean>& means, const std::string& metric) {
   const bool jod = metric == "jod";
   plot_panel p;
-  p.title = fmt::format("Pareto fronts: {} (mean over gazes)", short_scene(scene));
+  p.title = fmt::format("Pareto fronts: {} (mean over gazes)", part_title(scene));
   p.x_label = "frame time (ms, log scale; bars: min-max of the repetitions)";
   p.y_label = jod ? "JOD (FovVideoVDP, foveated; 10 = no visible difference)" : metric + " vs converged reference";
   p.log_x = true;
@@ -201,7 +221,7 @@ plot_panel pareto_panel(const std::string& scene, const std::vector<knob_mean>& 
 
 std::vector<std::string> write_bench_figures(const std::vector<result_row>& rows, const bench_options& o, const std::string& dir) {
   std::vector<plot_panel> pareto_jod, pareto, pareto_flip, profiles, speedups;
-  for (const std::string& scene : scenes_of(rows)) {
+  for (const sweep_part& scene : scenes_of(rows)) {
     const std::vector<const result_row*> mine = rows_of(rows, scene);
     const std::vector<knob_mean> means = knob_means(mine);
     const std::string metric = headline_metric(means);
@@ -221,7 +241,7 @@ std::vector<std::string> write_bench_figures(const std::vector<result_row>& rows
         lo_scale = std::min(lo_scale, r->number("scale")), hi_scale = std::max(hi_scale, r->number("scale"));
       top_spp = std::max(top_spp, r->number("spp"));
     }
-    e.title = fmt::format("Error by eccentricity: {} (gaze {}, {:g} spp)", short_scene(scene), gaze, top_spp);
+    e.title = fmt::format("Error by eccentricity: {} (gaze {}, {:g} spp)", part_title(scene), gaze, top_spp);
     e.x_label = "eccentricity (degrees)";
     e.y_label = "RMSE vs converged reference (full scale)";
     std::set<std::string> drawn;
@@ -251,7 +271,7 @@ std::vector<std::string> write_bench_figures(const std::vector<result_row>& rows
     // every point casting spp rays (no --point-ray-floors rows), means over gazes, bars from
     // the slowest to the fastest paired repetition.
     plot_panel sp;
-    sp.title = "Speedup over full resolution, same spp: " + short_scene(scene) + " (mean over gazes)";
+    sp.title = "Speedup over full resolution, same spp: " + part_title(scene) + " (mean over gazes)";
     sp.x_label = "point-set scale s";
     sp.y_label = "speedup (full-resolution ms / frame ms)";
     const std::string first_k = std::to_string(o.ks.empty() ? 5 : o.ks[0]);
@@ -418,7 +438,7 @@ void write_bench_report(const std::vector<result_row>& rows, const bench_options
                     rows.size(), o.reference_spp, o.frames);
   // The verdicts first: one per scene, in JOD.
   md += "## Verdict (JOD: FovVideoVDP foveated at each row's gaze, means over the gazes)\n\n";
-  for (const std::string& scene : scenes_of(rows)) {
+  for (const sweep_part& scene : scenes_of(rows)) {
     const std::vector<knob_mean> means = knob_means(rows_of(rows, scene));
     const jod_verdict v = verdict_in_jod(means);
     double floor = 0;
@@ -426,7 +446,7 @@ void write_bench_report(const std::vector<result_row>& rows, const bench_options
     std::set<std::string> seen;
     for (const result_row* r : rows_of(rows, scene))
       if (seen.insert(r->text("gaze")).second) floor += r->number("noise_floor_jod"), ++n;
-    md += fmt::format("**{}**: {}{}\n\n", short_scene(scene), verdict_sentence(v),
+    md += fmt::format("**{}**: {}{}\n\n", part_title(scene), verdict_sentence(v),
                       n && !std::isnan(floor) ? fmt::format(" (The reference's noise floor: a second reference scores {:.2f} JOD "
                                                             "against it; no configuration can be shown better than that.)",
                                                             floor / n)
@@ -453,11 +473,11 @@ void write_bench_report(const std::vector<result_row>& rows, const bench_options
     md += fmt::format("**Timing noise**: the spread (max - min) of a row's repetitions was {:.0f} % of its median at the median "
                       "row, {:.0f} % at the worst; {} of {} rows exceed the {:.0f} % limit and are flagged `noisy`.\n\n",
                       100 * rel[rel.size() / 2], 100 * rel.back(), noisy, rows.size(), 100 * o.spread_limit);
-  for (const std::string& scene : scenes_of(rows)) {
+  for (const sweep_part& scene : scenes_of(rows)) {
     const std::vector<const result_row*> mine = rows_of(rows, scene);
     const std::vector<knob_mean> means = knob_means(mine);
     const std::string metric = headline_metric(means);
-    md += fmt::format("## {}\n\n", short_scene(scene));
+    md += fmt::format("## {}\n\n", part_title(scene));
     // The reference's own error and where the scene has content, per gaze.
     md += "### The reference: noise floor and content\n\n| gaze | floor JOD | floor JOD non-foveated | floor PSNR | floor PSNR < 5° | "
           "floor FLIP | floor FLIP < 5° | floor foveated FLIP | geometry < 5° | 5-10° | 10-20° | 20-30° | > 30° |\n"

@@ -57,6 +57,11 @@ struct bench_options {
   // the rows where every point casts spp. Empty: none.
   std::vector<uint32_t> point_ray_floors;
   bool no_sparse = false;  // no sparse sets (foveated rows): falloff rows and baselines only
+  // Every configuration also in steady state under TAA (issue 24): its errors after each of
+  // these many frames of a still view (renderer::steady_state, full_steady_state; the
+  // pattern is render.pattern), its time a frame's plus TAA's, against full-resolution
+  // frames with TAA. Empty: single frames only.
+  std::vector<uint32_t> taa_frames;
   // Sharding (fovbench --shard I/N): this run measures configurations i with i % count ==
   // index of the sweep's list; its rows go to OUT/shard-I-of-N/, references are shared in
   // OUT/references. count 1: the whole sweep, rows in OUT.

@@ -14,6 +14,7 @@
 
 #include "fov/files.h"
 #include "fov/reconstruct_params.h"
+#include "fov/renderer.h"
 
 namespace fov {
 
@@ -22,6 +23,9 @@ const std::vector<std::string>& result_columns() {
       // What the row is.
       "scene", "gaze", "gaze_x", "gaze_y", "kind", "scale", "pixel_fraction", "method", "k", "ray_floor", "spp", "texture_footprint", "fovea",
       "display", "ppd",
+      // Empty for a single frame; else the steady state after this many frames of TAA with a
+      // still view, the rays in this pattern (--taa-frames, --pattern).
+      "taa_frames", "taa_pattern",
       // What it cost, timed interleaved with a full-resolution frame at the same spp.
       "points_traced", "rays", "full_rays", "trace_ms", "reconstruct_ms", "frame_ms", "frame_ms_lo", "frame_ms_hi",
       "full_ms", "full_ms_lo", "full_ms_hi", "speedup", "speedup_lo", "speedup_hi", "timing_flag",
@@ -49,8 +53,9 @@ const std::vector<std::string>& result_columns() {
 }
 
 std::string result_row::key() const {
-  return fmt::format("{}|{}|{}|{}|{}|{}|{}|{}|{}", text("scene"), text("gaze"), text("kind"), text("scale"), text("pixel_fraction"),
-                     text("method"), text("k"), text("ray_floor"), text("spp"));
+  return fmt::format("{}|{}|{}|{}|{}|{}|{}|{}|{}|{}|{}", text("scene"), text("gaze"), text("kind"), text("scale"),
+                     text("pixel_fraction"), text("method"), text("k"), text("ray_floor"), text("spp"), text("taa_frames"),
+                     text("taa_pattern"));
 }
 
 const std::string& result_row::text(const std::string& column) const {
@@ -112,6 +117,20 @@ std::string result_row_problem(const result_row& row) {
   method m{};
   if (kind == row_kind::full ? how != "full" : kind == row_kind::falloff ? how != "falloff" : !parse_label(method_labels, how, m))
     return fmt::format("method '{}' is not one a {} row has", printable(how), row_kind_name(kind));
+  // A steady-state row names its frames (a whole number 2..max_taa_frames) and its pattern;
+  // a single frame neither.
+  const std::string& taa = row.text("taa_frames");
+  const std::string& pattern = row.text("taa_pattern");
+  if (!taa.empty()) {
+    const double n = row.number("taa_frames");
+    if (!(n >= 2 && n <= max_taa_frames && n == std::floor(n)))
+      return fmt::format("taa_frames '{}' is not a whole number in 2..{}", printable(taa), max_taa_frames);
+    ray_pattern rp{};
+    if (!parse_label(ray_pattern_labels, pattern, rp))
+      return fmt::format("taa_pattern '{}' is not {}", printable(pattern), label_alternatives(ray_pattern_labels));
+  } else if (!pattern.empty()) {
+    return fmt::format("taa_pattern '{}' without taa_frames", printable(pattern));
+  }
   for (const char* list : {"error_profile", "speedup_samples", "ladder_samples"}) {
     std::stringstream profile(row.text(list));
     std::string v;
@@ -127,7 +146,7 @@ std::string result_row_problem(const result_row& row) {
   struct range { double lo, hi; bool lo_open, inf_ok; };
   auto rule = [](const std::string& c) -> std::optional<range> {
     auto starts = [&](const char* p) { return c.rfind(p, 0) == 0; };
-    if (c == "speedup_samples" || c == "ladder_samples") return std::nullopt;  // lists, checked above
+    if (c == "speedup_samples" || c == "ladder_samples" || c == "taa_frames") return std::nullopt;  // checked above
     constexpr double inf = std::numeric_limits<double>::infinity(), big = std::numeric_limits<double>::max();
     if (starts("psnr") || starts("noise_floor_psnr") || c == "foveated_psnr") return range{0, inf, false, true};
     if (starts("ssim")) return range{-1, 1, false, false};
@@ -168,7 +187,7 @@ std::vector<result_row> read_results(const std::string& path) {
   const std::vector<std::string> header = split_csv(line);
   if (header != result_columns())
     throw std::runtime_error(fmt::format("{}:1: not a results.csv of this fovbench (columns differ); use another -o", path));
-  static const std::set<std::string> text_columns = {"scene",  "gaze",         "kind",   "method",         "texture_footprint",
+  static const std::set<std::string> text_columns = {"scene",  "gaze",         "kind",   "method",         "texture_footprint", "taa_pattern",
                                                      "fovea",  "display", "timing_flag",  "device", "neighbours", "render_settings", "error_profile",
                                                      "speedup_samples", "ladder_samples"};
   std::vector<result_row> rows;

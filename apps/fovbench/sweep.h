@@ -26,12 +26,15 @@ inline const char* row_kind_name(row_kind k) { return label_of(row_kind_labels, 
 
 struct result_row {
   std::map<std::string, std::string> cells;
-  std::string key() const;  // scene|gaze|kind|scale|pixel_fraction|method|k|ray_floor|spp: what --resume skips on
+  std::string key() const;  // scene|gaze|kind|scale|pixel_fraction|method|k|ray_floor|spp|taa_frames|taa_pattern: what --resume skips on
   double number(const std::string& column) const;  // NaN when empty or not a number
   // The kind column; std::logic_error for a row that result_row_problem would refuse.
   row_kind kind() const;
   const std::string& text(const std::string& column) const;
 };
+
+// The most frames of TAA a steady-state row (--taa-frames) may blend.
+constexpr uint32_t max_taa_frames = 256;
 
 // The columns, in file order (docs/speed-accuracy.md explains each).
 const std::vector<std::string>& result_columns();

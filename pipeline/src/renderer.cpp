@@ -203,6 +203,37 @@ const frame& renderer::foveated(gaze_point gaze, const render_params& p, frame_t
   return frame_;
 }
 
+const frame& renderer::steady_state(gaze_point gaze, const render_params& p, uint32_t frames) {
+  require_set();
+  if (frames < 1) throw std::invalid_argument("renderer::steady_state: no frames");
+  pending_.reset();
+  render_params q = p;
+  q.taa = true;
+  reset_history();
+  for (uint32_t n = 0; n < frames; ++n) {
+    const trace_params tp = frame_trace_params(q, n);
+    const points_trace traced = trace_points(*scene_, cam_, *set_, *index_for(tp), gaze, tp);
+    frame_timing t;
+    reconstruct(traced.samples, gaze, q, t);
+  }
+  return frame_;
+}
+
+frame renderer::full_steady_state(const display_geometry& display, gaze_point gaze, const render_params& p, uint32_t frames,
+                                  const ray_falloff* f) {
+  if (frames < 1) throw std::invalid_argument("renderer::full_steady_state: no frames");
+  render_params q = p;
+  q.taa = true;
+  taa_state history;
+  frame out;
+  for (uint32_t n = 0; n < frames; ++n) {
+    trace_params tp = frame_trace_params(q, n);
+    if (f) tp.falloff = *f;
+    out = taa_resolve(history, full_grid(display.width, display.height, tp, nullptr).image, cam_, display, gaze, p.temporal);
+  }
+  return out;
+}
+
 reference_trace renderer::reference(int width, int height, const render_params& p, frame_timing* t) {
   return full_grid(width, height, base_trace(p), t);
 }

@@ -500,6 +500,9 @@ reference_trace trace_reference(const scene& sc, const camera& cam, int width, i
     rays_of.resize(size_t(width) * height);
   }
   const gaze_point gaze = params.falloff ? params.falloff->gaze : gaze_point{};
+  // The TAA pattern, as a grid point's (point_rays): pattern m casts each pixel's samples
+  // m n .. (m + 1) n - 1, so four frames together cast a stratified 4 n-sample set.
+  const uint32_t pattern = (params.mirror_x ? 1u : 0u) + (params.mirror_y ? 2u : 0u);
   auto rays_at = [&](int x, int y) {
     return params.falloff ? rule.rays_at(std::hypot(x + 0.5 - gaze.x, y + 0.5 - gaze.y)) : spp;
   };
@@ -520,7 +523,7 @@ reference_trace trace_reference(const scene& sc, const camera& cam, int width, i
           const uint32_t n = rays_at(x, y);
           if (!rays_of.empty()) rays_of[pixel] = uint16_t(n);
           const float radius = 0.5f / std::sqrt(float(n));
-          pixel_rays(x, y, width, params, 0, n,
+          pixel_rays(x, y, width, params, pattern * n, n,
                      [&](float sx, float sy) { rays.push_back({sx, sy, radius, pixel}); });
         }
       trace_rays(d, params.sun ? *params.sun : d.desc.sun, f, rays.data(), rays.size(), params.shadows, timing,

@@ -135,6 +135,19 @@ class renderer {
   // and set takes those samples; any other call drops them and traces anew.
   void begin_trace(gaze_point gaze, const camera& view, const render_params& p);
 
+  // Steady state under TAA (issue 24): `frames` (>= 1) foveated frames of the still view at
+  // the gaze, frame n traced in the pattern of frame n (frame_trace_params with p.taa:
+  // p.pattern, from frame 0 whatever was traced before) and reconstructed with TAA
+  // (p.temporal, on the device or in C++) from an empty history; returns the last output,
+  // which is then the TAA history. The same params give the same frame on any renderer.
+  const frame& steady_state(gaze_point gaze, const render_params& p, uint32_t frames);
+  // The same for the full pixel grid: reference(), or falloff_frame(*f), traced in pattern n
+  // for frame n (reseed: seed + n; mirror: each pixel's samples m spp .. (m + 1) spp - 1 with
+  // m = n mod 4, as a grid point's) and blended by taa_resolve on `display` at `gaze` from a
+  // history of its own (the foveated history is left alone).
+  frame full_steady_state(const display_geometry& display, gaze_point gaze, const render_params& p, uint32_t frames,
+                          const ray_falloff* f = nullptr);
+
   // The full-resolution reference, p.spp rays per pixel (no TAA, no pattern).
   reference_trace reference(int width, int height, const render_params& p, frame_timing* t = nullptr);
   // Full resolution at a foveated sampling rate (fov::ray_falloff): every pixel of f's

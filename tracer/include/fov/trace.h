@@ -79,8 +79,11 @@ struct trace_params {
   uint32_t spp = 32;     // rays per point (foveated) or per pixel (reference)
   uint64_t seed = 1;     // fixes the ray positions: the same every frame
   bool shadows = true;   // hard shadows from the scene's light
-  // Foveated only: use the point set mirrored left-right and/or top-bottom (thesis Sec.
-  // 3.3: four patterns from one set, so TAA can blend frames with different samples).
+  // The TAA pattern m = mirror_x + 2 mirror_y (thesis Sec. 3.3: four patterns from one set,
+  // so TAA can blend frames with different samples). Foveated: the point set mirrored
+  // left-right and/or top-bottom (a grid point casts its pixel's samples m n .. (m + 1) n - 1).
+  // Full grid (trace_reference): every pixel casts its samples m n .. (m + 1) n - 1, as a grid
+  // point there does; pattern 0 is the frame without a pattern.
   bool mirror_x = false, mirror_y = false;
   texture_footprint footprint = texture_footprint::disc;  // foveated only
   // Foveated only: the neighbours each pixel's reconstruction reads; it decides which
@@ -170,7 +173,8 @@ glm::vec2 owen_sobol_2d(uint32_t s, uint32_t sx, uint32_t sy);
 glm::vec2 concentric_disc(glm::vec2 u);
 
 // Full resolution: params.spp rays per pixel at params.sampler's positions inside it (with
-// params.falloff, the first n(d) of them; the frame's rays count what was cast).
+// params.falloff, the first n(d) of them; the frame's rays count what was cast), from the
+// pixel's sample m n on in TAA pattern m (trace_params::mirror_x, mirror_y).
 reference_trace trace_reference(const scene& s, const camera& cam, int width, int height, const trace_params& params);
 
 }  // namespace fov

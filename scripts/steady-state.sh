@@ -1,0 +1,47 @@
+#!/usr/bin/env bash
+# Steady state with TAA (issue 24, item 4; docs/speed-accuracy.md "Steady state with TAA"):
+# on each display given (default: fove), one scene (SCENE=builtin, helmet or env; default
+# builtin) rendered as the study renders it (scripts/hybrid-displays.sh: the built-in scene's
+# whites unclipped, the helmet's close-up, the forest env: map), centred gaze, Shepard k = 5,
+# JOD against a 128-spp reference. Every row as a single frame and after TAA_FRAMES (default
+# 32) frames of TAA with a still view, once with the thesis's mirrored patterns and once with
+# new ray positions every frame (--pattern mirror, reseed): sparse sets at s = 0.5 and 1.0
+# (darts, and the hybrid's grid fovea out to a 4-pixel spacing), each point casting 1 or 4
+# rays and at 4 also falling to 1 with eccentricity; the full grid's falloff; a uniform set
+# of 1/4 of the pixels; full resolution at 1, 2 and 4 spp, with TAA what a user runs.
+#   out/steady-state/SCENE/DISPLAY/{darts,grid-4}/   results.csv, report.md, figures
+# The runs of a display share one pair of references (DISPLAY/references). Interrupted? Run
+# it again: --resume keeps every finished row.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bench=${FOV_BENCH:-build/apps/fovbench}
+fovgen=${FOV_GEN:-build/apps/fovgen}
+scene_name=${SCENE:-builtin}
+taa_frames=${TAA_FRAMES:-32}
+displays=("$@")
+(( ${#displays[@]} )) || displays=(fove)
+for display in "${displays[@]}"; do
+  hfov=$("$fovgen" displays --display "$display" --json | python3 -c 'import json, sys; print("%.4f" % json.load(sys.stdin)[0]["fov_deg"][0])')
+  case $scene_name in
+    builtin) scene=(--scene builtin --sun-irradiance 0.8,0.77,0.7 --hfov "$hfov") ;;
+    helmet) scene=(--scene ../shared/scenes/flight-helmet/FlightHelmet.gltf --eye 0.1,0.28,0.22 --look-at 0,0.3,0 --hfov 60) ;;
+    env) scene=(--scene env:/usr/share/blender/datafiles/studiolights/world/forest.exr --hfov "$hfov") ;;
+    *) echo "SCENE must be builtin, helmet or env (got $scene_name)" >&2; exit 2 ;;
+  esac
+  top="out/steady-state/$scene_name/$display"
+  common=("${scene[@]}" --display "$display" --methods shepard --k 5 --gazes centre --frames 3 --reference-spp 128 --no-flip
+          --neighbours cells --points-dir out/hybrid-displays/sets --spp 1,2,4 --scales 0.5,1.0 --point-ray-floors 1
+          --taa-frames "$taa_frames" --resume)
+  mkdir -p "$top/references"
+  for run in darts grid-4; do
+    mkdir -p "$top/$run"
+    [[ -e "$top/$run/references" ]] || ln -s ../references "$top/$run/references"
+    case $run in
+      darts) what=(--baselines full,uniform --uniform-fractions 0.25 --ray-floors 1) ;;
+      grid-4) what=(--baselines full --fovea grid --grid-spacing 4) ;;
+    esac
+    for pattern in mirror reseed; do
+      "$bench" "${common[@]}" "${what[@]}" --pattern "$pattern" -o "$top/$run"
+    done
+  done
+done
