@@ -45,7 +45,18 @@ flat, fall = run("-o", sys.argv[2] + "/flat.png"), run("--ray-floor", "1", "-o",
 assert flat["points_traced"] == fall["points_traced"] and flat["rays"] == 4 * flat["points_traced"], (flat, fall)
 assert fall["points_traced"] <= fall["rays"] < flat["rays"] and fall["ray_floor"] == 1 and "ray_floor" not in flat, fall
 PY
-check "taa with reference"  2 -- "$fovrender" --reference "${set[@]}" --taa-frames 4 -o "$dir/a.png"
+# --reference --taa-frames: the full grid's steady state (mirrored patterns: each pixel's next
+# Sobol samples), against a converged reference closer than one frame.
+python3 - "$fovrender" "$dir" <<'PY' || { echo "FAIL --reference --taa-frames"; failures=$((failures + 1)); }
+import json, subprocess, sys
+run = lambda *a: json.loads(subprocess.run([sys.argv[1], "--reference", "--display", "96x96@20ppd", "--spp", "1", "--json",
+                                            "--reference-spp", "64", "--no-flip", *a], check=True, capture_output=True,
+                                           text=True).stdout)
+one, steady = run("-o", sys.argv[2] + "/r1.png"), run("--taa-frames", "8", "--pattern", "mirror", "-o", sys.argv[2] + "/r8.png")
+assert one["taa_ms"] is None and "taa_frames" not in one, one
+assert steady["taa_frames"] == 8 and steady["pattern"] == "mirror" and steady["taa_ms"] > 0 and steady["rays"] == one["rays"], steady
+assert steady["metrics"]["psnr"] > one["metrics"]["psnr"] + 1, (steady["metrics"]["psnr"], one["metrics"]["psnr"])
+PY
 check "taa frames"         0 -- "$fovrender" "${set[@]}" --spp 2 --taa-frames 4 -o "$dir/taa.png"
 check "mirrored patterns"  0 -- "$fovrender" "${set[@]}" --spp 2 --taa-frames 4 --pattern mirror -o "$dir/taa-m.png"
 check "bad pattern"        2 -- "$fovrender" "${set[@]}" --spp 2 --taa-frames 4 --pattern spiral -o "$dir/taa-m.png"

@@ -60,7 +60,6 @@ void check_options(const render_options& o, const fov::render_params& p) {
                                                     fmt::format("a {} x {} frame (about 64 bytes a pixel)", o.width, o.height));
         !why.empty())
       throw usage_error("--width/--height: " + why);
-  if (o.reference && o.taa_frames > 0) throw usage_error("--taa-frames applies to foveated frames, not --reference");
   if (o.reference && o.speedup > 0) throw usage_error("--speedup compares a foveated frame with --reference; give --points instead");
   if (o.falloff_scale_given && (o.ray_floor == 0 || !o.reference))
     throw usage_error("--falloff-scale needs --reference --ray-floor (a point set's rays follow the set's own scale)");
@@ -103,7 +102,9 @@ int main(int argc, char** argv) {
   app.add_option("--width", o.width, "Screen width without --points")->check(CLI::Range(1, 65536));
   app.add_option("--height", o.height, "Screen height without --points")->check(CLI::Range(1, 65536));
   app.add_option("--display", o.display, "Without --points: " + fov::display_help());
-  app.add_option("--taa-frames", o.taa_frames, "Render this many frames of the view with TAA (--pattern)")
+  app.add_option("--taa-frames", o.taa_frames,
+                 "Render this many frames of the still view with TAA (--pattern), foveated or --reference (the full grid's "
+                 "steady state; docs/pipeline.md)")
       ->check(CLI::Range(0u, 10000u));
   app.add_option("--speedup", o.speedup,
                  "Time N full-resolution frames at the same spp, each right before a foveated frame: JSON speedup "
@@ -201,11 +202,14 @@ int main(int argc, char** argv) {
         fov::ray_falloff f;
         f.model.display = display, f.model.scale = o.falloff_scale, f.gaze = gaze, f.floor = o.ray_floor;
         if (const std::string why = fov::falloff_problem(f, p.spp); !why.empty()) throw usage_error("--ray-floor: " + why);
-        image = r.falloff_frame(f, p, &t).image;
+        image = o.taa_frames ? r.full_steady_state(display, gaze, p, o.taa_frames, &f, &t) : r.falloff_frame(f, p, &t).image;
         j["ray_floor"] = o.ray_floor, j["falloff_scale"] = o.falloff_scale;
       } else {
-        image = r.reference(display.width, display.height, p, &t).image;
+        image = o.taa_frames ? r.full_steady_state(display, gaze, p, o.taa_frames, nullptr, &t)
+                             : r.reference(display.width, display.height, p, &t).image;
       }
+      // With --taa-frames N: N frames in the patterns of frames 0..N-1 blended by TAA; the JSON reports the last frame's costs.
+      if (p.taa) j["taa_frames"] = o.taa_frames, j["pattern"] = fov::label_of(fov::ray_pattern_labels, p.pattern);
     } else {
       r.use_pointset(set);
       if (p.device == fov::reconstruct_device::opencl) j["device_setup_ms"] = r.device_setup_ms();

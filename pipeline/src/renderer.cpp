@@ -220,7 +220,7 @@ const frame& renderer::steady_state(gaze_point gaze, const render_params& p, uin
 }
 
 frame renderer::full_steady_state(const display_geometry& display, gaze_point gaze, const render_params& p, uint32_t frames,
-                                  const ray_falloff* f) {
+                                  const ray_falloff* f, frame_timing* last) {
   if (frames < 1) throw std::invalid_argument("renderer::full_steady_state: no frames");
   render_params q = p;
   q.taa = true;
@@ -229,7 +229,12 @@ frame renderer::full_steady_state(const display_geometry& display, gaze_point ga
   for (uint32_t n = 0; n < frames; ++n) {
     trace_params tp = frame_trace_params(q, n);
     if (f) tp.falloff = *f;
-    out = taa_resolve(history, full_grid(display.width, display.height, tp, nullptr).image, cam_, display, gaze, p.temporal);
+    frame_timing t;
+    const reference_trace traced = full_grid(display.width, display.height, tp, &t);
+    const auto t0 = clock_type::now();
+    out = taa_resolve(history, traced.image, cam_, display, gaze, p.temporal);
+    t.taa_ms = ms_since(t0);
+    if (last) *last = t;
   }
   return out;
 }

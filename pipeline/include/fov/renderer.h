@@ -144,9 +144,10 @@ class renderer {
   // The same for the full pixel grid: reference(), or falloff_frame(*f), traced in pattern n
   // for frame n (reseed: seed + n; mirror: each pixel's samples m spp .. (m + 1) spp - 1 with
   // m = n mod 4, as a grid point's) and blended by taa_resolve on `display` at `gaze` from a
-  // history of its own (the foveated history is left alone).
+  // history of its own (the foveated history is left alone). `last`, when given, gets the
+  // last frame's trace and TAA resolve times and its rays.
   frame full_steady_state(const display_geometry& display, gaze_point gaze, const render_params& p, uint32_t frames,
-                          const ray_falloff* f = nullptr);
+                          const ray_falloff* f = nullptr, frame_timing* last = nullptr);
 
   // The full-resolution reference, p.spp rays per pixel (no TAA, no pattern).
   reference_trace reference(int width, int height, const render_params& p, frame_timing* t = nullptr);
