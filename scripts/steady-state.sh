@@ -10,6 +10,9 @@
 # rays and at 4 also falling to 1 with eccentricity; the full grid's falloff; a uniform set
 # of 1/4 of the pixels; full resolution at 1, 2 and 4 spp, with TAA what a user runs.
 #   out/steady-state/SCENE/DISPLAY/{darts,grid-4}/   results.csv, report.md, figures
+# Smaller sweeps (a 70-ppd display): RUNS (default "darts grid-4"), PATTERNS (default "mirror
+# reseed"), SPPS (default 1,2,4) and SCALES (default 0.5,1.0), e.g.
+#   RUNS=darts PATTERNS=reseed SPPS=1,4 SCALES=0.5 TAA_FRAMES=16 scripts/steady-state.sh retinal
 # The runs of a display share one pair of references (DISPLAY/references). Interrupted? Run
 # it again: --resume keeps every finished row.
 set -euo pipefail
@@ -18,6 +21,11 @@ bench=${FOV_BENCH:-build/apps/fovbench}
 fovgen=${FOV_GEN:-build/apps/fovgen}
 scene_name=${SCENE:-builtin}
 taa_frames=${TAA_FRAMES:-32}
+runs=(${RUNS:-darts grid-4})
+patterns=(${PATTERNS:-mirror reseed})
+for run in "${runs[@]}"; do
+  [[ $run =~ ^(darts|grid-4)$ ]] || { echo "RUNS: '$run' is not darts or grid-4" >&2; exit 2; }
+done
 displays=("$@")
 (( ${#displays[@]} )) || displays=(fove)
 for display in "${displays[@]}"; do
@@ -30,17 +38,17 @@ for display in "${displays[@]}"; do
   esac
   top="out/steady-state/$scene_name/$display"
   common=("${scene[@]}" --display "$display" --methods shepard --k 5 --gazes centre --frames 3 --reference-spp 128 --no-flip
-          --neighbours cells --points-dir out/hybrid-displays/sets --spp 1,2,4 --scales 0.5,1.0 --point-ray-floors 1
+          --neighbours cells --points-dir out/hybrid-displays/sets --spp "${SPPS:-1,2,4}" --scales "${SCALES:-0.5,1.0}" --point-ray-floors 1
           --taa-frames "$taa_frames" --resume)
   mkdir -p "$top/references"
-  for run in darts grid-4; do
+  for run in "${runs[@]}"; do
     mkdir -p "$top/$run"
     [[ -e "$top/$run/references" ]] || ln -s ../references "$top/$run/references"
     case $run in
       darts) what=(--baselines full,uniform --uniform-fractions 0.25 --ray-floors 1) ;;
       grid-4) what=(--baselines full --fovea grid --grid-spacing 4) ;;
     esac
-    for pattern in mirror reseed; do
+    for pattern in "${patterns[@]}"; do
       "$bench" "${common[@]}" "${what[@]}" --pattern "$pattern" -o "$top/$run"
     done
   done
