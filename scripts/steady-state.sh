@@ -19,6 +19,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 bench=${FOV_BENCH:-build/apps/fovbench}
 fovgen=${FOV_GEN:-build/apps/fovgen}
+source scripts/study-scene.sh
 scene_name=${SCENE:-builtin}
 taa_frames=${TAA_FRAMES:-32}
 runs=(${RUNS:-darts grid-4})
@@ -29,13 +30,7 @@ done
 displays=("$@")
 (( ${#displays[@]} )) || displays=(fove)
 for display in "${displays[@]}"; do
-  hfov=$("$fovgen" displays --display "$display" --json | python3 -c 'import json, sys; print("%.4f" % json.load(sys.stdin)[0]["fov_deg"][0])')
-  case $scene_name in
-    builtin) scene=(--scene builtin --sun-irradiance 0.8,0.77,0.7 --hfov "$hfov") ;;
-    helmet) scene=(--scene ../shared/scenes/flight-helmet/FlightHelmet.gltf --eye 0.1,0.28,0.22 --look-at 0,0.3,0 --hfov 60) ;;
-    env) scene=(--scene env:/usr/share/blender/datafiles/studiolights/world/forest.exr --hfov "$hfov") ;;
-    *) echo "SCENE must be builtin, helmet or env (got $scene_name)" >&2; exit 2 ;;
-  esac
+  study_scene "$scene_name" "$display"
   top="out/steady-state/$scene_name/$display"
   common=("${scene[@]}" --display "$display" --methods shepard --k 5 --gazes centre --frames 3 --reference-spp 128 --no-flip
           --neighbours cells --points-dir out/hybrid-displays/sets --spp "${SPPS:-1,2,4}" --scales "${SCALES:-0.5,1.0}" --point-ray-floors 1

@@ -1,0 +1,15 @@
+# Sourced by the study scripts (hybrid-displays.sh, steady-state.sh): the fovbench flags of
+# one of the study's scenes as the study renders it on a display. study_scene NAME DISPLAY
+# sets the array `scene`: builtin (whites unclipped, the display's field of view), helmet
+# (the close-up, 60°) or env (the forest map, the display's field of view); exits 2 on
+# another NAME. Needs $fovgen.
+study_scene() {
+  local name=$1 display=$2 hfov
+  hfov=$("$fovgen" displays --display "$display" --json | python3 -c 'import json, sys; print("%.4f" % json.load(sys.stdin)[0]["fov_deg"][0])')
+  case $name in
+    builtin) scene=(--scene builtin --sun-irradiance 0.8,0.77,0.7 --hfov "$hfov") ;;
+    helmet) scene=(--scene ../shared/scenes/flight-helmet/FlightHelmet.gltf --eye 0.1,0.28,0.22 --look-at 0,0.3,0 --hfov 60) ;;
+    env) scene=(--scene env:/usr/share/blender/datafiles/studiolights/world/forest.exr --hfov "$hfov") ;;
+    *) echo "SCENE must be builtin, helmet or env (got $name)" >&2; exit 2 ;;
+  esac
+}
