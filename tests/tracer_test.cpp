@@ -7,6 +7,7 @@
 #include <iostream>
 #include <limits>
 #include <map>
+#include <optional>
 #include <set>
 
 #include <gtest/gtest.h>
@@ -563,6 +564,19 @@ TEST(PointRays, EachPointCastsItsRuleAndIsThatManyRaysOfAFlatTrace) {
 
 // The hybrid (a grid fovea whose points' rays fall, darts beyond): each grid point is the
 // full grid's falloff frame's pixel (same model, gaze, spp and floor) bit for bit.
+// Where grid point i of a trace lands on the screen (placed and mirrored as the trace was),
+// or nothing when it is not a grid point or lies off the screen.
+std::optional<glm::vec2> grid_point_on_screen(const pointset& set, const point_samples& traced, uint32_t i) {
+  const point& p = set.points[i];
+  if (!is_grid_point(set, p)) return std::nullopt;
+  const float w = float(set.model.display.width), h = float(set.model.display.height);
+  float x = p.x - float(traced.offset.x), y = p.y - float(traced.offset.y);
+  if (traced.mirror_x) x = w - x;
+  if (traced.mirror_y) y = h - y;
+  if (x < 0 || y < 0 || x >= w || y >= h) return std::nullopt;
+  return glm::vec2(x, y);
+}
+
 TEST(PointRays, GridPointsAreTheFalloffFramesPixels) {
   // In every TAA pattern: pattern m (mirror_x + 2 mirror_y) places the set mirrored, and a
   // grid point casts its pixel's samples m n .. (m + 1) n - 1, as that pixel does in the full
@@ -586,12 +600,9 @@ TEST(PointRays, GridPointsAreTheFalloffFramesPixels) {
     size_t grid = 0, below_spp = 0;
     const falloff_rule rule = point_ray_rule(set, g, 16, 1);
     for (uint32_t i : hybrid.traced) {
-      const point& p = set.points[i];
-      if (!is_grid_point(set, p)) continue;
-      float x = p.x - float(hybrid.offset.x), y = p.y - float(hybrid.offset.y);
-      if (tp.mirror_x) x = float(w) - x;
-      if (tp.mirror_y) y = float(h) - y;
-      if (x < 0 || y < 0 || x >= float(w) || y >= float(h)) continue;
+      const std::optional<glm::vec2> at = grid_point_on_screen(set, hybrid, i);
+      if (!at) continue;
+      const float x = at->x, y = at->y;
       ASSERT_EQ(hybrid.colour[i], fall.rgb[size_t(y) * w + size_t(x)]) << x << "," << y << " in pattern " << pattern;
       ++grid;
       below_spp += rule.rays_at(std::hypot(x - g.x, y - g.y)) < 16;
@@ -649,13 +660,9 @@ TEST(FovealGrid, MirroredPatternsCastTheNextSamplesOfEachPixel) {
     tp.mirror_x = n & 1, tp.mirror_y = n & 2;
     const point_samples ps = trace_points(s, cam, set, g, tp).samples;
     for (uint32_t i : ps.traced) {
-      const point& p = set.points[i];
-      if (!is_grid_point(set, p)) continue;
-      float x = p.x - float(ps.offset.x), y = p.y - float(ps.offset.y);
-      if (tp.mirror_x) x = float(w) - x;
-      if (tp.mirror_y) y = float(h) - y;
-      if (x < 0 || y < 0 || x >= float(w) || y >= float(h)) continue;
-      const size_t at = size_t(y) * w + size_t(x);
+      const std::optional<glm::vec2> on = grid_point_on_screen(set, ps, i);
+      if (!on) continue;
+      const size_t at = size_t(on->y) * w + size_t(on->x);
       mean[at] += 0.25f * ps.colour[i].r;
       ++patterns[at];
     }
