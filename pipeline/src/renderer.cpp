@@ -127,7 +127,11 @@ std::shared_ptr<const traced_index> renderer::index_for(const trace_params& tp) 
 
 points_trace renderer::trace(gaze_point gaze, const render_params& p, frame_timing& t) {
   require_set();
-  const trace_params tp = frame_trace_params(p, frames_traced_++);
+  return trace_frame(gaze, p, frames_traced_++, t);
+}
+
+points_trace renderer::trace_frame(gaze_point gaze, const render_params& p, uint64_t n, frame_timing& t) {
+  const trace_params tp = frame_trace_params(p, n);
   const std::shared_ptr<const traced_index> index = index_for(tp);
   const auto t0 = clock_type::now();
   points_trace out = trace_points(*scene_, cam_, *set_, *index, gaze, tp);
@@ -211,10 +215,8 @@ const frame& renderer::steady_state(gaze_point gaze, const render_params& p, uin
   q.taa = true;
   reset_history();
   for (uint32_t n = 0; n < frames; ++n) {
-    const trace_params tp = frame_trace_params(q, n);
-    const points_trace traced = trace_points(*scene_, cam_, *set_, *index_for(tp), gaze, tp);
     frame_timing t;
-    reconstruct(traced.samples, gaze, q, t);
+    reconstruct(trace_frame(gaze, q, n, t).samples, gaze, q, t);
   }
   return frame_;
 }

@@ -256,6 +256,10 @@ void pixel_rays(int x, int y, int width, const trace_params& params, uint32_t fi
   }
 }
 
+// The TAA pattern m = mirror_x + 2 mirror_y: a grid point, and a full-grid pixel, cast their
+// samples m n .. (m + 1) n - 1 in it.
+uint32_t pattern_of(const trace_params& params) { return (params.mirror_x ? 1u : 0u) + (params.mirror_y ? 2u : 0u); }
+
 // Where point p lands on the screen: the set placed at `offset` (canvas = screen + offset),
 // then mirrored left-right and/or top-bottom (exact in float: the offset is whole pixels).
 glm::vec2 placed_position(const display_geometry& disp, const point& p, canvas_offset offset, bool mirror_x, bool mirror_y) {
@@ -285,8 +289,7 @@ void point_rays(const pointset& set, bool grid_point, uint32_t i, canvas_offset 
   const glm::vec2 at = placed_position(disp, p, offset, params.mirror_x, params.mirror_y);
   const float cx = at.x, cy = at.y;
   if (grid_point) {
-    const uint32_t pattern = (params.mirror_x ? 1u : 0u) + (params.mirror_y ? 2u : 0u);
-    pixel_rays(int(std::floor(cx)), int(std::floor(cy)), disp.width, params, pattern * n, n, emit);
+    pixel_rays(int(std::floor(cx)), int(std::floor(cy)), disp.width, params, pattern_of(params) * n, n, emit);
     return;
   }
   const float sx = params.mirror_x ? -p.spacing : p.spacing, sy = params.mirror_y ? -p.spacing : p.spacing;
@@ -500,9 +503,9 @@ reference_trace trace_reference(const scene& sc, const camera& cam, int width, i
     rays_of.resize(size_t(width) * height);
   }
   const gaze_point gaze = params.falloff ? params.falloff->gaze : gaze_point{};
-  // The TAA pattern, as a grid point's (point_rays): pattern m casts each pixel's samples
-  // m n .. (m + 1) n - 1, so four frames together cast a stratified 4 n-sample set.
-  const uint32_t pattern = (params.mirror_x ? 1u : 0u) + (params.mirror_y ? 2u : 0u);
+  // The TAA pattern, as a grid point's (point_rays): four frames together cast a stratified
+  // 4 n-sample set.
+  const uint32_t pattern = pattern_of(params);
   auto rays_at = [&](int x, int y) {
     return params.falloff ? rule.rays_at(std::hypot(x + 0.5 - gaze.x, y + 0.5 - gaze.y)) : spp;
   };

@@ -178,6 +178,8 @@ class renderer {
   // Finds each frame's traced points (make_traced_index), for set_ and the last k traced.
   std::shared_ptr<const traced_index> index_;
   std::shared_ptr<const traced_index> index_for(const trace_params& tp);
+  // The trace of frame number n under p (frame_trace_params), timed: trace() and steady_state().
+  points_trace trace_frame(gaze_point gaze, const render_params& p, uint64_t n, frame_timing& t);
   // Every pixel of a width x height frame traced with tp (reference, falloff_frame), timed.
   reference_trace full_grid(int width, int height, const trace_params& tp, frame_timing* t);
   std::unique_ptr<cl_reconstructor> device_;
