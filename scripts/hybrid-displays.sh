@@ -17,10 +17,7 @@
 # Run it again: --resume keeps every finished row.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-bench=${FOV_BENCH:-build/apps/fovbench}
-fovgen=${FOV_GEN:-build/apps/fovgen}
-source scripts/study-scene.sh
-scene_name=${SCENE:-builtin}
+source scripts/study-scene.sh  # bench, fovgen, scene_name and study_scene
 runs=(${RUNS:-darts grid-2 grid-4 dense})
 for run in "${runs[@]}"; do
   [[ $run =~ ^(darts|grid-2|grid-4|dense)$ ]] || { echo "RUNS: '$run' is not darts, grid-2, grid-4 or dense" >&2; exit 2; }

@@ -17,10 +17,7 @@
 # it again: --resume keeps every finished row.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-bench=${FOV_BENCH:-build/apps/fovbench}
-fovgen=${FOV_GEN:-build/apps/fovgen}
-source scripts/study-scene.sh
-scene_name=${SCENE:-builtin}
+source scripts/study-scene.sh  # bench, fovgen, scene_name and study_scene
 taa_frames=${TAA_FRAMES:-32}
 runs=(${RUNS:-darts grid-4})
 patterns=(${PATTERNS:-mirror reseed})

@@ -1,8 +1,12 @@
-# Sourced by the study scripts (hybrid-displays.sh, steady-state.sh): the fovbench flags of
+# Sourced by the study scripts (hybrid-displays.sh, steady-state.sh, per-display.sh): the fovbench flags of
 # one of the study's scenes as the study renders it on a display. study_scene NAME DISPLAY
 # sets the array `scene`: builtin (whites unclipped, the display's field of view), helmet
 # (the close-up, 60°) or env (the forest map, the display's field of view); exits 2 on
-# another NAME. Needs $fovgen.
+# another NAME. Sourcing also sets the tools (FOV_BENCH, FOV_GEN; default build/apps/) and
+# the scene's name (SCENE; default builtin).
+bench=${FOV_BENCH:-build/apps/fovbench}
+fovgen=${FOV_GEN:-build/apps/fovgen}
+scene_name=${SCENE:-builtin}
 study_scene() {
   local name=$1 display=$2 hfov
   hfov=$("$fovgen" displays --display "$display" --json | python3 -c 'import json, sys; print("%.4f" % json.load(sys.stdin)[0]["fov_deg"][0])')

@@ -129,7 +129,6 @@ for m in ("nn", "shepard"):
     assert int(flat["rays"]) == 4 * pts and pts <= int(one["rays"]) < int(two["rays"]) < int(flat["rays"]), (flat, two, one)
     assert int(one["rays"]) >= pts and int(two["rays"]) >= 2 * pts
 PY
-grep -Eq "s4.00 (nn|shepard) 4-[12]spp" "$dir/pf/report.md" || fail "the report does not name a floor row"
 check "farther eye"     0 -- "$fovbench" "${common[@]}" --viewing-distance 2 --scene builtin --scales 1.0 --methods nn --spp 1 \
   --baselines full --reference-spp 4 -o "$dir/far"
 [[ -s "$dir/sets/64x72-v2-s1.00.fovset" ]] || fail "v = 2 did not write 64x72-v2-s1.00.fovset: $(ls "$dir/sets")"
@@ -223,6 +222,42 @@ check "merge a shard twice" 1 -- "$fovbench" merge "$dir/sharded/shard-0-of-2" "
 check "merge other display" 1 -- "$fovbench" merge "$dir/whole" "$dir/far" -o "$dir/mixed"
 check "merge onto results" 2 -- "$fovbench" merge "$dir/whole" -o "$dir/merged"
 check "merge nothing"   2 -- "$fovbench" merge -o "$dir/none"
+
+# fovbench summary: one answer per display and scheme from runs on two displays (one with a
+# steady state), the same answers the run's own report gives; bad inputs refused.
+grep -q '^## Each scheme at the cheapest full frame reaching 9.5 JOD$' "$dir/whole/report.md" || fail "report.md answers no scheme"
+check "summary"         0 -- "$fovbench" summary "$dir/whole" "$dir/far" -o "$dir/summary"
+for f in summary.md summary.csv speedup-vs-ppd.png speedup-vs-ppd.svg jod-vs-ppd.png jod-vs-ppd.svg; do
+  [[ -s "$dir/summary/$f" ]] || fail "summary wrote no $f"
+done
+grep -q '^\*\*builtin, TAA steady state (3 frames, mirror)\*\*$' "$dir/summary/summary.md" || fail "the summary has no steady state"
+python3 - "$dir/summary/summary.csv" "$dir/whole/report.md" <<'PY' || fail "summary.csv does not hold the run's answers"
+import csv, math, sys
+rows = list(csv.DictReader(open(sys.argv[1])))
+assert {r["display"] for r in rows} == {"64x72-v1", "64x72-v2"}, {r["display"] for r in rows}
+assert {r["taa_frames"] for r in rows} == {"", "3"}
+assert {r["scheme"] for r in rows} <= {"sparse", "hybrid", "falloff", "lower-resolution"}
+report = open(sys.argv[2]).read()
+for r in rows:
+    spp, jod = int(r["yardstick_spp"]), float(r["yardstick_jod"])
+    assert spp in (1, 2) and 0 <= jod <= 10, r
+    if r["reached"] == "1":
+        assert float(r["best_jod"]) >= jod and float(r["speedup_lo"]) <= float(r["speedup"]) <= float(r["speedup_hi"]), r
+        if r["display"] == "64x72-v1":  # the run's own report prices it alike
+            assert f'**{float(r["speedup"]):.2f}x** ({float(r["speedup_lo"]):.2f}-{float(r["speedup_hi"]):.2f}' in report, r
+    else:
+        assert float(r["best_jod"]) < jod and r["speedup"] == "", r
+PY
+check "summary again"   2 -- "$fovbench" summary "$dir/whole" -o "$dir/summary"
+check "summary nothing" 2 -- "$fovbench" summary -o "$dir/summary-x"
+check "summary no -o"   2 -- "$fovbench" summary "$dir/whole"
+check "summary missing" 2 -- "$fovbench" summary "$dir/none" -o "$dir/summary-x"
+check "summary empty dir" 2 -- "$fovbench" summary "$dir/summary" -o "$dir/summary-x"
+check "summary target"  2 -- "$fovbench" summary "$dir/whole" --target-jod 11 -o "$dir/summary-x"
+check "summary target text" 2 -- "$fovbench" summary "$dir/whole" --target-jod high -o "$dir/summary-x"
+echo "scene,gaze" > "$dir/foreign.csv"
+check "summary foreign csv" 1 -- "$fovbench" summary "$dir/foreign.csv" -o "$dir/summary-x"
+[[ -e "$dir/summary-x" ]] && fail "a refused summary wrote $dir/summary-x"
 
 # fovbench compare: two images, every metric.
 refs=("$dir"/out/references/*.exr)

@@ -1,5 +1,6 @@
 // fovbench's data handling: the Pareto front, results.csv round trips, torn lines, the
 // reference cache, and what its options accept.
+#include <algorithm>
 #include <cmath>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -9,11 +10,14 @@
 #include <limits>
 #include <tuple>
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include "bench.h"
 #include "cli.h"
 #include "plot.h"
+#include "report.h"
+#include "summary.h"
 #include "yardstick.h"
 #include "sweep.h"
 
@@ -350,6 +354,158 @@ TEST(Yardstick, ScaleAtJodInterpolatesTheCrossing) {
   EXPECT_TRUE(std::isnan(scale_at_jod({1, 2, 3}, {8.9, 8.5, 8.0}, 9.0)));  // below it from the start
   EXPECT_DOUBLE_EQ(thesis_threshold("shepard"), 1.779);
   EXPECT_TRUE(std::isnan(thesis_threshold("bilinear")));
+}
+
+// A row of one study: kind, scale (or pixel fraction), spp, JOD, the per-repetition
+// full / frame ratios (foveated kinds) or the ladder (full rows).
+result_row study_row(const std::string& kind, const std::string& scale, const std::string& spp, double jod,
+                     const std::string& samples, const std::string& fovea = "darts") {
+  result_row r = sample_row("shepard", spp);
+  r.cells["scene"] = "builtin", r.cells["gaze"] = "centre", r.cells["display"] = "fove", r.cells["ppd"] = "22.3";
+  r.cells["kind"] = kind, r.cells["fovea"] = fovea, r.cells["k"] = "5", r.cells["ray_floor"] = "";
+  r.cells["scale"] = kind == "foveated" || kind == "falloff" ? scale : "";
+  r.cells["pixel_fraction"] = kind == "uniform" ? scale : "";
+  if (kind == "full") r.cells["method"] = "full", r.cells["k"] = "";
+  if (kind == "falloff") r.cells["method"] = "falloff", r.cells["k"] = "", r.cells["ray_floor"] = "1";
+  r.cells["jod"] = fmt::format("{}", jod), r.cells["noise_floor_jod"] = "9.99";
+  r.cells["full_rays"] = fmt::format("{}", 1000 * std::stoi(spp)), r.cells["rays"] = r.cells["full_rays"];
+  r.cells["speedup_samples"] = kind == "full" ? "1;1;1" : samples;
+  r.cells["ladder_samples"] = kind == "full" ? samples : "";
+  return r;
+}
+
+// Full frames at 1, 2 and 4 spp scoring 9.0, 9.6 and 9.8 JOD, 1x, 2x and 4x the 1-spp time.
+std::vector<result_row> full_rows() {
+  return {study_row("full", "", "1", 9.0, "1;1;1"), study_row("full", "", "2", 9.6, "2;2;2"),
+          study_row("full", "", "4", 9.8, "4;4;4")};
+}
+
+const scheme_answer* answer_of(const std::vector<scheme_answer>& answers, scheme which) {
+  for (const scheme_answer& a : answers)
+    if (a.scheme == which) return &a;
+  return nullptr;
+}
+
+// The goal's yardstick is the cheapest full frame reaching the target; each scheme is priced
+// against it on its own: the fastest configuration reaching its JOD (chained speedup), or its
+// best JOD short of it.
+TEST(SchemeAnswers, PriceEachSchemeAtTheCheapestFullFrameReachingTheTarget) {
+  std::vector<result_row> rows = full_rows();
+  rows.push_back(study_row("foveated", "1.00", "1", 9.7, "2;2;2"));  // 2x the 1-spp frame: 4x the 2-spp one
+  rows.push_back(study_row("foveated", "0.50", "4", 9.75, "1.5;1.5;1.5"));  // 1.5x the 4-spp frame: 0.75x the 2-spp one
+  rows.push_back(study_row("falloff", "1.00", "4", 9.3, "3;3;3"));   // fast, short of 9.6
+  rows.push_back(study_row("falloff", "0.50", "4", 9.4, "2;2;2"));   // the falloff's best JOD
+  result_row falling = study_row("foveated", "1.00", "4", 9.65, "1.2;1.2;1.2");  // rays falling 4 -> 1: 0.6x
+  falling.cells["ray_floor"] = "1";
+  rows.push_back(falling);
+  const std::vector<scheme_answer> goal = at_goal(scheme_answers_by_level(rows), 9.5);
+  ASSERT_EQ(goal.size(), 2u);
+  const scheme_answer* sparse = answer_of(goal, scheme::sparse);
+  ASSERT_TRUE(sparse);
+  EXPECT_EQ(sparse->yardstick_spp, 2u);
+  EXPECT_DOUBLE_EQ(sparse->yardstick_jod, 9.6);
+  EXPECT_TRUE(sparse->reached);
+  EXPECT_EQ(sparse->best, "s1.00 shepard 1spp k5");
+  EXPECT_NEAR(sparse->speedup.estimate, 4.0, 1e-12);
+  EXPECT_NEAR(sparse->speedup.lo, 4.0, 1e-12);
+  EXPECT_DOUBLE_EQ(sparse->target_jod, 9.5);
+  EXPECT_DOUBLE_EQ(sparse->noise_floor_jod, 9.99);
+  EXPECT_DOUBLE_EQ(sparse->ppd, 22.3);
+  const scheme_answer* falloff = answer_of(goal, scheme::falloff);
+  ASSERT_TRUE(falloff);
+  EXPECT_FALSE(falloff->reached);
+  EXPECT_DOUBLE_EQ(falloff->best_jod, 9.4);
+  EXPECT_TRUE(std::isnan(falloff->speedup.estimate));
+  // A target no full frame reaches: the best full frame is the yardstick, and only the
+  // 0.5 set (9.75) is short of its 9.8.
+  const std::vector<scheme_answer> high = at_goal(scheme_answers_by_level(rows), 9.9);
+  ASSERT_TRUE(answer_of(high, scheme::sparse));
+  // Its rows with falling rays are named by their floor where they are the answer.
+  const std::vector<scheme_answer> at_four = scheme_answers_by_level({rows[2], falling});
+  ASSERT_EQ(at_four.size(), 1u);
+  EXPECT_EQ(at_four[0].best, "s1.00 shepard 4-1spp k5");
+  EXPECT_EQ(answer_of(high, scheme::sparse)->yardstick_spp, 4u);
+  EXPECT_FALSE(answer_of(high, scheme::sparse)->reached);
+  EXPECT_DOUBLE_EQ(answer_of(high, scheme::sparse)->best_jod, 9.75);
+  // The markdown names the yardstick and each cell.
+  const std::string md = scheme_answers_markdown(goal);
+  EXPECT_NE(md.find("full 2 spp (9.60"), std::string::npos) << md;
+  EXPECT_NE(md.find("**4.00x** (4.00-4.00, faster)"), std::string::npos) << md;
+  EXPECT_NE(md.find("not reached (-0.20 JOD): fall s0.50 4-1spp"), std::string::npos) << md;
+  EXPECT_NE(md.find("| 1.5x |"), std::string::npos) << md;  // FOVE's goal
+}
+
+// fovbench summary: runs of one study (a darts run and a grid-fovea run) give one row of
+// answers, each scheme's best; inputs that disagree or hold nothing are refused.
+TEST(Summary, JoinsRunsAndRefusesOnesThatDisagree) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::path(::testing::TempDir()) / ("fovbench-summary-" + std::to_string(getpid()));
+  fs::remove_all(dir);
+  auto write_run = [&](const std::string& name, std::vector<result_row> rows) {
+    fs::create_directories(dir / name);
+    results_writer w((dir / name / "results.csv").string());
+    for (const result_row& r : rows) w.append(r);
+  };
+  std::vector<result_row> darts = full_rows(), grid = full_rows();
+  darts.push_back(study_row("foveated", "1.00", "1", 9.7, "2;2;2"));
+  darts.push_back(study_row("uniform", "0.2500", "1", 9.2, "3;3;3"));
+  grid.push_back(study_row("foveated", "0.50", "2", 9.65, "0.5;0.5;0.5"));
+  for (result_row& row : grid) row.cells["fovea"] = "grid-4.00";  // one fovea per run, as fovbench writes
+  write_run("runs/darts", darts);
+  write_run("runs/grid", grid);
+  char arg0[] = "fovbench";
+  char* argv[] = {arg0};
+  summary_options o;
+  o.inputs = {(dir / "runs").string()};
+  o.out = (dir / "summary").string();
+  const summary_result r = write_summary(o, 1, argv);
+  EXPECT_EQ(r.files.size(), 2u);
+  ASSERT_EQ(r.answers.size(), 3u);  // sparse, lower resolution, hybrid
+  const scheme_answer* hybrid = answer_of(r.answers, scheme::hybrid);
+  ASSERT_TRUE(hybrid);
+  EXPECT_TRUE(hybrid->reached);
+  EXPECT_NEAR(hybrid->speedup.estimate, 0.5, 1e-12);
+  EXPECT_EQ(hybrid->best, "s0.50 shepard 2spp k5 grid-4.00");
+  EXPECT_NE(hybrid->source.find("grid"), std::string::npos);
+  EXPECT_FALSE(answer_of(r.answers, scheme::lower_resolution)->reached);
+  for (const char* file : {"summary.md", "summary.csv"}) EXPECT_GT(fs::file_size(dir / "summary" / file), 100u) << file;
+  EXPECT_THROW(write_summary(o, 1, argv), usage_error);  // never over an earlier summary
+  // A run whose 2-spp full frame scores otherwise is another study.
+  std::vector<result_row> other = full_rows();
+  other[1].cells["jod"] = "9.55";
+  other.push_back(study_row("foveated", "1.00", "1", 9.7, "2;2;2"));
+  write_run("other", other);
+  o.inputs = {(dir / "runs").string(), (dir / "other").string()};
+  o.out = (dir / "summary-2").string();
+  EXPECT_THROW(write_summary(o, 1, argv), std::runtime_error);
+  EXPECT_FALSE(fs::exists(dir / "summary-2" / "summary.md"));
+  o.inputs = {(dir / "summary").string()};  // no results.csv there
+  EXPECT_THROW(write_summary(o, 1, argv), usage_error);
+  o.inputs = {(dir / "nothing-here").string()};
+  EXPECT_THROW(write_summary(o, 1, argv), usage_error);
+  fs::remove_all(dir);
+}
+
+// A results.csv from before the steady-state columns reads for a summary (single frames),
+// never for --resume.
+TEST(ResultsCsv, TheColumnsBeforeSteadyStateReadOnlyWhenAsked) {
+  const std::string path = ::testing::TempDir() + "/results-before-steady-state.csv";
+  std::vector<std::string> columns = result_columns();
+  columns.erase(std::remove_if(columns.begin(), columns.end(), [](const std::string& c) { return c == "taa_frames" || c == "taa_pattern"; }),
+                columns.end());
+  const result_row row = sample_row("nn", "1");
+  {
+    std::ofstream out(path);
+    for (size_t i = 0; i < columns.size(); ++i) out << (i ? "," : "") << columns[i];
+    out << "\n";
+    for (size_t i = 0; i < columns.size(); ++i) out << (i ? "," : "") << csv_cell(row.text(columns[i]));
+    out << "\n";
+  }
+  EXPECT_THROW(read_results(path), std::runtime_error);
+  const std::vector<result_row> rows = read_results(path, true);
+  ASSERT_EQ(rows.size(), 1u);
+  EXPECT_EQ(rows[0].cells, row.cells);
+  std::filesystem::remove(path);
 }
 
 }  // namespace

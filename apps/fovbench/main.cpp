@@ -19,6 +19,7 @@
 #include "../common/render_flags.h"
 #include "bench.h"
 #include "report.h"
+#include "summary.h"
 #include "sweep.h"
 #include "yardstick.h"
 
@@ -145,6 +146,18 @@ int main(int argc, char** argv) {
   merge->add_option("--budget-psnr", mo.budget_psnr, "As the sweep's");
   merge->add_option("--budget-foveated", mo.budget_foveated, "As the sweep's");
 
+  // fovbench summary RUN... -o OUT: one answer per display, from many runs.
+  fov::summary_options so;
+  CLI::App* summary = app.add_subcommand(
+      "summary", "One answer per display: each scheme's equal-quality speedup at the cheapest full frame reaching "
+                 "--target-jod, from many runs (displays, scenes, layouts), with speedup-vs-ppd figures");
+  summary->add_option("inputs", so.inputs, "results.csv files or directories searched for them")->required();
+  summary->add_option("-o,--output", so.out, "Output directory (summary.md, summary.csv, figures); must hold no summary.md")
+      ->required();
+  summary->add_option("--target-jod", so.target_jod, "The yardstick: the cheapest full frame reaching this JOD")
+      ->capture_default_str()
+      ->check(CLI::Range(0.01, 10.0));
+
   // fovbench validate-jod DIR: the JOD metric against the published implementation's values.
   std::string validation_dir;
   CLI::App* validate = app.add_subcommand(
@@ -161,6 +174,13 @@ int main(int argc, char** argv) {
       if (!std::isnan(mo.budget_psnr) && !std::isnan(mo.budget_foveated)) throw fov::usage_error("give one budget");
       const size_t n = fov::merge_results(mo, argc, argv);
       std::cout << fmt::format("{} rows in {}/results.csv; figures and report.md there\n", n, mo.out);
+      return 0;
+    }
+    if (summary->parsed()) {
+      const fov::summary_result r = fov::write_summary(so, argc, argv);
+      for (const std::string& why : r.warnings) std::cerr << "fovbench: warning: " << why << "\n";
+      std::cout << fmt::format("{} answers from {} results.csv in {}/summary.md (and summary.csv, figures)\n", r.answers.size(),
+                               r.files.size(), so.out);
       return 0;
     }
     if (validate->parsed()) {

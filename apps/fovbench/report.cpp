@@ -6,6 +6,7 @@
 #include <map>
 #include <set>
 #include <sstream>
+#include <tuple>
 
 #include <fmt/format.h>
 
@@ -57,6 +58,7 @@ struct knob_mean {
   double psnr = 0, psnr_fovea = 0, foveated_error = 0;
   double flip = 0, flip_fovea = 0, flip_p99 = 0, foveated_flip = 0, foveated_flip_p99 = 0, foveated_flip_worst_band = 0;
   double jod = 0, jod_nonfoveated = 0;
+  double rays = 0, points = 0;  // rays cast and points traced per frame
   std::vector<double> paired;  // per-repetition full / frame ratios of every gaze
   std::vector<double> ladder;  // full rows: per repetition, this spp's time over the lowest's
   int gazes = 0;
@@ -103,6 +105,7 @@ std::vector<knob_mean> knob_means(const std::vector<const result_row*>& rows) {
     it->foveated_flip += r->number("foveated_flip"), it->foveated_flip_p99 += r->number("foveated_flip_p99");
     it->foveated_flip_worst_band += r->number("foveated_flip_worst_band");
     it->jod += r->number("jod"), it->jod_nonfoveated += r->number("jod_nonfoveated");
+    it->rays += r->number("rays"), it->points += r->text("points_traced").empty() ? 0 : r->number("points_traced");
     for (const char* column : {"speedup_samples", "ladder_samples"}) {
       std::vector<double>& to = std::string(column) == "speedup_samples" ? it->paired : it->ladder;
       if (column[0] == 'l' && !to.empty()) continue;  // the ladder is the scene's: one gaze's copy
@@ -116,7 +119,7 @@ std::vector<knob_mean> knob_means(const std::vector<const result_row*>& rows) {
     const double n = m.gazes;
     for (double* v : {&m.frame_ms, &m.frame_lo, &m.frame_hi, &m.full_ms, &m.speedup, &m.speedup_lo, &m.speedup_hi,
                       &m.foveated_error, &m.flip, &m.flip_fovea, &m.flip_p99, &m.foveated_flip, &m.foveated_flip_p99,
-                      &m.foveated_flip_worst_band, &m.jod, &m.jod_nonfoveated})
+                      &m.foveated_flip_worst_band, &m.jod, &m.jod_nonfoveated, &m.rays, &m.points})
       *v /= n;
     auto psnr = [](double mse) { return mse > 0 ? 10 * std::log10(255.0 * 255.0 / mse) : INFINITY; };
     m.psnr = psnr(m.psnr / n), m.psnr_fovea = psnr(m.psnr_fovea / n);
@@ -368,40 +371,62 @@ struct jod_verdict {
   int pays = 0, loses = 0, inconclusive = 0, unreached = 0;
 };
 
-jod_verdict verdict_in_jod(const std::vector<knob_mean>& means) {
-  jod_verdict v;
-  std::vector<const knob_mean*> fulls, foveated;
-  for (const knob_mean& m : means) {
+// The full-resolution means with JOD, by spp.
+std::vector<const knob_mean*> full_means(const std::vector<knob_mean>& means) {
+  std::vector<const knob_mean*> fulls;
+  for (const knob_mean& m : means)
     if (m.kind == row_kind::full && !std::isnan(m.jod)) fulls.push_back(&m);
-    if (foveated_kind.count(m.kind) && !std::isnan(m.jod)) foveated.push_back(&m);
-  }
   std::sort(fulls.begin(), fulls.end(), [](const knob_mean* a, const knob_mean* b) { return std::stoi(a->spp) < std::stoi(b->spp); });
+  return fulls;
+}
+
+// Among `candidates`, the fastest (by its chained speedup's estimate) whose JOD reaches the
+// full-resolution frame b's, with that speedup; else nullptr and, in `closest`, the best JOD
+// short of it.
+struct reaching {
+  const knob_mean* best = nullptr;
+  speedup_interval interval;
+  const knob_mean* closest = nullptr;
+};
+reaching fastest_reaching(const knob_mean& b, const std::vector<const knob_mean*>& candidates,
+                          const std::vector<const knob_mean*>& fulls) {
   auto ladder_of = [&](const std::string& spp) -> const std::vector<double>* {
     for (const knob_mean* f : fulls)
       if (f->spp == spp) return &f->ladder;
     return nullptr;
   };
-  for (const knob_mean* b : fulls) {
-    const knob_mean* best = nullptr;
-    speedup_interval best_iv;
-    const knob_mean* closest = nullptr;  // the best JOD short of the target
-    for (const knob_mean* c : foveated) {
-      if (c->jod < b->jod) {
-        if (!closest || c->jod > closest->jod) closest = c;
-        continue;
-      }
-      const std::vector<double>* lb = ladder_of(b->spp);
-      const std::vector<double>* lc = ladder_of(c->spp);
-      if (!lb || !lc || lb->size() != lc->size() || lb->empty() || c->paired.empty()) continue;
-      std::vector<double> rung;
-      for (size_t i = 0; i < lb->size(); ++i) rung.push_back((*lb)[i] / (*lc)[i]);
-      const speedup_interval iv = chained_speedup(c->paired, rung);
-      if (!best || iv.estimate > best_iv.estimate) best = c, best_iv = iv;
+  reaching out;
+  for (const knob_mean* c : candidates) {
+    if (std::isnan(c->jod)) continue;
+    if (c->jod < b.jod) {
+      if (!out.closest || c->jod > out.closest->jod) out.closest = c;
+      continue;
     }
+    const std::vector<double>* lb = ladder_of(b.spp);
+    const std::vector<double>* lc = ladder_of(c->spp);
+    if (!lb || !lc || lb->size() != lc->size() || lb->empty() || c->paired.empty()) continue;
+    std::vector<double> rung;
+    for (size_t i = 0; i < lb->size(); ++i) rung.push_back((*lb)[i] / (*lc)[i]);
+    const speedup_interval iv = chained_speedup(c->paired, rung);
+    if (!out.best || iv.estimate > out.interval.estimate) out.best = c, out.interval = iv;
+  }
+  return out;
+}
+
+jod_verdict verdict_in_jod(const std::vector<knob_mean>& means) {
+  jod_verdict v;
+  const std::vector<const knob_mean*> fulls = full_means(means);
+  std::vector<const knob_mean*> foveated;
+  for (const knob_mean& m : means)
+    if (foveated_kind.count(m.kind)) foveated.push_back(&m);
+  for (const knob_mean* b : fulls) {
+    const reaching r = fastest_reaching(*b, foveated, fulls);
+    const knob_mean* best = r.best;
+    const speedup_interval& best_iv = r.interval;
     if (!best) {
       ++v.unreached;
       v.lines.push_back(fmt::format("No foveated configuration reaches {:.2f} JOD (full resolution, {} spp){}.", b->jod, b->spp,
-                                    closest ? fmt::format("; the best reaches {:.2f} ({})", closest->jod, closest->label()) : ""));
+                                    r.closest ? fmt::format("; the best reaches {:.2f} ({})", r.closest->jod, r.closest->label()) : ""));
       continue;
     }
     std::string judgement;
@@ -423,7 +448,141 @@ std::string verdict_sentence(const jod_verdict& v) {
   return "Foveation does not pay: at every quality level it is slower or never reaches it.";
 }
 
+// The scheme a configuration belongs to; full resolution belongs to none.
+std::optional<scheme> scheme_of(row_kind kind, bool grid_fovea) {
+  switch (kind) {
+    case row_kind::foveated: return grid_fovea ? scheme::hybrid : scheme::sparse;
+    case row_kind::falloff: return scheme::falloff;
+    case row_kind::uniform: return scheme::lower_resolution;
+    case row_kind::full: break;
+  }
+  return std::nullopt;
+}
+
 }  // namespace
+
+double goal_speedup(double ppd) {
+  if (ppd < 23.5) return 1.5;
+  if (ppd >= 45 && ppd <= 55) return 5;
+  if (ppd >= 69.5) return 10;
+  return NAN;
+}
+
+std::string answer_title(const scheme_answer& a) { return part_title({a.scene, a.taa_frames, a.taa_pattern}); }
+
+std::vector<scheme_answer> scheme_answers_by_level(const std::vector<result_row>& rows) {
+  std::vector<scheme_answer> out;
+  for (const sweep_part& part : scenes_of(rows)) {
+    const std::vector<const result_row*> mine = rows_of(rows, part);
+    const std::vector<knob_mean> means = knob_means(mine);
+    const std::vector<const knob_mean*> fulls = full_means(means);
+    double floor = 0;
+    int gazes = 0;
+    std::set<std::string> seen;
+    for (const result_row* r : mine)
+      if (seen.insert(r->text("gaze")).second) floor += r->number("noise_floor_jod"), ++gazes;
+    const result_row& first = *mine.front();
+    const std::string& fovea = first.text("fovea");  // darts, grid or grid-P.PP (the spacing)
+    const bool grid = fovea.rfind("grid", 0) == 0;
+    for (const knob_mean* yard : fulls)
+      for (const auto& [name, which] : scheme_labels) {
+        std::vector<const knob_mean*> candidates;
+        for (const knob_mean& m : means)
+          if (scheme_of(m.kind, grid) == which && !std::isnan(m.jod)) candidates.push_back(&m);
+        const reaching r = fastest_reaching(*yard, candidates, fulls);
+        const knob_mean* shown = r.best ? r.best : r.closest;
+        if (!shown) continue;  // no configuration, or one reaching it unpriced (no ladder): no answer
+        scheme_answer a;
+        a.scene = part.scene, a.taa_frames = part.taa_frames, a.taa_pattern = part.taa_pattern;
+        a.display = first.text("display"), a.ppd = first.number("ppd"), a.pixels = first.number("full_rays") / first.number("spp");
+        a.noise_floor_jod = gazes ? floor / gazes : NAN;
+        a.target_jod = NAN;
+        a.yardstick_spp = uint32_t(std::stoul(yard->spp)), a.yardstick_jod = yard->jod, a.yardstick_ms = yard->frame_ms;
+        a.yardstick_rays = yard->rays;
+        a.scheme = which;
+        a.reached = r.best != nullptr;
+        a.best = shown->label() + (a.scheme == scheme::hybrid ? " " + fovea : ""), a.best_jod = shown->jod, a.best_ms = shown->frame_ms, a.best_rays = shown->rays;
+        a.best_points = shown->points;
+        a.speedup = r.best ? r.interval : speedup_interval{NAN, NAN, NAN};
+        out.push_back(a);
+      }
+  }
+  return out;
+}
+
+std::vector<scheme_answer> at_goal(const std::vector<scheme_answer>& by_level, double target_jod) {
+  // Per scene, steady state and display: the fewest spp whose full frame reaches the target,
+  // else the spp of the best full frame.
+  using place = std::tuple<std::string, std::string, std::string, std::string>;
+  std::map<place, std::pair<uint32_t, double>> yardstick;  // spp, JOD
+  auto place_of = [](const scheme_answer& a) { return place{a.scene, a.taa_frames, a.taa_pattern, a.display}; };
+  for (const scheme_answer& a : by_level) {
+    const auto [it, added] = yardstick.emplace(place_of(a), std::make_pair(a.yardstick_spp, a.yardstick_jod));
+    if (added) continue;
+    auto& [spp, jod] = it->second;
+    const bool reaches = a.yardstick_jod >= target_jod, had_reaches = jod >= target_jod;
+    if (reaches ? !had_reaches || a.yardstick_spp < spp : !had_reaches && a.yardstick_jod > jod) spp = a.yardstick_spp, jod = a.yardstick_jod;
+  }
+  std::vector<scheme_answer> out;
+  for (const scheme_answer& a : by_level)
+    if (yardstick.at(place_of(a)).first == a.yardstick_spp) out.push_back(a), out.back().target_jod = target_jod;
+  return out;
+}
+
+std::string scheme_answers_markdown(const std::vector<scheme_answer>& answers) {
+  std::vector<sweep_part> parts;
+  for (const scheme_answer& a : answers) {
+    const sweep_part p{a.scene, a.taa_frames, a.taa_pattern};
+    if (std::find(parts.begin(), parts.end(), p) == parts.end()) parts.push_back(p);
+  }
+  std::string md;
+  for (const sweep_part& part : parts) {
+    std::vector<const scheme_answer*> mine;
+    for (const scheme_answer& a : answers)
+      if (sweep_part{a.scene, a.taa_frames, a.taa_pattern} == part) mine.push_back(&a);
+    std::stable_sort(mine.begin(), mine.end(), [](const scheme_answer* a, const scheme_answer* b) { return a->ppd < b->ppd; });
+    md += fmt::format("**{}**\n\n| display | ppd | pixels (M) | yardstick (JOD, ms, rays M) | reference floor (JOD) | goal |", part_title(part));
+    for (const auto& [name, which] : scheme_labels) md += fmt::format(" {} |", name);
+    md += "\n|---|---:|---:|---|---:|---:|---|---|---|---|\n";
+    std::vector<std::string> displays;
+    for (const scheme_answer* a : mine)
+      if (std::find(displays.begin(), displays.end(), a->display) == displays.end()) displays.push_back(a->display);
+    for (const std::string& display : displays) {
+      const scheme_answer* any = nullptr;
+      std::map<scheme, const scheme_answer*> cell;
+      for (const scheme_answer* a : mine)
+        if (a->display == display) any = any ? any : a, cell[a->scheme] = a;
+      const double goal = goal_speedup(any->ppd);
+      md += fmt::format("| `{}` | {:.1f} | {:.1f} | full {} spp{} ({:.2f}, {:.0f} ms, {:.2f}) | {} | {} |", display, any->ppd,
+                        any->pixels / 1e6, any->yardstick_spp, any->yardstick_jod >= any->target_jod ? "" : " (below the target)",
+                        any->yardstick_jod, any->yardstick_ms, any->yardstick_rays / 1e6, fmt_jod(any->noise_floor_jod),
+                        std::isnan(goal) ? std::string("-") : fmt::format("{:g}x", goal));
+      for (const auto& [name, which] : scheme_labels) {
+        const auto it = cell.find(which);
+        if (it == cell.end()) {
+          md += " not measured |";
+          continue;
+        }
+        const scheme_answer& a = *it->second;
+        const std::string what = fmt::format("{}, {:.2f} JOD, {:.0f} ms, {:.2f} M rays", a.best, a.best_jod, a.best_ms, a.best_rays / 1e6);
+        if (a.reached)
+          md += fmt::format(" **{:.2f}x** ({:.2f}-{:.2f}, {}): {} |", a.speedup.estimate, a.speedup.lo, a.speedup.hi,
+                            a.speedup.contains_one() ? "inconclusive" : a.speedup.lo > 1 ? "faster" : "slower", what);
+        else md += fmt::format(" not reached ({:+.2f} JOD): {} |", a.best_jod - a.yardstick_jod, what);
+      }
+      md += "\n";
+    }
+    md += "\n";
+  }
+  if (!answers.empty())
+    md += fmt::format("The yardstick: the cheapest full-resolution frame (fewest spp) whose JOD reaches {:.1f} (the best full frame "
+                      "when none does). Each scheme's cell: the fastest of its configurations reaching the yardstick's JOD, its "
+                      "speedup over the yardstick chained from paired repetitions with a 95 % bootstrap interval (faster only "
+                      "when the interval lies above 1), or how far its best JOD falls short. Goal: the issue's (1.5x at FOVE's "
+                      "22 ppd, 5x at about 50, 10x at 70 or more; none named between).\n",
+                      answers.front().target_jod);
+  return md;
+}
 
 void write_bench_report(const std::vector<result_row>& rows, const bench_options& o, const std::string& path, int argc,
                         char** argv) {
@@ -458,6 +617,10 @@ void write_bench_report(const std::vector<result_row>& rows, const bench_options
         "the ladder's ratios of full-resolution frames at two spp timed back to back; intervals are 95 % bootstrap percentile "
         "intervals over both. The best configuration is chosen by its estimate, so its interval is optimistic when many come "
         "close.\n\n";
+  // The same question asked of each scheme on its own, at one quality: the goal's.
+  if (const std::vector<scheme_answer> answers = at_goal(scheme_answers_by_level(rows), goal_target_jod); !answers.empty())
+    md += fmt::format("## Each scheme at the cheapest full frame reaching {:.1f} JOD\n\n", goal_target_jod) +
+          scheme_answers_markdown(answers) + "\n";
   // How noisy the machine was: the timing spreads of every row.
   std::vector<const result_row*> all;
   for (const result_row& r : rows) all.push_back(&r);

@@ -10,6 +10,7 @@
 
 #include "fov/comparison.h"
 #include "fov/renderer.h"
+#include "fov/speedup.h"
 #include "sweep.h"
 
 namespace fov {
@@ -105,6 +106,54 @@ struct merge_options {
 // reference) or holding the same configuration twice; writes OUT/results.csv (never over an
 // existing one), the figures and report.md. Returns the rows merged.
 size_t merge_results(const merge_options& m, int argc, char** argv);
+
+// The goal's question (issue 24, item 5), asked of each foveated scheme on its own: at the
+// JOD of a full-resolution frame (the yardstick), the fastest of the scheme's configurations
+// that reaches it, priced as the verdict prices one (its paired ratios chained with the
+// ladder's, 95 % bootstrap interval), or, when none does, the scheme's best JOD. Means over
+// the gazes; per sweep part (scene, single frames or one steady state), yardstick and scheme.
+enum class scheme {
+  sparse,            // foveated rows with the thesis's darts fovea (any rays per point)
+  hybrid,            // foveated rows with a pixel-grid fovea (--fovea grid)
+  falloff,           // the full pixel grid at a foveated sampling rate
+  lower_resolution,  // uniform sets: what a user would do instead, judged the same way
+};
+inline constexpr std::pair<const char*, scheme> scheme_labels[] = {{"sparse", scheme::sparse},
+                                                                   {"hybrid", scheme::hybrid},
+                                                                   {"falloff", scheme::falloff},
+                                                                   {"lower-resolution", scheme::lower_resolution}};
+struct scheme_answer {
+  std::string scene, taa_frames, taa_pattern, display;  // where: the sweep part and its display
+  double ppd = 0, pixels = 0;                           // the display's pixels per degree and pixel count
+  double noise_floor_jod = 0;                           // the reference's own (a second reference against it)
+  double target_jod = 0;
+  uint32_t yardstick_spp = 0;  // the yardstick: full resolution at this spp
+  double yardstick_jod = 0, yardstick_ms = 0, yardstick_rays = 0;
+  fov::scheme scheme = scheme::sparse;
+  bool reached = false;  // a configuration of the scheme reaches the yardstick's JOD
+  // The fastest configuration reaching it, or (not reached) the one with the best JOD.
+  std::string best;  // its label, e.g. "s0.50 shepard 4-1spp k5"
+  double best_jod = 0, best_ms = 0, best_rays = 0, best_points = 0;
+  speedup_interval speedup;  // against the yardstick; NaN when not reached
+  std::string source;        // the results.csv it came from (set by the caller)
+};
+// Every answer of one run's rows, at every full-resolution frame as the yardstick (target_jod NaN).
+std::vector<scheme_answer> scheme_answers_by_level(const std::vector<result_row>& rows);
+// The goal's target: its yardstick is the cheapest full frame (fewest spp) reaching this JOD.
+constexpr double goal_target_jod = 9.5;
+// The answers at the goal's yardstick, chosen per scene, steady state and display over all
+// of `by_level` (which may come from several runs): the fewest spp whose full frame reaches
+// target_jod, else the best full frame's spp. Sets target_jod.
+std::vector<scheme_answer> at_goal(const std::vector<scheme_answer>& by_level, double target_jod);
+
+// The issue's goal at a display's pixels per degree, where it names one: 1.5x at FOVE's 22,
+// 5x at about 50 (45..55), 10x at 70 or more; NaN between.
+double goal_speedup(double ppd);
+// The title of an answer's sweep part: its scene, and its steady state if any.
+std::string answer_title(const scheme_answer& a);
+
+// The answers as a markdown table per sweep part: display, yardstick and one cell per scheme.
+std::string scheme_answers_markdown(const std::vector<scheme_answer>& answers);
 
 // A scene as titles name it: its file name, "env:" kept ("builtin" stays "builtin").
 std::string short_scene(const std::string& scene);

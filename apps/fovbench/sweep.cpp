@@ -176,7 +176,7 @@ std::string result_row_problem(const result_row& row) {
   return "";
 }
 
-std::vector<result_row> read_results(const std::string& path) {
+std::vector<result_row> read_results(const std::string& path, bool before_steady_state_ok) {
   std::istringstream in(read_input_file(path, max_results_bytes, "results.csv"));
   auto chomp = [](std::string& s) {  // a file saved with CRLF line ends reads the same
     if (!s.empty() && s.back() == '\r') s.pop_back();
@@ -185,7 +185,12 @@ std::vector<result_row> read_results(const std::string& path) {
   if (!std::getline(in, line) || in.eof()) throw std::runtime_error(fmt::format("{}: no header", path));
   chomp(line);
   const std::vector<std::string> header = split_csv(line);
-  if (header != result_columns())
+  std::vector<std::string> before_steady_state = result_columns();
+  before_steady_state.erase(std::remove_if(before_steady_state.begin(), before_steady_state.end(),
+                                           [](const std::string& c) { return c == "taa_frames" || c == "taa_pattern"; }),
+                            before_steady_state.end());
+  const bool older = before_steady_state_ok && header == before_steady_state;
+  if (header != result_columns() && !older)
     throw std::runtime_error(fmt::format("{}:1: not a results.csv of this fovbench (columns differ); use another -o", path));
   static const std::set<std::string> text_columns = {"scene",  "gaze",         "kind",   "method",         "texture_footprint", "taa_pattern",
                                                      "fovea",  "display", "timing_flag",  "device", "neighbours", "render_settings", "error_profile",
@@ -200,6 +205,7 @@ std::vector<result_row> read_results(const std::string& path) {
     if (cells.size() != header.size())
       throw std::runtime_error(fmt::format("{}:{}: {} cells, expected {}", path, number, cells.size(), header.size()));
     result_row r;
+    if (older) r.cells["taa_frames"] = r.cells["taa_pattern"] = "";  // single frames
     for (size_t i = 0; i < cells.size(); ++i) {
       const std::string& c = cells[i];
       // A number as fovbench writes it: finite, or inf (a PSNR of identical images); empty
