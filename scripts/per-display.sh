@@ -11,7 +11,7 @@
 #   grid-4/  the hybrid: a pixel grid wherever the model's spacing is at most 4 px, darts
 #            beyond (s = 0.5), with full resolution again
 # Both runs of a display share one pair of references. Sets are kept as k-NN cells in
-# out/per-display/sets. Then `fovbench summary` over every run of every scene measured so far:
+# out/per-display/sets (their memory in out/per-display/sets.md). Then `fovbench summary` over every run of every scene measured so far:
 # out/per-display/summary.md (per scene, display and scheme: the equal-quality speedup at the
 # cheapest full frame reaching 9.5 JOD, with its interval) and speedup-vs-ppd.png.
 # Interrupted? Run it again: --resume keeps every finished row.
@@ -36,6 +36,24 @@ for display in "${displays[@]}"; do
     "$bench" "${common[@]}" "${what[@]}" -o "$top/$run"
   done
 done
+# Memory per display: every set's points, file and neighbours in memory (fovgen info).
+for set in out/per-display/sets/*.fovset; do "$fovgen" info --json "$set"; done > out/per-display/sets.json
+python3 - out/per-display/sets.json > out/per-display/sets.md <<'PY'
+import json, sys
+dec, text, sets = json.JSONDecoder(), open(sys.argv[1]).read().strip(), []
+while text:
+    obj, end = dec.raw_decode(text)
+    sets.append(obj)
+    text = text[end:].strip()
+sets.sort(key=lambda s: (s["pixels_per_degree"], s["file"]))
+print("| set | ppd | pixels (M) | points | of them grid points | file (MB) | neighbours in memory (MB) |")
+print("|---|---:|---:|---:|---:|---:|---:|")
+for s in sets:
+    name = s["file"].split("/")[-1]
+    print(f"| `{name}` | {s['pixels_per_degree']:.1f} | {s['width'] * s['height'] / 1e6:.1f} | {s['points_total']:,} | "
+          f"{s['grid_points']:,} | {s['file_bytes'] / 1e6:.1f} | {s['knn_memory_bytes'] / 1e6:.0f} |")
+PY
+cat out/per-display/sets.md
 # One answer per scene, display and scheme, from these runs and the earlier studies' where
 # present (scripts/hybrid-displays.sh, scripts/steady-state.sh): each cell the best any run gives.
 inputs=(out/per-display/"$scene_name")
