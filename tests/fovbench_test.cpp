@@ -402,7 +402,7 @@ TEST(SchemeAnswers, PriceEachSchemeAtTheCheapestFullFrameReachingTheTarget) {
   ASSERT_EQ(goal.size(), 2u);
   const scheme_answer* sparse = answer_of(goal, scheme::sparse);
   ASSERT_TRUE(sparse);
-  EXPECT_EQ(sparse->yardstick_spp, 2u);
+  EXPECT_EQ(sparse->yardstick_spp, 2.0);
   EXPECT_DOUBLE_EQ(sparse->yardstick_jod, 9.6);
   EXPECT_TRUE(sparse->reached);
   EXPECT_EQ(sparse->best, "s1.00 shepard 1spp k5");
@@ -424,7 +424,7 @@ TEST(SchemeAnswers, PriceEachSchemeAtTheCheapestFullFrameReachingTheTarget) {
   const std::vector<scheme_answer> at_four = scheme_answers_by_level({rows[2], falling});
   ASSERT_EQ(at_four.size(), 1u);
   EXPECT_EQ(at_four[0].best, "s1.00 shepard 4-1spp k5");
-  EXPECT_EQ(answer_of(high, scheme::sparse)->yardstick_spp, 4u);
+  EXPECT_EQ(answer_of(high, scheme::sparse)->yardstick_spp, 4.0);
   EXPECT_FALSE(answer_of(high, scheme::sparse)->reached);
   EXPECT_DOUBLE_EQ(answer_of(high, scheme::sparse)->best_jod, 9.75);
   // The markdown names the yardstick and each cell.

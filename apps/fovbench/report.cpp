@@ -18,6 +18,9 @@ namespace fov {
 
 namespace {
 
+// A number of a row's cell, read back by read_results (so finite); strtod, unlike std::stod,
+// does not throw on a subnormal.
+double to_number(const std::string& text) { return std::strtod(text.c_str(), nullptr); }
 
 // The report's unit: the rows of one scene, as single frames or in one steady state under
 // TAA (taa_frames and taa_pattern): each is judged on its own, against its own baselines.
@@ -111,7 +114,7 @@ std::vector<knob_mean> knob_means(const std::vector<const result_row*>& rows) {
       if (column[0] == 'l' && !to.empty()) continue;  // the ladder is the scene's: one gaze's copy
       std::stringstream in(r->text(column));
       std::string v;
-      while (std::getline(in, v, ';')) to.push_back(std::stod(v));
+      while (std::getline(in, v, ';')) to.push_back(to_number(v));
     }
     ++it->gazes;
   }
@@ -265,7 +268,7 @@ std::vector<std::string> write_bench_figures(const std::vector<result_row>& rows
       line.markers = false;
       std::stringstream in(r->text("error_profile"));
       std::string v;
-      for (int bin = 0; std::getline(in, v, ';'); ++bin) line.x.push_back((bin + 0.5) * 2.5), line.y.push_back(std::stod(v));
+      for (int bin = 0; std::getline(in, v, ';'); ++bin) line.x.push_back((bin + 0.5) * 2.5), line.y.push_back(to_number(v));
       e.series.push_back(line);
     }
     profiles.push_back(e);
@@ -279,12 +282,12 @@ std::vector<std::string> write_bench_figures(const std::vector<result_row>& rows
     sp.y_label = "speedup (full-resolution ms / frame ms)";
     const std::string first_k = std::to_string(o.ks.empty() ? 5 : o.ks[0]);
     // One colour per method; the spp sets the line style.
-    std::map<std::pair<std::string, int>, std::map<double, const knob_mean*>> curves;
+    std::map<std::pair<std::string, double>, std::map<double, const knob_mean*>> curves;
     for (const knob_mean& m : means) {
       if (m.kind != row_kind::foveated || (m.method != "nn" && m.k != first_k) || !m.floor.empty()) continue;
-      curves[{m.method, std::stoi(m.spp)}][std::stod(m.scale)] = &m;
+      curves[{m.method, to_number(m.spp)}][to_number(m.scale)] = &m;
     }
-    std::vector<int> spps;
+    std::vector<double> spps;
     for (const auto& [id, points] : curves)
       if (std::find(spps.begin(), spps.end(), id.second) == spps.end()) spps.push_back(id.second);
     std::sort(spps.begin(), spps.end());
@@ -292,7 +295,7 @@ std::vector<std::string> write_bench_figures(const std::vector<result_row>& rows
     for (const auto& [id, points] : curves) {
       plot_series s;
       const knob_mean& any = *points.begin()->second;
-      s.name = fmt::format("{} k={} spp={}", id.first, any.k, id.second);
+      s.name = fmt::format("{} k={} spp={}", id.first, any.k, any.spp);
       s.scheme = id.first;
       s.style = styles[size_t(std::find(spps.begin(), spps.end(), id.second) - spps.begin()) % 4];
       for (const auto& [scale, m] : points)
@@ -376,7 +379,7 @@ std::vector<const knob_mean*> full_means(const std::vector<knob_mean>& means) {
   std::vector<const knob_mean*> fulls;
   for (const knob_mean& m : means)
     if (m.kind == row_kind::full && !std::isnan(m.jod)) fulls.push_back(&m);
-  std::sort(fulls.begin(), fulls.end(), [](const knob_mean* a, const knob_mean* b) { return std::stoi(a->spp) < std::stoi(b->spp); });
+  std::sort(fulls.begin(), fulls.end(), [](const knob_mean* a, const knob_mean* b) { return to_number(a->spp) < to_number(b->spp); });
   return fulls;
 }
 
@@ -497,7 +500,7 @@ std::vector<scheme_answer> scheme_answers_by_level(const std::vector<result_row>
         a.display = first.text("display"), a.ppd = first.number("ppd"), a.pixels = first.number("full_rays") / first.number("spp");
         a.noise_floor_jod = gazes ? floor / gazes : NAN;
         a.target_jod = NAN;
-        a.yardstick_spp = uint32_t(std::stoul(yard->spp)), a.yardstick_jod = yard->jod, a.yardstick_ms = yard->frame_ms;
+        a.yardstick_spp = to_number(yard->spp), a.yardstick_jod = yard->jod, a.yardstick_ms = yard->frame_ms;
         a.yardstick_rays = yard->rays;
         a.scheme = which;
         a.reached = r.best != nullptr;

@@ -127,7 +127,7 @@ struct scheme_answer {
   double ppd = 0, pixels = 0;                           // the display's pixels per degree and pixel count
   double noise_floor_jod = 0;                           // the reference's own (a second reference against it)
   double target_jod = 0;
-  uint32_t yardstick_spp = 0;  // the yardstick: full resolution at this spp
+  double yardstick_spp = 0;  // the yardstick: full resolution at this spp
   double yardstick_jod = 0, yardstick_ms = 0, yardstick_rays = 0;
   fov::scheme scheme = scheme::sparse;
   bool reached = false;  // a configuration of the scheme reaches the yardstick's JOD

@@ -57,7 +57,7 @@ std::string summary_csv(const std::vector<scheme_answer>& answers) {
   for (const scheme_answer& a : answers)
     csv += fmt::format("{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n", csv_cell(a.scene), a.taa_frames,
                        a.taa_pattern, csv_cell(a.display), num(a.ppd), num(a.pixels), num(a.noise_floor_jod), num(a.target_jod),
-                       a.yardstick_spp, num(a.yardstick_jod), num(a.yardstick_ms), num(a.yardstick_rays), label_of(scheme_labels, a.scheme),
+                       num(a.yardstick_spp), num(a.yardstick_jod), num(a.yardstick_ms), num(a.yardstick_rays), label_of(scheme_labels, a.scheme),
                        a.reached ? 1 : 0, csv_cell(a.best), num(a.best_jod), num(a.best_ms), num(a.best_rays), num(a.best_points),
                        num(a.speedup.estimate), num(a.speedup.lo), num(a.speedup.hi), num(goal_speedup(a.ppd)), csv_cell(a.source));
   return csv;
@@ -133,7 +133,7 @@ summary_result write_summary(const summary_options& s, int argc, char** argv) {
   result.files = results_files(s.inputs);
   std::vector<scheme_answer> by_level;
   // The full frame at each spp must score alike in every run of a scene and display.
-  std::map<std::tuple<std::string, std::string, std::string, std::string, uint32_t>, const scheme_answer*> level_seen;
+  std::map<std::tuple<std::string, std::string, std::string, std::string, double>, const scheme_answer*> level_seen;
   for (const std::string& file : result.files) {
     const size_t before = by_level.size();
     for (scheme_answer& a : scheme_answers_by_level(read_results(file, true))) by_level.push_back(std::move(a));
