@@ -23,6 +23,12 @@ SCHEME_COLOURS = {
     "full": "#000000",
     "front-foveated": "#7F7F7F",
     "front-baseline": "#E69F00",
+    # fovbench summary's schemes (a lower resolution is the uniform sets' colour)
+    "sparse": "#56B4E9",
+    "hybrid": "#882255",
+    "falloff": "#44AA99",
+    "lower-resolution": "#CC79A7",
+    "goal": "#999933",
 }
 OTHER_COLOURS = ["#56B4E9", "#882255", "#44AA99", "#999933", "#AA4499", "#F0E442"]
 STYLES = {"solid": "-", "dashed": "--", "dotted": ":", "dashdot": "-."}
