@@ -383,6 +383,16 @@ std::vector<const knob_mean*> full_means(const std::vector<knob_mean>& means) {
   return fulls;
 }
 
+// The reference's noise floor in JOD, averaged over the part's gazes (NaN without rows).
+double noise_floor_jod(const std::vector<const result_row*>& rows) {
+  double floor = 0;
+  int gazes = 0;
+  std::set<std::string> seen;
+  for (const result_row* r : rows)
+    if (seen.insert(r->text("gaze")).second) floor += r->number("noise_floor_jod"), ++gazes;
+  return gazes ? floor / gazes : NAN;
+}
+
 // Among `candidates`, the fastest (by its chained speedup's estimate) whose JOD reaches the
 // full-resolution frame b's, with that speedup; else nullptr and, in `closest`, the best JOD
 // short of it.
@@ -399,13 +409,13 @@ reaching fastest_reaching(const knob_mean& b, const std::vector<const knob_mean*
     return nullptr;
   };
   reaching out;
+  const std::vector<double>* lb = ladder_of(b.spp);
   for (const knob_mean* c : candidates) {
     if (std::isnan(c->jod)) continue;
     if (c->jod < b.jod) {
       if (!out.closest || c->jod > out.closest->jod) out.closest = c;
       continue;
     }
-    const std::vector<double>* lb = ladder_of(b.spp);
     const std::vector<double>* lc = ladder_of(c->spp);
     if (!lb || !lc || lb->size() != lc->size() || lb->empty() || c->paired.empty()) continue;
     std::vector<double> rung;
@@ -479,26 +489,22 @@ std::vector<scheme_answer> scheme_answers_by_level(const std::vector<result_row>
     const std::vector<const result_row*> mine = rows_of(rows, part);
     const std::vector<knob_mean> means = knob_means(mine);
     const std::vector<const knob_mean*> fulls = full_means(means);
-    double floor = 0;
-    int gazes = 0;
-    std::set<std::string> seen;
-    for (const result_row* r : mine)
-      if (seen.insert(r->text("gaze")).second) floor += r->number("noise_floor_jod"), ++gazes;
+    const double floor = noise_floor_jod(mine);
     const result_row& first = *mine.front();
     const std::string& fovea = first.text("fovea");  // darts, grid or grid-P.PP (the spacing)
     const bool grid = fovea.rfind("grid", 0) == 0;
-    for (const knob_mean* yard : fulls)
-      for (const auto& [name, which] : scheme_labels) {
-        std::vector<const knob_mean*> candidates;
-        for (const knob_mean& m : means)
-          if (scheme_of(m.kind, grid) == which && !std::isnan(m.jod)) candidates.push_back(&m);
+    for (const auto& [name, which] : scheme_labels) {
+      std::vector<const knob_mean*> candidates;
+      for (const knob_mean& m : means)
+        if (scheme_of(m.kind, grid) == which && !std::isnan(m.jod)) candidates.push_back(&m);
+      for (const knob_mean* yard : fulls) {
         const reaching r = fastest_reaching(*yard, candidates, fulls);
         const knob_mean* shown = r.best ? r.best : r.closest;
         if (!shown) continue;  // no configuration, or one reaching it unpriced (no ladder): no answer
         scheme_answer a;
         a.scene = part.scene, a.taa_frames = part.taa_frames, a.taa_pattern = part.taa_pattern;
         a.display = first.text("display"), a.ppd = first.number("ppd"), a.pixels = first.number("full_rays") / first.number("spp");
-        a.noise_floor_jod = gazes ? floor / gazes : NAN;
+        a.noise_floor_jod = floor;
         a.target_jod = NAN;
         a.yardstick_spp = to_number(yard->spp), a.yardstick_jod = yard->jod, a.yardstick_ms = yard->frame_ms;
         a.yardstick_rays = yard->rays;
@@ -509,6 +515,7 @@ std::vector<scheme_answer> scheme_answers_by_level(const std::vector<result_row>
         a.speedup = r.best ? r.interval : speedup_interval{NAN, NAN, NAN};
         out.push_back(a);
       }
+    }
   }
   return out;
 }
@@ -517,7 +524,7 @@ std::vector<scheme_answer> at_goal(const std::vector<scheme_answer>& by_level, d
   // Per scene, steady state and display: the fewest spp whose full frame reaches the target,
   // else the spp of the best full frame.
   using place = std::tuple<std::string, std::string, std::string, std::string>;
-  std::map<place, std::pair<uint32_t, double>> yardstick;  // spp, JOD
+  std::map<place, std::pair<double, double>> yardstick;  // spp, JOD
   auto place_of = [](const scheme_answer& a) { return place{a.scene, a.taa_frames, a.taa_pattern, a.display}; };
   for (const scheme_answer& a : by_level) {
     const auto [it, added] = yardstick.emplace(place_of(a), std::make_pair(a.yardstick_spp, a.yardstick_jod));
@@ -603,16 +610,12 @@ void write_bench_report(const std::vector<result_row>& rows, const bench_options
   for (const sweep_part& scene : scenes_of(rows)) {
     const std::vector<knob_mean> means = knob_means(rows_of(rows, scene));
     const jod_verdict v = verdict_in_jod(means);
-    double floor = 0;
-    int n = 0;
-    std::set<std::string> seen;
-    for (const result_row* r : rows_of(rows, scene))
-      if (seen.insert(r->text("gaze")).second) floor += r->number("noise_floor_jod"), ++n;
+    const double floor = noise_floor_jod(rows_of(rows, scene));
     md += fmt::format("**{}**: {}{}\n\n", part_title(scene), verdict_sentence(v),
-                      n && !std::isnan(floor) ? fmt::format(" (The reference's noise floor: a second reference scores {:.2f} JOD "
-                                                            "against it; no configuration can be shown better than that.)",
-                                                            floor / n)
-                                              : "");
+                      !std::isnan(floor) ? fmt::format(" (The reference's noise floor: a second reference scores {:.2f} JOD "
+                                                       "against it; no configuration can be shown better than that.)",
+                                                       floor)
+                                         : "");
     for (const std::string& line : v.lines) md += "- " + line + "\n";
     md += "\n";
   }

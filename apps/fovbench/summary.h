@@ -1,7 +1,8 @@
 // fovbench summary: one answer per display (issue 24, item 5). Reads the results.csv of many
 // runs (displays, scenes, fovea layouts, steady states), asks each scheme the goal's question
-// (scheme_answers: its equal-quality speedup at the cheapest full frame reaching the target
-// JOD) and keeps, per scene, steady state, display and scheme, the best answer of any run.
+// (scheme_answers_by_level, at_goal: its equal-quality speedup at the cheapest full frame
+// reaching the target JOD) and keeps, per scene, steady state, display and scheme, the best
+// answer of any run.
 #pragma once
 
 #include <string>
