@@ -11,9 +11,10 @@
 #   grid-4/  the hybrid: a pixel grid wherever the model's spacing is at most 4 px, darts
 #            beyond (s = 0.5), with full resolution again
 # Both runs of a display share one pair of references. Sets are kept as k-NN cells in
-# out/per-display/sets (their memory in out/per-display/sets.md). Then `fovbench summary` over every run of every scene measured so far:
-# out/per-display/summary.md (per scene, display and scheme: the equal-quality speedup at the
-# cheapest full frame reaching 9.5 JOD, with its interval) and speedup-vs-ppd.png.
+# out/per-display/sets (their memory in out/per-display/sets.md). Then `fovbench summary` over
+# every run of every scene measured so far, in out/per-display/summary/: summary.md (per scene,
+# display and scheme: the equal-quality speedup at the cheapest full frame reaching 9.5 JOD,
+# with its interval), summary.csv, speedup-vs-ppd and jod-vs-ppd.
 # Interrupted? Run it again: --resume keeps every finished row.
 set -euo pipefail
 cd "$(dirname "$0")/.."
