@@ -13,7 +13,8 @@ if ! [[ "$seconds" =~ ^[0-9]+$ ]] || (( seconds < 1 )); then
   exit 2
 fi
 shift $(( $# > 0 ? 1 : 0 ))
-all=(pointset protocol session thresholds gaze_trace gaze_datagram camera_path results scene env_image reference_meta camera_flags)
+all=(pointset protocol session thresholds gaze_trace gaze_datagram pupil_gaze gaze_calibration camera_path results scene env_image
+  reference_meta camera_flags)
 targets=("${@:-${all[@]}}")
 for t in "${targets[@]}"; do
   [[ " ${all[*]} " == *" $t "* ]] || { echo "fuzz.sh: unknown target '$t' (one of: ${all[*]})" >&2; exit 2; }

@@ -24,6 +24,7 @@ packages=(
   python3                    # scripts/demo.sh writes its summary table with it
   python3-matplotlib         # fovbench's figures (PNG and SVG): labels placed apart, error bars, one colour per scheme
   libzstd-dev                # k-NN table compression on disk (see README, Dependencies)
+  libzmq3-dev libmsgpack-dev # --gaze-pupil: Pupil Labs' network API is ZeroMQ sockets carrying msgpack
   blender-data               # CC0 HDR environment maps: the env: stimulus of fovstair's thesis protocol
   xvfb xauth                 # tests: fovview and fovstair windows run headless under xvfb-run
   clang libclang-rt-dev      # scripts/fuzz.sh: libFuzzer and the sanitizers' runtimes for clang

@@ -21,6 +21,18 @@ check "unknown method"     2 -- "$fovview" "${set[@]}" --method cubic
 check "k above the set"    2 -- "$fovview" "${set[@]}" --k 9
 check "two gaze sources"   2 -- "$fovview" "${set[@]}" --gaze-trace "$dir/gaze.csv" --gaze centre
 check "bad port"           2 -- "$fovview" "${set[@]}" --gaze-udp 70000
+check "pupil not a URL"     2 -- "$fovview" "${set[@]}" --gaze-pupil 127.0.0.1:50020
+check "pupil and udp"      2 -- "$fovview" "${set[@]}" --gaze-pupil tcp://127.0.0.1:50020 --gaze-udp 47000
+check "pupil topic"        2 -- "$fovview" "${set[@]}" --gaze-pupil tcp://127.0.0.1:50020 --gaze-pupil-topic pupil.
+check "calibration alone"  2 -- "$fovview" "${set[@]}" --gaze-calibration "$dir/gaze.csv"
+check "filter one number"  2 -- "$fovview" "${set[@]}" --gaze-filter 1
+check "filter beta alone"  2 -- "$fovview" "${set[@]}" --gaze-filter 0,1
+check "confidence > 1"     2 -- "$fovview" "${set[@]}" --gaze-min-confidence 2
+check "negative saccade"   2 -- "$fovview" "${set[@]}" --saccade-deg-s -1
+check "hold not a number"  2 -- "$fovview" "${set[@]}" --gaze-hold-ms soon
+check "gaze log exists"    2 -- "$fovview" "${set[@]}" --gaze-log "$dir/gaze.csv"
+check "bad calibration"    1 -- "$fovview" "${set[@]}" --gaze-udp 47999 --gaze-calibration "$dir/gaze.csv"
+check "no Pupil Remote"    1 -- env -u DISPLAY -u WAYLAND_DISPLAY "$fovview" "${set[@]}" --gaze-pupil tcp://127.0.0.1:1
 check "exit without frames" 2 -- "$fovview" "${set[@]}" --exit
 check "bad screenshot frame" 2 -- "$fovview" "${set[@]}" --screenshot-at x "$dir/a.png"
 check "missing set"        1 -- "$fovview" --points "$dir/none.fovset"
@@ -49,8 +61,9 @@ if ! command -v xvfb-run >/dev/null; then
 else
   "$fovrender" --reference "${set[@]}" --spp 16 -o "$dir/ref.exr" >/dev/null || fail "reference"
   xvfb-run -a -s "-screen 0 1024x768x24" "$fovview" "${set[@]}" --gaze-trace "$dir/gaze.csv" --frames 30 \
-    --screenshot-at 29 "$dir/out.png" --exit --compare "$dir/ref.exr" 2>"$dir/err.txt" || fail "windowed run: $(cat "$dir/err.txt")"
-  python3 - "$dir/out.png" <<'PY' || fail "screenshot checks"
+    --screenshot-at 29 "$dir/out.png" --exit --compare "$dir/ref.exr" --json --target-fps 1000 --gaze-log "$dir/log.csv" \
+    >"$dir/stats.json" 2>"$dir/err.txt" || fail "windowed run: $(cat "$dir/err.txt")"
+  python3 - "$dir/out.png" "$dir/stats.json" "$dir/log.csv" <<'PY' || fail "screenshot checks"
 import json, struct, sys
 png = open(sys.argv[1], "rb").read()
 assert png[:8] == b"\x89PNG\r\n\x1a\n", "not a PNG"
@@ -63,6 +76,21 @@ m = j["metrics"]
 # Foveated where the gaze is: the fovea is closer to the reference than the periphery.
 assert m["psnr_fovea"] > m["psnr_periphery"] + 2, m
 assert [b["band"] for b in m["bands"]] == ["<5", "5-10", "10-20", "20-30", ">30"], m  # fovrender's schema
+c = j["camera"]
+assert c["hfov_deg"] > 0 and c["vfov_deg"] > 0 and abs(c["vfov_deg"] / c["hfov_deg"] - 1) < 0.3, c  # both fields of view
+# --json: the frame-time distribution and the frames dropped against --target-fps.
+s = json.load(open(sys.argv[2]))
+f = s["distribution_ms"]["frame"]
+assert 0 < f["median"] <= f["p95"] <= f["p99"] <= f["max"], f
+assert s["dropped"]["target_fps"] == 1000 and 0 < s["dropped"]["late_frames"] <= s["measured_frames"], s["dropped"]
+assert s["gaze"]["samples"] == 2 and s["gaze"]["malformed"] == 0, s["gaze"]
+# --gaze-log: one row per frame, the gaze used and the trace's sample behind it.
+rows = open(sys.argv[3]).read().splitlines()
+assert rows[0].startswith("frame,local_ms,x,y,state,"), rows[0]
+assert len(rows) == 31, len(rows)
+last = dict(zip(rows[0].split(","), rows[-1].split(",")))
+assert last["frame"] == "29" and abs(float(last["x"]) - 0.3 * 256) < 1e-3 and last["state"] == "tracking", last
+assert float(last["age_ms"]) >= 0 and float(last["shown_ms"]) >= float(last["local_ms"]), last
 PY
   # --pipeline (the next frame traced while one is shown) shows the same frames: without
   # TAA the ray pattern is fixed, so frame 5 at a fixed gaze is the same image either way.

@@ -16,6 +16,7 @@
 #include <nlohmann/json.hpp>
 
 #include "../common/cli.h"
+#include "../common/gaze_flags.h"
 #include "../common/gaze_source.h"
 #include "fov/renderer.h"
 #include "../common/window.h"
@@ -49,13 +50,13 @@ std::string now_iso() {
 
 int run_session(const run_options& o) {
   const std::string &protocol_path = o.protocol, &subject = o.subject, &out_dir = o.out_dir, &observer_spec = o.observer;
-  const std::string &gaze_trace = o.gaze_trace, &script_keys = o.script_keys;
+  const std::string& script_keys = o.script_keys;
   std::string session = o.session;
   const bool resume = o.resume, gaze_mouse = o.gaze_mouse;
   const uint64_t stop_after = o.stop_after;
-  const int gaze_udp = o.gaze_udp;
-  if (!gaze_trace.empty() + (gaze_udp > 0) + gaze_mouse > 1) throw usage_error("choose one gaze source");
-  if (gaze_udp < 0 || gaze_udp > 65535) throw usage_error(fmt::format("--gaze-udp {}: not a port", gaze_udp));
+  gaze_options gaze_flags = o.gaze;
+  require_valid(gaze_flags);
+  if (gaze_flags.sources() + gaze_mouse > 1) throw usage_error("choose one gaze source");
   if (!std::regex_match(subject, std::regex("[A-Za-z0-9_]{1,32}")))
     throw usage_error(fmt::format("--subject '{}': use 1-32 letters, digits or _", subject));
   // --out is made only when the session file is (a run that cannot start leaves nothing).
@@ -111,6 +112,7 @@ int run_session(const run_options& o) {
   std::unique_ptr<view_window> window;
   std::unique_ptr<fov::renderer> stimulus;
   std::unique_ptr<gaze_source> gaze;
+  std::unique_ptr<gaze_conditioner> conditioner;
   std::map<double, std::shared_ptr<const pointset>> sets;
   if (!observer) {
     for (double s : reachable_scales(p))
@@ -124,9 +126,9 @@ int run_session(const run_options& o) {
     std::shared_ptr<const scene> scn = load_scene(p.scene);
     stimulus = std::make_unique<fov::renderer>(scn, stimulus_params(p, p.conditions.front()));
     window = std::make_unique<view_window>("fovstair " + p.name, d.width, d.height);
-    if (!gaze_trace.empty()) gaze = trace_gaze(gaze_trace, d.width, d.height);
-    else if (gaze_udp > 0) gaze = udp_gaze(uint16_t(gaze_udp), d.width, d.height);
-    else if (gaze_mouse) gaze = std::make_unique<mouse_gaze>(d.width, d.height);
+    gaze = open_gaze(gaze_flags, d.width, d.height);
+    if (gaze_mouse) gaze = std::make_unique<mouse_gaze>(d.width, d.height);
+    if (gaze) conditioner = std::make_unique<gaze_conditioner>(gaze_flags.conditioning, d, gaze->live());
     sets[state.next().scale] = first;
   }
 
@@ -163,7 +165,7 @@ int run_session(const run_options& o) {
         set = std::make_shared<const pointset>(load_pointset(pointset_path(p, t.scale)));
       }
       stimulus->use_pointset(set);
-      live_context ctx{p, *stimulus, *window, gaze.get(), {}};
+      live_context ctx{p, *stimulus, *window, gaze.get(), conditioner.get(), {}};
       if (!script_keys.empty()) {  // testing: this trial's answer from the script
         if (this_run >= script_keys.size()) throw std::runtime_error("--script-keys: ran out of answers");
         ctx.scripted_keys = script_keys.substr(this_run, 1);

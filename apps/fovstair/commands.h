@@ -2,6 +2,7 @@
 // rule, analyse sessions, validate a protocol. Each takes its flags as a struct.
 #pragma once
 
+#include "../common/gaze_flags.h"
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -12,8 +13,7 @@ struct run_options {
   std::string protocol, subject, session, out_dir = "data", observer;
   bool resume = false;
   uint64_t stop_after = 0;  // testing: exit abruptly after N trials, as a crash would
-  std::string gaze_trace;
-  int gaze_udp = 0;
+  gaze_options gaze;  // a tracker or a trace (none: the mouse with gaze_mouse, else the fixation target)
   bool gaze_mouse = false;
   std::string script_keys;  // testing: the window's answers, one key per trial
 };

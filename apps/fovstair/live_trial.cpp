@@ -73,12 +73,21 @@ trial_answer run_live_trial(live_context& ctx, const trial_plan& t, const points
     double sum[2] = {0, 0}, sum2[2] = {0, 0};
     uint64_t frames = 0;
     const uint64_t clamped_before = ctx.gaze ? ctx.gaze->clamped : 0;
+    std::vector<gaze_sample> fresh;
     // One stimulus interval: shows the foveated (or the reference) frames until `until`
     // returns true; returns the key that ended it (0 when `until` did).
     auto show = [&](bool foveated, double max_ms, const std::string& keys) -> int {
       const auto begin = clock_type::now();
       for (;;) {
-        const gaze_point g = ctx.gaze ? ctx.gaze->poll(ms_between(start, clock_type::now())) : gaze_point{fx, fy};
+        gaze_point g{fx, fy};
+        if (ctx.gaze) {
+          fresh.clear();
+          const double now_ms = gaze_clock_ms();
+          ctx.gaze->read(now_ms, fresh);
+          const gaze_estimate e = ctx.conditioner->update(now_ms, fresh);
+          if (e.landed) ctx.renderer.history_gaze(e.saccade_onset);
+          g = e.at;
+        }
         sum[0] += g.x, sum[1] += g.y, sum2[0] += g.x * g.x, sum2[1] += g.y * g.y;
         ++a.gaze_samples;
         const frame& f = foveated ? ctx.renderer.foveated(g, s) : reference;

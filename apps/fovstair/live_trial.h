@@ -4,6 +4,7 @@
 #include <memory>
 #include <string>
 
+#include "../common/gaze_conditioning.h"
 #include "../common/gaze_source.h"
 #include "../common/window.h"
 #include "fov/renderer.h"
@@ -27,6 +28,7 @@ struct live_context {
   fov::renderer& renderer;
   view_window& window;
   gaze_source* gaze = nullptr;  // null: the gaze is the fixation target
+  gaze_conditioner* conditioner = nullptr;  // with gaze: its conditioning
   // Testing: answers taken from here, one character per answer, instead of the keyboard
   // (each stimulus still shows at least one frame; breaks do not wait). Empty: keyboard.
   std::string scripted_keys;

@@ -20,8 +20,7 @@ int main(int argc, char** argv) {
   run->add_flag("--resume", r.resume, "Continue an interrupted session where it stopped");
   run->add_option("--observer", r.observer, "Answer with a simulated observer: logistic:threshold=T,slope=S[,lapse=L]");
   run->add_option("--stop-after", r.stop_after, "Testing: exit abruptly (no end record) after N trials, as a crash would");
-  run->add_option("--gaze-trace", r.gaze_trace, "Gaze from a recorded CSV (default: the fixation target)");
-  run->add_option("--gaze-udp", r.gaze_udp, "Gaze from UDP datagrams 'x y' (normalised) on 127.0.0.1:PORT");
+  fov::add_gaze_flags(*run, r.gaze);  // default: the fixation target
   run->add_flag("--gaze-mouse", r.gaze_mouse, "Gaze from the mouse pointer");
   run->add_option("--script-keys", r.script_keys, "Testing: the window's answers, one key per trial (e.g. nnyn)");
 

@@ -34,8 +34,8 @@ int main(int argc, char** argv) {
   app.add_flag("--pipeline", o.pipeline,
                "Trace the next frame while showing this one (more latency; pays where tracing and reconstruction "
                "use different processors)");
-  app.add_option("--gaze-trace", o.gaze_trace, "Replay gaze from CSV (t_ms,x,y or t_ms,x_norm,y_norm)");
-  app.add_option("--gaze-udp", o.gaze_udp, "Gaze from UDP datagrams 'x y' (normalised) on 127.0.0.1:PORT");
+  fov::add_gaze_flags(app, o.gaze);
+  app.add_option("--gaze-log", o.gaze_log, "Write the gaze each frame used, with its times and state, to this CSV");
   app.add_option("--gaze", o.fixed_gaze, "A fixed gaze X,Y|centre|corner (default: the mouse)");
   app.add_option("--camera-path", o.camera_path, "Replay a camera path (CSV t_ms,x,y,z,tx,ty,tz)");
   app.add_option("--frames", o.frames, "Stop after N frames (0: run until Q)");
@@ -43,15 +43,16 @@ int main(int argc, char** argv) {
   app.add_option("--screenshot-dir", o.screenshot_dir, "Where the S key saves screenshots (default .)");
   app.add_option("--compare", o.compare, "A reference image: screenshots' JSON gets PSNR/SSIM by band against it");
   app.add_flag("--exit", o.exit_after, "Exit after --frames without waiting (for scripts and tests)");
-  app.add_flag("--json", o.json, "At exit, print frame-time statistics as JSON (medians after 5 warm-up frames)");
+  app.add_flag("--json", o.json, "At exit, print frame-time statistics as JSON (after 5 warm-up frames)");
 
   return fov::run_tool("fovview", app, argc, argv, [&]() -> int {
     using fov::usage_error;
     fov::require_valid(settings);
     if (o.points.empty() == o.points_dir.empty()) throw usage_error("give --points SET or --points-dir DIR");
     if (!o.display.empty() && o.points_dir.empty()) throw usage_error("--display chooses among --points-dir's sets; --points names one");
-    if ((!o.gaze_trace.empty()) + (o.gaze_udp != 0) + (!o.fixed_gaze.empty()) > 1) throw usage_error("choose one gaze source");
-    if (o.gaze_udp < 0 || o.gaze_udp > 65535) throw usage_error(fmt::format("--gaze-udp {}: not a port", o.gaze_udp));
+    fov::require_valid(o.gaze);
+    if (o.gaze.sources() + !o.fixed_gaze.empty() > 1) throw usage_error("choose one gaze source");
+    fov::require_output("--gaze-log", o.gaze_log);
     if (!(o.target_fps >= 0 && o.target_fps <= 1000)) throw usage_error("--target-fps must lie in 0..1000");
     if (o.exit_after && o.frames == 0) throw usage_error("--exit needs --frames N");
     if (!screenshot_at.empty()) {

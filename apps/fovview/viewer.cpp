@@ -16,12 +16,15 @@
 
 #include "../common/cli.h"
 #include "../common/debug_views.h"
+#include "../common/gaze_flags.h"
 #include "../common/gaze_source.h"
 #include "../common/image_io.h"
 #include "../common/render_flags.h"
 #include "../common/window.h"
 #include "camera_path.h"
+#include "fov/camera.h"
 #include "fov/comparison.h"
+#include "fov/files.h"
 #include "fov/pointset_io.h"
 #include "fov/renderer.h"
 #include "fov/scene.h"
@@ -120,11 +123,10 @@ namespace fov {
 
 int run_viewer(const viewer_options& o, render_params settings) {
   const std::string& scene_spec = o.scene;
-  const std::string &points = o.points, &points_dir = o.points_dir, &gaze_trace = o.gaze_trace;
+  const std::string &points = o.points, &points_dir = o.points_dir;
   const std::string &camera_path_file = o.camera_path, &fixed_gaze = o.fixed_gaze, &screenshot_dir = o.screenshot_dir;
   const std::string& compare = o.compare;
   const double scale = o.scale, target_fps = o.target_fps;
-  const int gaze_udp = o.gaze_udp;
   const uint32_t frames = o.frames;
   const long shot_frame = o.screenshot_frame;
   const std::string& shot_file = o.screenshot_file;
@@ -155,11 +157,12 @@ int run_viewer(const viewer_options& o, render_params settings) {
                                     reference_image.height, w, h));
   }
 
-  std::unique_ptr<fov::gaze_source> gaze;
+  if (!o.gaze_log.empty() && fs::exists(o.gaze_log))
+    throw usage_error(fmt::format("--gaze-log {}: exists; choose a new file", o.gaze_log));
+  std::unique_ptr<fov::gaze_source> gaze = fov::open_gaze(o.gaze, w, h);
   fov::mouse_gaze* mouse = nullptr;
-  if (!gaze_trace.empty()) gaze = fov::trace_gaze(gaze_trace, w, h);
-  else if (gaze_udp) gaze = fov::udp_gaze(uint16_t(gaze_udp), w, h);
-  else if (!fixed_gaze.empty()) {
+  if (gaze) {
+  } else if (!fixed_gaze.empty()) {
     const fov::gaze_point at = fov::require_gaze("--gaze", fixed_gaze, display);
     gaze = fov::fixed_gaze(w, h, at.x, at.y);
   } else {
@@ -167,6 +170,10 @@ int run_viewer(const viewer_options& o, render_params settings) {
     mouse = m.get();
     gaze = std::move(m);
   }
+  fov::gaze_conditioner conditioner(o.gaze.conditioning, display, gaze->live());
+  std::string gaze_log = "frame,local_ms,x,y,state,landed,sample_local_ms,tracker_s,confidence,eye,raw_x,raw_y,age_ms,"
+                         "shown_ms\n";
+  size_t safe_from_level = SIZE_MAX;  // the set's level before the safe mode switched to the densest
 
   fov::renderer renderer(scn, settings);
   renderer.use_pointset(set);
@@ -181,7 +188,7 @@ int run_viewer(const viewer_options& o, render_params settings) {
   double fps = 0, display_ms = 0, latency_ms = 0;
   uint64_t screenshots = 0;
   std::string status;  // one-line messages (screenshot saved, silent tracker)
-  struct frame_stats { double frame, trace, reconstruct, taa, display, latency; uint32_t spp; };
+  struct frame_stats { double frame, trace, reconstruct, taa, display, latency, gaze_age; uint32_t spp; };
   std::vector<frame_stats> history;
   // What a frame shows: the gaze and camera when they were read. With pipelining the next
   // frame's are read (and its trace started) before this frame is shown.
@@ -189,16 +196,23 @@ int run_viewer(const viewer_options& o, render_params settings) {
     fov::gaze_point gaze;
     double poll_ms;
     fov::camera cam;
+    fov::gaze_estimate estimate;
   };
+  std::vector<fov::gaze_sample> fresh;
   auto read_inputs = [&](const fov::camera& current) {
     const double now_ms = ms_between(start, clock_type::now());
     if (mouse) {
       double x, y;
       if (window.mouse(x, y)) mouse->set(x, y);
     }
-    frame_inputs in{gaze->poll(now_ms), now_ms, path ? path->at(now_ms, current) : current};
+    fresh.clear();
+    const double clock_ms = fov::gaze_clock_ms();
+    gaze->read(clock_ms, fresh);
+    const fov::gaze_estimate e = conditioner.update(clock_ms, fresh);
+    frame_inputs in{e.at, now_ms, path ? path->at(now_ms, current) : current, e};
     return in;
   };
+  const double clock_at_start = fov::gaze_clock_ms() - ms_between(start, clock_type::now());
   std::optional<frame_inputs> next;  // read ahead, with its trace under way
 
   for (uint64_t frame_index = 0; frames == 0 || frame_index < frames; ++frame_index) {
@@ -207,7 +221,19 @@ int run_viewer(const viewer_options& o, render_params settings) {
     const frame_inputs in = next ? *next : read_inputs(renderer.cam());
     next.reset();
     const fov::gaze_point g = in.gaze;
+    const fov::gaze_estimate& ge = in.estimate;
     if (path) renderer.cam() = in.cam;
+    // A saccade landed: the TAA history counts as seen from where it began, so the new
+    // fovea takes the current frame (taa_params::focus_lag_deg).
+    if (ge.landed) renderer.history_gaze(ge.saccade_onset);
+    // The safe mode renders the densest set (the smallest scale) until the gaze returns.
+    if (ge.state == fov::gaze_state::safe && ge.has_sample && safe_from_level == SIZE_MAX && level > 0) {
+      safe_from_level = level, level = 0;
+      renderer.use_pointset(family.get(level));
+    } else if (ge.state != fov::gaze_state::safe && safe_from_level != SIZE_MAX) {
+      level = safe_from_level, safe_from_level = SIZE_MAX;
+      renderer.use_pointset(family.get(level));
+    }
 
     fov::frame_timing timing;
     fov::frame reference_frame;
@@ -251,16 +277,30 @@ int run_viewer(const viewer_options& o, render_params settings) {
                                      fov::method_name(settings.reconstruct.how), settings.reconstruct.k,
                                      renderer.current_set()->model.scale, settings.spp, settings.taa ? "on" : "off",
                                      timing.points_traced, timing.rays),
-        fmt::format("gaze {} ({:.0f}, {:.0f}){}  view {}  device {}", gaze->name(), g.x, g.y,
-                    gaze->clamped ? fmt::format(" clamped {}", gaze->clamped) : "", v.empty() ? "frame" : v,
-                    timing.on_device ? "OpenCL" : "C++")};
-    if (gaze->silent(now_ms)) lines.push_back("WARNING: gaze source silent; keeping the last gaze");
+        fmt::format("gaze {} ({:.0f}, {:.0f}) {}{}  view {}  device {}", gaze->name(), g.x, g.y,
+                    fov::label_of(fov::gaze_state_labels, ge.state),
+                    ge.has_sample ? fmt::format(" age {:.0f} ms conf {:.2f}", ge.age_ms, ge.newest.confidence) : "",
+                    v.empty() ? "frame" : v, timing.on_device ? "OpenCL" : "C++")};
+    if (gaze->malformed || gaze->clamped || conditioner.low_confidence || conditioner.dropouts || gaze->clock_jumps)
+      lines.push_back(fmt::format("gaze: {} malformed  {} clamped  {} low confidence  {} dropouts  {} clock jumps{}",
+                                  gaze->malformed, gaze->clamped, conditioner.low_confidence, conditioner.dropouts,
+                                  gaze->clock_jumps, gaze->last_problem.empty() ? "" : "  last: " + gaze->last_problem));
+    if (ge.state == fov::gaze_state::safe)
+      lines.push_back(ge.has_sample ? "WARNING: no gaze; safe mode (centre, densest set)" : "WARNING: no gaze yet; centre");
     if (!status.empty()) lines.push_back(status);
     if (show_help) lines.insert(lines.end(), std::begin(help_lines), std::end(help_lines));
     else lines.push_back("H: help");
     fov::draw_overlay(bgr, lines, g);
     window.show(bgr);
-    latency_ms = ms_between(start, clock_type::now()) - in.poll_ms;
+    const double shown_ms = ms_between(start, clock_type::now());
+    latency_ms = shown_ms - in.poll_ms;
+    const double gaze_age_ms = ge.has_sample ? fov::gaze_clock_ms() - ge.newest.t_ms : NAN;  // sample to photons, less the panel
+    if (!o.gaze_log.empty())
+      gaze_log += fmt::format("{},{:.3f},{:.3f},{:.3f},{},{},{:.3f},{:.6f},{:.3f},{},{:.3f},{:.3f},{:.3f},{:.3f}\n", frame_index,
+                              in.poll_ms, g.x, g.y, fov::label_of(fov::gaze_state_labels, ge.state), int(ge.landed),
+                              ge.has_sample ? ge.newest.t_ms - clock_at_start : NAN, ge.newest.tracker_s,
+                              ge.newest.confidence, fov::label_of(fov::gaze_eye_labels, ge.newest.eye), ge.newest.x,
+                              ge.newest.y, ge.age_ms, shown_ms);
 
     auto save_screenshot = [&](const std::string& file) {
       fov::write_frame(image, file);  // the clean frame: no overlay, no cursor
@@ -278,8 +318,9 @@ int run_viewer(const viewer_options& o, render_params settings) {
                 {"camera", {{"position", {renderer.cam().position.x, renderer.cam().position.y, renderer.cam().position.z}},
                             {"forward", {renderer.cam().forward.x, renderer.cam().forward.y, renderer.cam().forward.z}},
                             {"up", {renderer.cam().up.x, renderer.cam().up.y, renderer.cam().up.z}},
-                            {"hfov_deg", renderer.cam().hfov_deg},
-                            {"vfov_deg", renderer.cam().vfov_deg}}},
+                            {"hfov_deg", 2 * glm::degrees(std::atan(fov::make_frame(renderer.cam(), w, h).half_width))},
+                            {"vfov_deg", 2 * glm::degrees(std::atan(fov::make_frame(renderer.cam(), w, h).half_height))},
+                            {"fov_given", renderer.cam().vfov_deg > 0 ? "vertical" : "horizontal"}}},
                 {"view", v.empty() ? "frame" : v},
                 {"trace_ms", timing.trace_ms},
                 {"reconstruct_ms", timing.reconstruct_ms},
@@ -343,7 +384,8 @@ int run_viewer(const viewer_options& o, render_params settings) {
     }
     // Rays per point follow --target-fps: halve when over budget, add one when well under.
     const double frame_ms = ms_between(frame_start, clock_type::now());
-    history.push_back({frame_ms, timing.trace_ms, timing.reconstruct_ms, timing.taa_ms, display_ms, latency_ms, settings.spp});
+    history.push_back({frame_ms, timing.trace_ms, timing.reconstruct_ms, timing.taa_ms, display_ms, latency_ms, gaze_age_ms,
+                       settings.spp});
     fps = fps == 0 ? 1000 / frame_ms : 0.9 * fps + 0.1 * (1000 / frame_ms);
     if (target_fps > 0 && !show_reference) {
       const double budget = 1000 / target_fps;
@@ -353,14 +395,34 @@ int run_viewer(const viewer_options& o, render_params settings) {
   }
   if (as_json) {
     const size_t skip = std::min<size_t>(5, history.size() / 2);
-    auto median = [&](auto field) {
+    // Percentiles by the nearest rank over the measured frames (NaN values left out).
+    auto stats = [&](auto field) {
       std::vector<double> v;
-      for (size_t i = skip; i < history.size(); ++i) v.push_back(field(history[i]));
-      if (v.empty()) return 0.0;
-      std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-      return v[v.size() / 2];
+      for (size_t i = skip; i < history.size(); ++i)
+        if (const double x = field(history[i]); std::isfinite(x)) v.push_back(x);
+      json out = {{"median", nullptr}, {"p95", nullptr}, {"p99", nullptr}, {"max", nullptr}};
+      if (v.empty()) return out;
+      std::sort(v.begin(), v.end());
+      auto rank = [&](double q) { return v[std::min(v.size() - 1, size_t(std::ceil(q * double(v.size()))) - (q > 0))]; };
+      out = {{"median", v[v.size() / 2]}, {"p95", rank(0.95)}, {"p99", rank(0.99)}, {"max", v.back()}};
+      return out;
+    };
+    auto median = [&](auto field) {
+      const json m = stats(field)["median"];
+      return m.is_null() ? 0.0 : m.get<double>();
     };
     const double frame_ms = median([](const frame_stats& f) { return f.frame; });
+    // Dropped frames: those that took longer than the target rate's frame period (a frame
+    // that takes 2.5 periods drops 2 refreshes); only with --target-fps.
+    json dropped = nullptr;
+    if (target_fps > 0) {
+      uint64_t late = 0, refreshes = 0;
+      for (size_t i = skip; i < history.size(); ++i) {
+        const double periods = history[i].frame * target_fps / 1000;
+        if (periods > 1) ++late, refreshes += uint64_t(std::ceil(periods)) - 1;
+      }
+      dropped = {{"target_fps", target_fps}, {"late_frames", late}, {"missed_refreshes", refreshes}};
+    }
     json j = {{"frames", history.size()},
               {"measured_frames", history.size() - skip},
               {"width", w},
@@ -378,11 +440,31 @@ int run_viewer(const viewer_options& o, render_params settings) {
               {"taa_ms", median([](const frame_stats& f) { return f.taa; })},
               {"display_ms", median([](const frame_stats& f) { return f.display; })},
               {"latency_ms", median([](const frame_stats& f) { return f.latency; })},
+              {"distribution_ms",
+               {{"frame", stats([](const frame_stats& f) { return f.frame; })},
+                {"trace", stats([](const frame_stats& f) { return f.trace; })},
+                {"reconstruct", stats([](const frame_stats& f) { return f.reconstruct; })},
+                {"taa", stats([](const frame_stats& f) { return f.taa; })},
+                {"latency", stats([](const frame_stats& f) { return f.latency; })},
+                {"gaze_age", stats([](const frame_stats& f) { return f.gaze_age; })}}},
+              {"dropped", dropped},
+              {"gaze",
+               {{"source", gaze->name()},
+                {"samples", gaze->samples},
+                {"malformed", gaze->malformed},
+                {"clamped", gaze->clamped},
+                {"clock_jumps", gaze->clock_jumps},
+                {"low_confidence", conditioner.low_confidence},
+                {"saccades", conditioner.saccades},
+                {"dropouts", conditioner.dropouts},
+                {"safe_ms", conditioner.safe_ms}}},
               {"pipelined", pipeline}};
     std::cout << j.dump(2) << "\n";
   }
-  if (gaze->clamped || gaze->malformed)
-    std::cerr << fmt::format("fovview: gaze: {} samples clamped to the screen, {} malformed\n", gaze->clamped, gaze->malformed);
+  if (!o.gaze_log.empty()) fov::write_file_atomic(o.gaze_log, gaze_log.data(), gaze_log.size());
+  if (gaze->clamped || gaze->malformed || conditioner.dropouts)
+    std::cerr << fmt::format("fovview: gaze: {} samples clamped to the screen, {} malformed, {} dropouts\n", gaze->clamped,
+                             gaze->malformed, conditioner.dropouts);
   return 0;
 }
 

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <string>
 
+#include "../common/gaze_flags.h"
 #include "fov/renderer.h"
 
 namespace fov {
@@ -15,8 +16,9 @@ struct viewer_options {
   std::string points, points_dir;  // one of the two
   double scale = 0;                // with points_dir: the scale to start at (0: the smallest)
   std::string display;             // with points_dir: the display whose sets to show (a spec; empty: the only one)
-  std::string gaze_trace, fixed_gaze;
-  int gaze_udp = 0;                // a port, 0: none
+  gaze_options gaze;               // a tracker or a trace (none: the mouse or fixed_gaze)
+  std::string fixed_gaze;
+  std::string gaze_log;            // a CSV of the gaze each frame used
   std::string camera_path;
   uint32_t frames = 0;             // stop after N frames (0: run until Q)
   long screenshot_frame = -1;      // save this frame (from 0) to screenshot_file

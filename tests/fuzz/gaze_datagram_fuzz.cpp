@@ -1,4 +1,4 @@
-// The UDP gaze datagram "x y" (normalised), as fovview and fovstair read it from the socket.
+// The UDP gaze datagram ("X Y" or "v2 T C EYE X Y"), as fovview and fovstair read it from the socket.
 #include <cmath>
 
 #include "fuzz_input.h"
@@ -6,9 +6,14 @@
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const std::string text(reinterpret_cast<const char*>(data), size);
-  double x = -1, y = -1;
+  fov::gaze_datagram d;
   try {
-    if (fov::parse_gaze_datagram(text, x, y)) fov::fuzz::require(std::isfinite(x) && std::isfinite(y), "a gaze is finite");
+    const std::string why = fov::parse_gaze_datagram(text, d);
+    if (why.empty())
+      fov::fuzz::require(std::isfinite(d.x) && std::isfinite(d.y) && d.confidence >= 0 && d.confidence <= 1,
+                         "an accepted datagram is finite with a confidence in 0..1");
+    else
+      fov::fuzz::require(why.size() < 200, "a refusal is one short line");
   } catch (const std::exception& e) {
     fov::fuzz::finding("a datagram threw (it must be counted as malformed)", e.what());
   }

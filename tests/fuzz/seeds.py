@@ -111,3 +111,33 @@ put("camera_path", "orbit.csv", "t_ms,x,y,z,tx,ty,tz\n0,0,1,4,0,0,0\n500,2,1,3,0
 put("gaze_datagram", "centre", "0.5 0.5")
 put("gaze_datagram", "corner", "1 0\n")
 put("gaze_datagram", "exponent", "5e-1 2.5E-1")
+put("gaze_datagram", "v2", "v2 1234.5678 0.97 l 0.31 0.42\n")
+put("gaze_datagram", "v2-commas", "v2,7,1,B,0.5,0.5")
+
+
+# Pupil Labs gaze messages: the topic, a NUL, then the msgpack payload as Pupil packs it.
+def mp_str(t):
+    b = t.encode()
+    return bytes([0xA0 | len(b)]) + b
+
+
+def mp_f64(v):
+    return b"\xcb" + struct.pack(">d", v)
+
+
+gaze_map = (b"\x83" + mp_str("norm_pos") + b"\x92" + mp_f64(0.25) + mp_f64(0.75) + mp_str("confidence")
+            + mp_f64(0.95) + mp_str("timestamp") + mp_f64(1234.5))
+put("pupil_gaze", "binocular", b"gaze.3d.01.\0" + gaze_map)
+put("pupil_gaze", "right-eye-ints", b"gaze.2d.0.\0" + b"\x83" + mp_str("norm_pos") + b"\x92\x00\x01"
+    + mp_str("confidence") + b"\x01" + mp_str("timestamp") + b"\xcd\x04\xd2")
+put("pupil_gaze", "huge-array", b"gaze.3d.1.\0" + b"\x81" + mp_str("norm_pos") + b"\xdd\xff\xff\xff\xff")
+put("pupil_gaze", "missing-confidence", b"gaze.3d.1.\0" + b"\x82" + mp_str("norm_pos") + b"\x92" + mp_f64(0.1)
+    + mp_f64(0.2) + mp_str("timestamp") + mp_f64(1.0))
+put("pupil_gaze", "not-gaze", b"pupil.0.2d\0" + gaze_map)
+
+# Gaze calibrations, the three forms and a degenerate grid.
+put("gaze_calibration", "affine.json", '{"offset": [0.01, -0.02], "scale": [1.05, 0.97]}\n')
+put("gaze_calibration", "homography.json", '{"homography": [1, 0.01, 0, 0, 1, 0, 0.001, 0, 1]}\n')
+put("gaze_calibration", "grid.json",
+    '{"grid": [[0.1,0.1,0.12,0.09],[0.9,0.1,0.88,0.1],[0.1,0.9,0.1,0.91],[0.9,0.9,0.9,0.9],[0.5,0.5,0.5,0.51]]}\n')
+put("gaze_calibration", "collinear.json", '{"grid": [[0,0,0,0],[0.5,0.5,0.5,0.5],[1,1,1,1],[0.25,0.25,0.25,0.25]]}\n')

@@ -165,6 +165,12 @@ class renderer {
   warm_up_report prepare(const point_samples& samples, const render_params& p);
 
   void reset_history() { taa_ = taa_state{}; }
+  // Treats the TAA history as seen with the gaze at `g` (a saccade's onset, when it lands):
+  // the next frame's pixels whose eccentricity dropped by taa_params::focus_lag_deg since then
+  // (the new fovea) take the current frame, on the device and in C++ alike.
+  void history_gaze(gaze_point g) {
+    if (taa_.valid) taa_.gaze = g;
+  }
   uint64_t frames_traced() const { return frames_traced_; }
 
   // The trace_params of the frame numbered `n` under p (n counts the renderer's traces).
