@@ -15,6 +15,17 @@ observer=logistic:threshold=1.7,slope=8,lapse=0.02,false_alarm=0.1
 
 check "no subcommand"       2 -- "$fovstair"
 check "bad subject"         2 -- "$fovstair" run --protocol "$protocol" --subject "a b" --observer "$observer" --out "$dir/x"
+check "subject from a hyphen" 2 -- "$fovstair" run --protocol "$protocol" --subject "-P03" --observer "$observer" --out "$dir/x"
+check "hyphenated subject"  0 -- "$fovstair" run --protocol "$protocol" --subject P-03 --observer "$observer" --out "$dir/hyphen"
+[[ -f "$dir/hyphen/P-03-1.jsonl" ]] || fail "the session of P-03 is not P-03-1.jsonl"
+err=$("$fovstair" run --subject P-03 --resume --out "$dir/hyphen" 2>&1)
+[[ "$err" == "fovstair: $dir/hyphen/P-03-1.jsonl: the session is finished; nothing to resume" ]] || fail "resume P-03: $err"
+# validate fails (exit 1, one line after the list) while a set the staircase can reach is missing.
+sed "s#\"points_dir\": *\"[^\"]*\"#\"points_dir\": \"$dir/no-sets\"#" "$protocol" > "$dir/nosets.json"
+grep -q "no-sets" "$dir/nosets.json" || fail "the protocol has no points_dir to point elsewhere"
+err=$("$fovstair" validate "$dir/nosets.json" 2>&1 >/dev/null)
+[[ $? -eq 1 && "$err" == "fovstair: $dir/nosets.json: "*" point sets missing (listed above); make the family with: fovgen sweep"* ]] \
+  || fail "validate with missing sets: $err"
 check "bad observer"        2 -- "$fovstair" run --protocol "$protocol" --subject S1 --observer "probit:1" --out "$dir/x"
 check "missing protocol"    1 -- "$fovstair" run --protocol "$dir/none.json" --subject S1 --observer "$observer" --out "$dir/x"
 printf '{\n  "fovstair_protocol": 1,\n  "conditions": [{"name": "A", "k": 99}]\n}\n' > "$dir/bad.json"

@@ -57,8 +57,10 @@ int run_session(const run_options& o) {
   gaze_options gaze_flags = o.gaze;
   require_valid(gaze_flags);
   if (gaze_flags.sources() + gaze_mouse > 1) throw usage_error("choose one gaze source");
-  if (!std::regex_match(subject, std::regex("[A-Za-z0-9_]{1,32}")))
-    throw usage_error(fmt::format("--subject '{}': use 1-32 letters, digits or _", subject));
+  // Lab IDs as labs write them (P-03, sub-07, S_12): letters, digits, _ and -, starting with
+  // a letter or digit (the session file is SUBJECT-SESSION.jsonl).
+  if (!std::regex_match(subject, std::regex("[A-Za-z0-9][A-Za-z0-9_-]{0,31}")))
+    throw usage_error(fmt::format("--subject '{}': use 1-32 letters, digits, _ or -, starting with a letter or digit", subject));
   // --out is made only when the session file is (a run that cannot start leaves nothing).
   require_output_dir("--out", out_dir);
   std::error_code ec;
@@ -365,7 +367,11 @@ int validate_protocol(const std::string& protocol) {
     const std::string f = pointset_path(p, s);
     if (!fs::exists(f)) ++missing, fmt::print("  missing: {}\n", f);
   }
-  fmt::print("{}\n", missing ? fmt::format("{} point sets missing", missing) : std::string("all point sets present"));
+  if (missing)  // a session would stop at the first missing set: not valid for a run
+    throw std::runtime_error(fmt::format("{}: {} point sets missing (listed above); make the family with: fovgen sweep "
+                                         "--display {} --scales {:.1f}:{:.1f}:{} -o {}",
+                                         protocol, missing, p.display, p.scale_min, p.scale_max, p.rule.step, p.points_dir));
+  fmt::print("all point sets present\n");
   return 0;
 }
 
