@@ -1,5 +1,6 @@
 #include "window.h"
 
+#include <sstream>
 #include <netdb.h>
 #include <poll.h>
 #include <sys/socket.h>
@@ -11,6 +12,7 @@
 #include <cstddef>
 #include <cstdlib>
 #include <cstring>
+#include <sstream>
 #include <stdexcept>
 #include <vector>
 
@@ -142,12 +144,57 @@ bool view_window::closed() const {
   }
 }
 
-void draw_overlay(cv::Mat& bgr, const std::vector<std::string>& lines, gaze_point gaze) {
-  if (lines.empty()) return;
+fitted_text fit_text(const std::vector<std::string>& lines, int max_width, double max_scale, int thickness) {
   constexpr int font = cv::FONT_HERSHEY_SIMPLEX;
-  constexpr double scale = 0.5;
-  int width = 0, line_height = 18;
-  for (const std::string& l : lines) width = std::max(width, cv::getTextSize(l, font, scale, 1, nullptr).width);
+  fitted_text out;
+  for (double scale = max_scale;; scale *= 0.9) {
+    const bool last = scale * 0.9 < 0.3;
+    auto width_of = [&](const std::string& s) { return cv::getTextSize(s, font, scale, thickness, nullptr).width; };
+    out.lines.clear();
+    out.scale = scale, out.width = 0;
+    bool fits = true;
+    for (const std::string& line : lines) {
+      if (width_of(line) <= max_width) {  // fits: kept as written (its spacing too)
+        out.lines.push_back(line);
+        continue;
+      }
+      std::string cur, word;
+      std::istringstream words(line);
+      bool any = false;
+      while (words >> word) {
+        const std::string joined = cur.empty() ? word : cur + " " + word;
+        if (!cur.empty() && width_of(joined) > max_width) out.lines.push_back(cur), cur = word;
+        else cur = joined;
+        any = true;
+      }
+      if (!any || !cur.empty()) out.lines.push_back(cur);
+    }
+    for (const std::string& l : out.lines) {
+      out.width = std::max(out.width, width_of(l));
+      if (width_of(l) > max_width) fits = false;
+    }
+    out.line_height = int(std::lround(36 * scale));
+    if (fits || last) return out;
+  }
+}
+
+cv::Mat message_screen(int width, int height, const std::vector<std::string>& lines) {
+  cv::Mat m(height, width, CV_8UC3, cv::Scalar(64, 64, 64));
+  const fitted_text t = fit_text(lines, width - width / 4, 0.9, 2);
+  const int top = height / 2 - int(t.lines.size()) * t.line_height / 2 + t.line_height / 2;
+  for (size_t i = 0; i < t.lines.size(); ++i)
+    cv::putText(m, t.lines[i], {width / 8, top + int(i) * t.line_height}, cv::FONT_HERSHEY_SIMPLEX, t.scale, {255, 255, 255},
+                2, cv::LINE_AA);
+  return m;
+}
+
+void draw_overlay(cv::Mat& bgr, const std::vector<std::string>& given, gaze_point gaze) {
+  if (given.empty()) return;
+  constexpr int font = cv::FONT_HERSHEY_SIMPLEX;
+  const fitted_text t = fit_text(given, std::max(16, bgr.cols - 32), 0.5, 1);
+  const std::vector<std::string>& lines = t.lines;
+  const double scale = t.scale;
+  const int width = t.width, line_height = t.line_height;
   const int box_w = width + 16, box_h = int(lines.size()) * line_height + 12;
   // The corner farthest from the gaze.
   const bool right = gaze.x < bgr.cols / 2.0, bottom = gaze.y < bgr.rows / 2.0;

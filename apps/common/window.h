@@ -43,9 +43,23 @@ class view_window {
   static void on_mouse(int event, int x, int y, int flags, void* self);
 };
 
+// Text that fits a width: the lines wrapped at spaces so each is at most `max_width` pixels
+// wide in OpenCV's simplex font, at `max_scale` or, where a single word is wider than that,
+// at the largest smaller scale (down to 0.3) at which every line fits.
+struct fitted_text {
+  std::vector<std::string> lines;
+  double scale = 0;
+  int line_height = 0;  // pixels from one baseline to the next
+  int width = 0;        // the widest line, pixels
+};
+fitted_text fit_text(const std::vector<std::string>& lines, int max_width, double max_scale, int thickness);
+
 // Text lines drawn in a box in the corner of the image farthest from the gaze, so the
-// overlay never covers the fovea.
+// overlay never covers the fovea; wrapped (fit_text) to fit the image's width.
 void draw_overlay(cv::Mat& bgr, const std::vector<std::string>& lines, gaze_point gaze);
+// Lines on a plain grey screen (instructions, questions, pauses), wrapped to fit its width
+// with a margin of an eighth on each side, centred vertically.
+cv::Mat message_screen(int width, int height, const std::vector<std::string>& lines);
 void draw_gaze_cursor(cv::Mat& bgr, gaze_point gaze);
 
 }  // namespace fov

@@ -14,12 +14,6 @@ double ms_between(clock_type::time_point a, clock_type::time_point b) {
   return std::chrono::duration<double, std::milli>(b - a).count();
 }
 
-cv::Mat message_screen(int w, int h, const std::vector<std::string>& lines) {
-  cv::Mat m(h, w, CV_8UC3, cv::Scalar(64, 64, 64));
-  for (size_t i = 0; i < lines.size(); ++i)
-    cv::putText(m, lines[i], {w / 8, h / 2 + int(i) * 40}, cv::FONT_HERSHEY_SIMPLEX, 0.9, {255, 255, 255}, 2, cv::LINE_AA);
-  return m;
-}
 
 // The next scripted answer, when a script drives the trial (0 when the script is empty).
 int scripted(live_context& ctx) {
