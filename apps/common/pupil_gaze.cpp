@@ -108,7 +108,11 @@ std::string parse_pupil_endpoint(const std::string& text, std::string& host, uin
 
 std::string parse_pupil_gaze(const std::string& topic, const unsigned char* payload, size_t size,
                              pupil_gaze_message& out) {
-  if (topic.rfind("gaze.", 0) != 0) return fmt::format("topic '{}' is not a gaze topic", topic.substr(0, 40));
+  if (topic.rfind("gaze.", 0) != 0) {
+    std::string shown;  // printable, one line
+    for (char c : topic.substr(0, 40)) shown += (c >= 32 && c < 127) ? c : '?';
+    return fmt::format("topic '{}' is not a gaze topic", shown);
+  }
   pupil_gaze_message g;
   // "gaze.3d.01." both eyes, "gaze.3d.0." eye 0 (Pupil Core's right eye), "gaze.3d.1." eye 1.
   if (topic.find(".01.") != std::string::npos) g.eye = gaze_eye::both;
