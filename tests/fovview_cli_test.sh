@@ -32,6 +32,8 @@ check "negative saccade"   2 -- "$fovview" "${set[@]}" --saccade-deg-s -1
 check "hold not a number"  2 -- "$fovview" "${set[@]}" --gaze-hold-ms soon
 check "gaze log exists"    2 -- "$fovview" "${set[@]}" --gaze-log "$dir/gaze.csv"
 check "bad calibration"    1 -- "$fovview" "${set[@]}" --gaze-udp 47999 --gaze-calibration "$dir/gaze.csv"
+mkfifo "$dir/cal.fifo"  # read as a calibration it would block forever: refused
+check "calibration FIFO"   1 -- timeout 20 "$fovview" "${set[@]}" --gaze-udp 47999 --gaze-calibration "$dir/cal.fifo"
 check "no Pupil Remote"    1 -- env -u DISPLAY -u WAYLAND_DISPLAY "$fovview" "${set[@]}" --gaze-pupil tcp://127.0.0.1:1
 check "exit without frames" 2 -- "$fovview" "${set[@]}" --exit
 check "bad screenshot frame" 2 -- "$fovview" "${set[@]}" --screenshot-at x "$dir/a.png"

@@ -13,12 +13,12 @@
 #include <cerrno>
 #include <cmath>
 #include <cstring>
-#include <fstream>
-#include <sstream>
 #include <stdexcept>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
+
+#include "fov/files.h"
 #include <opencv2/calib3d.hpp>
 
 namespace fov {
@@ -82,13 +82,7 @@ namespace {
 class fixed_source : public gaze_source {
  public:
   fixed_source(int w, int h, double x, double y) : x_(x), y_(y) { width_ = w, height_ = h; }
-  void read(double now, std::vector<gaze_sample>& out) override {
-    gaze_sample s;
-    s.x = x_, s.y = y_, s.t_ms = now;
-    clamp_to_screen(s.x, s.y);
-    ++samples;
-    out.push_back(s);
-  }
+  void read(double now, std::vector<gaze_sample>& out) override { emit(x_, y_, now, out); }
   std::string name() const override { return "fixed"; }
 
  private:
@@ -113,13 +107,8 @@ class trace_source : public gaze_source {
   // Every row whose time has come, once; the first row at once.
   void read(double now, std::vector<gaze_sample>& out) override {
     if (!std::isfinite(start_)) start_ = now - rows_.front().t;
-    for (; next_ < rows_.size() && (next_ == 0 || rows_[next_].t <= now - start_); ++next_) {
-      gaze_sample s;
-      s.x = rows_[next_].x, s.y = rows_[next_].y, s.t_ms = start_ + rows_[next_].t;
-      clamp_to_screen(s.x, s.y);
-      ++samples;
-      out.push_back(s);
-    }
+    for (; next_ < rows_.size() && (next_ == 0 || rows_[next_].t <= now - start_); ++next_)
+      emit(rows_[next_].x, rows_[next_].y, start_ + rows_[next_].t, out);
   }
   std::string name() const override { return "trace " + path_; }
 
@@ -211,9 +200,9 @@ bool number(const std::string& text, double& v) {
 
 }  // namespace
 
-void mouse_gaze::read(double now, std::vector<gaze_sample>& out) {
+void gaze_source::emit(double x, double y, double t_ms, std::vector<gaze_sample>& out) {
   gaze_sample s;
-  s.x = x_, s.y = y_, s.t_ms = now;
+  s.x = x, s.y = y, s.t_ms = t_ms;
   clamp_to_screen(s.x, s.y);
   ++samples;
   out.push_back(s);
@@ -226,21 +215,21 @@ std::string parse_gaze_datagram(const std::string& text, gaze_datagram& out) {
   size_t at = 0;
   if (!f.empty() && f[0] == "v2") {
     if (f.size() != 6) return fmt::format("version 2 needs 'v2 T C EYE X Y' (6 fields), got {}", f.size());
-    if (!number(f[1], d.t_s)) return fmt::format("version 2: time '{}' is not a number", f[1].substr(0, 32));
+    if (!number(f[1], d.t_s)) return fmt::format("version 2: time '{}' is not a number", printable(f[1], 32));
     if (!number(f[2], d.confidence) || d.confidence < 0 || d.confidence > 1)
-      return fmt::format("version 2: confidence '{}' is not a number in 0..1", f[2].substr(0, 32));
+      return fmt::format("version 2: confidence '{}' is not a number in 0..1", printable(f[2], 32));
     const std::string& e = f[3];
     if (e == "l" || e == "L") d.eye = gaze_eye::left;
     else if (e == "r" || e == "R") d.eye = gaze_eye::right;
     else if (e == "b" || e == "B") d.eye = gaze_eye::both;
-    else return fmt::format("version 2: eye '{}' is not l, r or b", e.substr(0, 32));
+    else return fmt::format("version 2: eye '{}' is not l, r or b", printable(e, 32));
     at = 4;
   } else if (f.size() != 2) {
     return f.empty() ? "an empty datagram"
                      : fmt::format("expected 'X Y' (version 1) or 'v2 T C EYE X Y', got {} fields", f.size());
   }
   if (!number(f[at], d.x) || !number(f[at + 1], d.y))
-    return fmt::format("position '{} {}' is not two numbers", f[at].substr(0, 32), f[at + 1].substr(0, 32));
+    return fmt::format("position '{} {}' is not two numbers", printable(f[at], 32), printable(f[at + 1], 32));
   out = d;
   return "";
 }
@@ -261,10 +250,7 @@ bool gaze_calibration::apply(double& x, double& y) const {
 }
 
 gaze_calibration read_gaze_calibration(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw std::runtime_error(fmt::format("{}: cannot read the calibration", path));
-  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (text.size() > (1u << 20)) throw std::runtime_error(fmt::format("{}: a calibration over 1 MiB", path));
+  const std::string text = read_input_file(path, 1u << 20, "calibration");  // a FIFO or a directory refused
   nlohmann::json j;
   try {
     j = nlohmann::json::parse(text);

@@ -57,6 +57,8 @@ class gaze_source {
  protected:
   void clamp_to_screen(double& x, double& y);
   void refuse(std::string why) { ++malformed, last_problem = std::move(why); }
+  // Appends a sample at (x, y), taken at t_ms, clamped to the screen and counted.
+  void emit(double x, double y, double t_ms, std::vector<gaze_sample>& out);
   int width_ = 0, height_ = 0;
   gaze_point last_{};
   bool have_last_ = false;
@@ -122,7 +124,7 @@ class mouse_gaze : public gaze_source {
  public:
   mouse_gaze(int width, int height) { width_ = width, height_ = height, x_ = width / 2.0, y_ = height / 2.0; }
   void set(double x, double y) { x_ = x, y_ = y; }
-  void read(double now_ms, std::vector<gaze_sample>& out) override;
+  void read(double now_ms, std::vector<gaze_sample>& out) override { emit(x_, y_, now_ms, out); }
   std::string name() const override { return "mouse"; }
 
  private:

@@ -15,6 +15,8 @@
 
 #include <fmt/format.h>
 
+#include "fov/files.h"
+
 namespace fov {
 
 namespace {
@@ -108,11 +110,7 @@ std::string parse_pupil_endpoint(const std::string& text, std::string& host, uin
 
 std::string parse_pupil_gaze(const std::string& topic, const unsigned char* payload, size_t size,
                              pupil_gaze_message& out) {
-  if (topic.rfind("gaze.", 0) != 0) {
-    std::string shown;  // printable, one line
-    for (char c : topic.substr(0, 40)) shown += (c >= 32 && c < 127) ? c : '?';
-    return fmt::format("topic '{}' is not a gaze topic", shown);
-  }
+  if (topic.rfind("gaze.", 0) != 0) return fmt::format("topic '{}' is not a gaze topic", printable(topic, 40));
   pupil_gaze_message g;
   // "gaze.3d.01." both eyes, "gaze.3d.0." eye 0 (Pupil Core's right eye), "gaze.3d.1." eye 1.
   if (topic.find(".01.") != std::string::npos) g.eye = gaze_eye::both;
@@ -174,7 +172,7 @@ class pupil_source : public gaze_source {
       char* end = nullptr;
       const long sub_port = std::strtol(answer.c_str(), &end, 10);
       if (answer.empty() || *end || sub_port < 1 || sub_port > 65535)
-        fail(fmt::format("Pupil Remote answered '{}' to SUB_PORT, not a port: is this Pupil Remote?", printable(answer)));
+        fail(fmt::format("Pupil Remote answered '{}' to SUB_PORT, not a port: is this Pupil Remote?", printable(answer, 40)));
       sync_clock();
       if (!clock_.synced()) fail("Pupil Remote did not answer 't' with its time: is this Pupil Remote?");
       sub_ = zmq_socket(ctx_, ZMQ_SUB);
@@ -215,11 +213,6 @@ class pupil_source : public gaze_source {
  private:
   [[noreturn]] void fail(const std::string& why) {
     throw std::runtime_error(fmt::format("--gaze-pupil {}: {}", p_.endpoint, why));
-  }
-  static std::string printable(const std::string& s) {
-    std::string out;
-    for (char c : s.substr(0, 40)) out += (c >= 32 && c < 127) ? c : '?';
-    return out;
   }
   void open_remote(int timeout_ms) {
     if (req_) zmq_close(req_);

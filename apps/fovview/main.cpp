@@ -2,6 +2,8 @@
 // methods and settings; an overlay shows what each costs.
 #include <malloc.h>
 
+#include <filesystem>
+
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
@@ -53,6 +55,8 @@ int main(int argc, char** argv) {
     fov::require_valid(o.gaze);
     if (o.gaze.sources() + !o.fixed_gaze.empty() > 1) throw usage_error("choose one gaze source");
     fov::require_output("--gaze-log", o.gaze_log);
+    if (!o.gaze_log.empty() && std::filesystem::exists(o.gaze_log))
+      throw usage_error(fmt::format("--gaze-log {}: exists; choose a new file", o.gaze_log));
     if (!(o.target_fps >= 0 && o.target_fps <= 1000)) throw usage_error("--target-fps must lie in 0..1000");
     if (o.exit_after && o.frames == 0) throw usage_error("--exit needs --frames N");
     if (!screenshot_at.empty()) {

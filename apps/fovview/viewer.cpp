@@ -157,15 +157,12 @@ int run_viewer(const viewer_options& o, render_params settings) {
                                     reference_image.height, w, h));
   }
 
-  if (!o.gaze_log.empty() && fs::exists(o.gaze_log))
-    throw usage_error(fmt::format("--gaze-log {}: exists; choose a new file", o.gaze_log));
   std::unique_ptr<fov::gaze_source> gaze = fov::open_gaze(o.gaze, w, h);
   fov::mouse_gaze* mouse = nullptr;
-  if (gaze) {
-  } else if (!fixed_gaze.empty()) {
+  if (!gaze && !fixed_gaze.empty()) {
     const fov::gaze_point at = fov::require_gaze("--gaze", fixed_gaze, display);
     gaze = fov::fixed_gaze(w, h, at.x, at.y);
-  } else {
+  } else if (!gaze) {
     auto m = std::make_unique<fov::mouse_gaze>(w, h);
     mouse = m.get();
     gaze = std::move(m);
@@ -304,6 +301,7 @@ int run_viewer(const viewer_options& o, render_params settings) {
 
     auto save_screenshot = [&](const std::string& file) {
       fov::write_frame(image, file);  // the clean frame: no overlay, no cursor
+      const fov::camera_frame view = fov::make_frame(renderer.cam(), w, h);
       json j = {{"frame", frame_index},
                 {"time_ms", now_ms},
                 {"scene", scene_spec},
@@ -318,8 +316,8 @@ int run_viewer(const viewer_options& o, render_params settings) {
                 {"camera", {{"position", {renderer.cam().position.x, renderer.cam().position.y, renderer.cam().position.z}},
                             {"forward", {renderer.cam().forward.x, renderer.cam().forward.y, renderer.cam().forward.z}},
                             {"up", {renderer.cam().up.x, renderer.cam().up.y, renderer.cam().up.z}},
-                            {"hfov_deg", 2 * glm::degrees(std::atan(fov::make_frame(renderer.cam(), w, h).half_width))},
-                            {"vfov_deg", 2 * glm::degrees(std::atan(fov::make_frame(renderer.cam(), w, h).half_height))},
+                            {"hfov_deg", 2 * glm::degrees(std::atan(view.half_width))},
+                            {"vfov_deg", 2 * glm::degrees(std::atan(view.half_height))},
                             {"fov_given", renderer.cam().vfov_deg > 0 ? "vertical" : "horizontal"}}},
                 {"view", v.empty() ? "frame" : v},
                 {"trace_ms", timing.trace_ms},
