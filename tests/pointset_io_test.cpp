@@ -405,6 +405,20 @@ TEST_F(PointsetFile, OutputsThatAreNotPlainNewFilesAreRefused) {
   EXPECT_EQ(fs::file_size(path("a.fovset")), before);
 }
 
+// Quoted input fits its bound however it is escaped: 40 control bytes become at most 60
+// characters (a CI fuzz run found a gaze datagram whose two quoted fields, bounded by input
+// length, escaped to 256 characters).
+TEST(Printable, BoundsTheEscapedLength) {
+  EXPECT_EQ(printable("a\tb\n", 60), "a\\tb\\n");
+  EXPECT_EQ(printable("abcdef", 3), "abc...");
+  const std::string controls(40, '\x01');
+  const std::string p = printable(controls, 60);
+  EXPECT_LE(p.size(), 63u);
+  EXPECT_EQ(p.substr(0, 8), "\\x01\\x01");
+  EXPECT_EQ(p.substr(p.size() - 3), "...");
+  EXPECT_EQ(printable(std::string(5, '\xff'), 60), "\\xff\\xff\\xff\\xff\\xff");
+}
+
 // A temporary file is removed when the process is stopped by SIGTERM or SIGINT, and one a
 // killed process left behind (kill -9) is removed by the next writer of that file.
 TEST_F(PointsetFile, TemporaryFilesDoNotOutliveTheirProcess) {

@@ -101,12 +101,14 @@ stderr_silenced::~stderr_silenced() {
 std::string printable(const std::string& text, size_t max_chars) {
   std::string out;
   for (size_t i = 0; i < text.size(); ++i) {
-    if (i == max_chars) return out + "...";
     const unsigned char c = static_cast<unsigned char>(text[i]);
-    if (c == '\n') out += "\\n";
-    else if (c == '\t') out += "\\t";
-    else if (c < 0x20 || c >= 0x7f) out += fmt::format("\\x{:02x}", c);
-    else out += char(c);
+    std::string piece;
+    if (c == '\n') piece = "\\n";
+    else if (c == '\t') piece = "\\t";
+    else if (c < 0x20 || c >= 0x7f) piece = fmt::format("\\x{:02x}", c);
+    else piece = char(c);
+    if (out.size() + piece.size() > max_chars) return out + "...";
+    out += piece;
   }
   return out;
 }

@@ -40,8 +40,8 @@ uint64_t physical_memory_bytes();
 std::string memory_problem(uint64_t bytes, const std::string& what);
 
 // Text from an input, fit to quote in a one-line message: control characters and bytes
-// outside printable ASCII written as \n, \t or \xNN, and at most `max_chars` of it kept
-// (then "...").
+// outside printable ASCII written as \n, \t or \xNN, and the result at most `max_chars`
+// long (then "..."), however many bytes each input character became.
 std::string printable(const std::string& text, size_t max_chars = 60);
 
 // The first line of a library's message (OpenImageIO's may run to several, with debug lines).
