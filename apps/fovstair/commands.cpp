@@ -199,7 +199,7 @@ int run_session(const run_options& o) {
   }
   file->append({{"type", "end"}, {"time", now_iso()}});
   for (uint32_t c : state.order()) {
-    const staircase& s = state.series(c);
+    const stair_series& s = state.series(c);
     double mean = 0;
     for (double v : s.thresholds()) mean += v / double(s.thresholds().size());
     fmt::print("{}: {} trials, thresholds [{}], mean {:.3f}{}\n", p.conditions[c].name, s.trials(),
@@ -243,35 +243,65 @@ int simulate(const simulate_options& so) {
     throw usage_error(fmt::format("--observer: threshold {} lies outside the protocol's scales {}..{}; the staircase cannot "
                                   "reach it", m.threshold, base.scale_min, base.scale_max));
   const bool two_afc = base.mode == stair_mode::two_afc;
-  const simulation_result r = simulate_rule(base, m, runs);
-  const bool none = r.estimates.empty();
-  json j = {{"true_threshold", m.threshold},
-            {"estimate_mean", none ? json(nullptr) : json(r.mean)},
-            {"estimate_sd", none ? json(nullptr) : json(r.sd)},
-            {"bias", none ? json(nullptr) : json(r.mean - m.threshold)},
-            {"runs", runs},
-            {"series", r.series},
-            {"incomplete_series", r.incomplete},
-            {"mean_trials_per_run", double(r.trials) / runs},
-            {"rule", {{"up", base.rule.up}, {"down", base.rule.down}, {"initial_step", base.rule.initial_step},
-                      {"step", base.rule.step}, {"thresholds", base.rule.thresholds},
-                      {"discard_reversals", base.rule.discard_reversals}, {"start", base.scale_start}}},
-            {"mode", two_afc ? "2afc" : "yes-no"},
-            {"target_probability", r.target_probability},
-            {"target_scale", r.target_scale},
-            {"observer", observer_text(m)}};
-  if (as_json) {
-    std::cout << j.dump(2) << "\n";
-  } else {
-    if (none)
-      fmt::print("true threshold {:.3f}: no estimate, no series of {} runs recorded a threshold; {} incomplete\n", m.threshold,
-                 runs, r.incomplete);
-    else
-      fmt::print("true threshold {:.3f}: estimate {:.3f} +- {:.3f} (bias {:+.3f}) over {} series of {} runs; {} incomplete\n",
-                 m.threshold, r.mean, r.sd, r.mean - m.threshold, r.estimates.size(), runs, r.incomplete);
-    fmt::print("the rule converges on P(detect) = {:.3f}, which this observer reaches at s = {:.3f}\n", r.target_probability,
-               r.target_scale);
+  // The procedures to run: the protocol's, or those --procedure names (the others with
+  // their defaults: a protocol holds settings for its own procedure only).
+  std::vector<stair_procedure> procedures;
+  for (const std::string& label : so.procedures) {
+    if (label == "all") {
+      for (const auto& [l, v] : stair_procedure_labels) procedures.push_back(v);
+      continue;
+    }
+    stair_procedure v;
+    if (!parse_label(stair_procedure_labels, label, v))
+      throw usage_error(fmt::format("--procedure: '{}' is not one of {}, all", printable(label), label_list(stair_procedure_labels)));
+    procedures.push_back(v);
   }
+  if (procedures.empty()) procedures.push_back(base.procedure);
+  const bool overridden = o.step != -1 || o.initial_step != -1 || o.thresholds >= 0 || o.discard >= 0;
+  json results = json::array();
+  for (stair_procedure proc : procedures) {
+    stair_protocol p = base;
+    p.procedure = proc;
+    if (proc != stair_procedure::up_down && overridden)
+      throw usage_error("--step, --initial-step, --thresholds and --discard change the up-down rule; QUEST and QUEST+ have none");
+    const simulation_result r = simulate_rule(p, m, runs);
+    const bool none = r.estimates.empty();
+    const double rmse = none ? 0 : std::sqrt(r.sd * r.sd * double(r.estimates.size() - 1) / double(r.estimates.size()) +
+                                             (r.mean - r.target_scale) * (r.mean - r.target_scale));
+    json j = {{"procedure", label_of(stair_procedure_labels, proc)},
+              {"true_threshold", m.threshold},
+              {"estimate_mean", none ? json(nullptr) : json(r.mean)},
+              {"estimate_sd", none ? json(nullptr) : json(r.sd)},
+              {"bias", none ? json(nullptr) : json(r.mean - m.threshold)},
+              {"bias_from_target", none ? json(nullptr) : json(r.mean - r.target_scale)},
+              {"rmse_from_target", none ? json(nullptr) : json(rmse)},
+              {"runs", runs},
+              {"series", r.series},
+              {"incomplete_series", r.incomplete},
+              {"mean_trials_per_run", double(r.trials) / runs},
+              {"mean_trials_per_series", double(r.trials) / double(std::max<uint64_t>(1, r.series))},
+              {"mode", two_afc ? "2afc" : "yes-no"},
+              {"target_probability", r.target_probability},
+              {"target_scale", r.target_scale},
+              {"observer", observer_text(m)}};
+    if (proc == stair_procedure::up_down)
+      j["rule"] = {{"up", p.rule.up}, {"down", p.rule.down}, {"initial_step", p.rule.initial_step}, {"step", p.rule.step},
+                   {"thresholds", p.rule.thresholds}, {"discard_reversals", p.rule.discard_reversals}, {"start", p.scale_start}};
+    results.push_back(j);
+    if (as_json) continue;
+    const char* name = label_of(stair_procedure_labels, proc);
+    if (none)
+      fmt::print("{}: true threshold {:.3f}: no estimate, no series of {} runs recorded a threshold; {} incomplete\n", name,
+                 m.threshold, runs, r.incomplete);
+    else
+      fmt::print("{}: true threshold {:.3f}: estimate {:.3f} +- {:.3f} (bias {:+.3f}) over {} series of {} runs, {:.1f} trials "
+                 "per series (catch trials included); {} incomplete\n",
+                 name, m.threshold, r.mean, r.sd, r.mean - m.threshold, r.estimates.size(), runs,
+                 double(r.trials) / double(std::max<uint64_t>(1, r.series)), r.incomplete);
+    fmt::print("{}: aims at P(detect) = {:.3f}, which this observer reaches at s = {:.3f} (estimate - that {:+.3f}, rmse {:.3f})\n",
+               name, r.target_probability, r.target_scale, none ? 0.0 : r.mean - r.target_scale, rmse);
+  }
+  if (as_json) std::cout << (results.size() == 1 ? results[0] : json{{"procedures", results}}).dump(2) << "\n";
   return 0;
 }
 
@@ -360,8 +390,18 @@ int analyze(const analyze_options& o) {
 
 int validate_protocol(const std::string& protocol) {
   const stair_protocol p = load_protocol(protocol);
-  fmt::print("{}: {} conditions, scales {:.2f}..{:.2f}, rule {}-up/{}-down, {} thresholds per condition\n", protocol,
-             p.conditions.size(), p.scale_min, p.scale_max, p.rule.up, p.rule.down, p.rule.thresholds);
+  std::string procedure;
+  if (p.procedure == stair_procedure::up_down)
+    procedure = fmt::format("rule {}-up/{}-down, {} thresholds per condition", p.rule.up, p.rule.down, p.rule.thresholds);
+  else if (p.procedure == stair_procedure::quest)
+    procedure = fmt::format("QUEST at {:.0f} % {}, {} trials per condition{}", 100 * p.quest.p_threshold,
+                            p.mode == stair_mode::two_afc ? "correct" : "detected", p.quest.max_trials,
+                            p.quest.stop_interval > 0 ? " or fewer (stop_interval)" : "");
+  else
+    procedure = fmt::format("QUEST+ over {} parameter combinations, {} trials per condition{}",
+                            quest_plus(p.quest_plus, reachable_scales(p), p.mode == stair_mode::two_afc).parameter_combinations(),
+                            p.quest_plus.max_trials, p.quest_plus.stop_interval > 0 ? " or fewer (stop_interval)" : "");
+  fmt::print("{}: {} conditions, scales {:.2f}..{:.2f}, {}\n", protocol, p.conditions.size(), p.scale_min, p.scale_max, procedure);
   int missing = 0;
   for (double s : reachable_scales(p)) {
     const std::string f = pointset_path(p, s);

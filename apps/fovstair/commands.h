@@ -29,6 +29,7 @@ struct simulate_options {
   uint32_t runs = 1000;
   bool json = false;
   rule_overrides overrides;
+  std::vector<std::string> procedures;  // labels or "all"; empty: the protocol's
 };
 int simulate(const simulate_options& o);
 

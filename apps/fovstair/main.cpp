@@ -24,11 +24,13 @@ int main(int argc, char** argv) {
   run->add_flag("--gaze-mouse", r.gaze_mouse, "Gaze from the mouse pointer");
   run->add_option("--script-keys", r.script_keys, "Testing: the window's answers, one key per trial (e.g. nnyn)");
 
-  CLI::App* sim = app.add_subcommand("simulate", "Estimate a rule's bias and spread with a simulated observer");
+  CLI::App* sim = app.add_subcommand("simulate", "Estimate a procedure's bias, spread and trials with a simulated observer");
   sim->add_option("--protocol", so.protocol, "Protocol JSON")->required();
   sim->add_option("--observer", so.observer, "logistic:threshold=T,slope=S[,lapse=L][,false_alarm=F]")->required();
   sim->add_option("--runs", so.runs, "Simulated sessions (default 1000)");
   sim->add_flag("--json", so.json, "Print JSON");
+  sim->add_option("--procedure", so.procedures, "Procedures to compare on the same observer: up-down, quest, quest-plus or all "
+                  "(default: the protocol's)")->delimiter(',');
   sim->add_option("--step", so.overrides.step, "Override the rule's step");
   sim->add_option("--initial-step", so.overrides.initial_step, "Override the rule's initial step");
   sim->add_option("--start", so.overrides.start, "Override the starting scale (the top of the range descends)");

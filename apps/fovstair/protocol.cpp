@@ -170,6 +170,83 @@ int overflow_line(const std::string& text) {
   return found;
 }
 
+// A non-empty list of at most `most` numbers, each in [lo, hi].
+std::vector<double> number_list(reader& r, const std::string& key, double lo, double hi, size_t most) {
+  const json& v = r.raw(key);
+  const std::string at = r.at(key);
+  if (!v.is_array() || v.empty() || v.size() > most) r.fail(at, fmt::format("must be a list of 1 to {} numbers", most));
+  std::vector<double> out;
+  for (size_t i = 0; i < v.size(); ++i) {
+    if (!v[i].is_number() || !(v[i].get<double>() >= lo && v[i].get<double>() <= hi))
+      r.fail(at + "/" + std::to_string(i), fmt::format("must be a number in [{}, {}]", lo, hi));
+    out.push_back(v[i].get<double>());
+  }
+  return out;
+}
+
+void parse_quest(reader r, stair_protocol& p, bool two_afc) {
+  quest_params& q = p.quest;
+  r.get("threshold_guess", q.threshold_guess);
+  r.get("guess_sd", q.guess_sd);
+  r.get("p_threshold", q.p_threshold);
+  r.get("beta", q.beta);
+  r.get("delta", q.delta);
+  r.get("gamma", q.gamma);
+  r.get("grain", q.grain);
+  r.get("range", q.range);
+  std::string method = label_of(quest_method_labels, q.method);
+  r.get("method", method);
+  r.get("max_trials", q.max_trials);
+  r.get("stop_interval", q.stop_interval);
+  r.no_unknown_keys();
+  if (!(q.threshold_guess == 0 || (q.threshold_guess >= p.scale_min && q.threshold_guess <= p.scale_max)))
+    r.fail("/quest/threshold_guess", "must lie in the scale range, or be 0 for its geometric middle");
+  if (!(q.guess_sd >= 0 && q.guess_sd <= 10)) r.fail("/quest/guess_sd", "must lie in (0, 10] log10 units, or be 0 for the range's");
+  if (!(q.beta > 0 && q.beta <= 100)) r.fail("/quest/beta", "must lie in (0, 100]");
+  if (!(q.delta >= 0 && q.delta <= 0.5)) r.fail("/quest/delta", "must lie in [0, 0.5]");
+  if (!(q.gamma == -1 || (q.gamma >= 0 && q.gamma < 1))) r.fail("/quest/gamma", "must lie in [0, 1)");
+  const double gamma = q.gamma >= 0 ? q.gamma : (two_afc ? 0.5 : 0.01);
+  const double top = q.delta * gamma + (1 - q.delta);
+  if (!(q.p_threshold > gamma && q.p_threshold < top))
+    r.fail("/quest/p_threshold", fmt::format("must lie strictly between gamma ({}) and 1 - delta (1 - gamma) ({})", gamma, top));
+  if (!(q.grain >= 0.001 && q.grain <= 0.1)) r.fail("/quest/grain", "must lie in [0.001, 0.1] log10 units");
+  if (!(q.range > 0 && q.range <= 10)) r.fail("/quest/range", "must lie in (0, 10] log10 units");
+  if (q.range / q.grain > max_quest_grid) r.fail("/quest/range", fmt::format("range / grain must be at most {}", max_quest_grid));
+  if (!parse_label(quest_method_labels, method, q.method)) r.fail("/quest/method", "must be " + label_alternatives(quest_method_labels));
+  if (q.max_trials < 1 || q.max_trials > max_protocol_series_trials)
+    r.fail("/quest/max_trials", fmt::format("must lie in 1..{}", max_protocol_series_trials));
+  if (!(q.stop_interval >= 0 && q.stop_interval <= 10)) r.fail("/quest/stop_interval", "must lie in [0, 10] log10 units (0: off)");
+}
+
+void parse_quest_plus(reader r, stair_protocol& p, bool two_afc) {
+  quest_plus_params& q = p.quest_plus;
+  if (r.has("thresholds")) q.thresholds = number_list(r, "thresholds", 0.01, 100, max_quest_grid);
+  if (r.has("slopes")) q.slopes = number_list(r, "slopes", 0.01, 100, 1000);
+  if (r.has("lower_asymptotes")) q.lower_asymptotes = number_list(r, "lower_asymptotes", 0, 0.99, 1000);
+  if (r.has("lapse_rates")) q.lapse_rates = number_list(r, "lapse_rates", 0, 0.5, 1000);
+  std::string estimate = label_of(quest_plus_estimate_labels, q.estimate);
+  r.get("estimate", estimate);
+  r.get("max_trials", q.max_trials);
+  r.get("stop_interval", q.stop_interval);
+  r.no_unknown_keys();
+  if (!parse_label(quest_plus_estimate_labels, estimate, q.estimate))
+    r.fail("/quest_plus/estimate", "must be " + label_alternatives(quest_plus_estimate_labels));
+  if (q.max_trials < 1 || q.max_trials > max_protocol_series_trials)
+    r.fail("/quest_plus/max_trials", fmt::format("must lie in 1..{}", max_protocol_series_trials));
+  if (!(q.stop_interval >= 0 && q.stop_interval <= 10))
+    r.fail("/quest_plus/stop_interval", "must lie in [0, 10] log10 units (0: off)");
+  const double lowest_gamma = q.lower_asymptotes.empty() ? (two_afc ? 0.5 : 0.01) : *std::max_element(q.lower_asymptotes.begin(), q.lower_asymptotes.end());
+  if (lowest_gamma + *std::max_element(q.lapse_rates.begin(), q.lapse_rates.end()) >= 1)
+    r.fail("/quest_plus/lapse_rates", "every lower asymptote + lapse rate must stay below 1");
+  const uint64_t stimuli = procedure_grid(p.scale_min, p.scale_max, p.scale_grid).size();
+  const uint64_t params = uint64_t(q.thresholds.empty() ? stimuli : q.thresholds.size()) * q.slopes.size() *
+                          std::max<size_t>(1, q.lower_asymptotes.size()) * q.lapse_rates.size();
+  if (stimuli * params > max_quest_plus_table)
+    r.fail("/quest_plus", fmt::format("{} scales x {} parameter combinations = {} likelihoods; at most {} (so that no trial "
+                                      "waits on the entropy search): coarsen scales.grid or the parameter lists",
+                                      stimuli, params, stimuli * params, max_quest_plus_table));
+}
+
 }  // namespace
 
 stair_protocol parse_protocol(const std::string& text, const std::string& file) {
@@ -260,11 +337,28 @@ stair_protocol parse_protocol(const std::string& text, const std::string& file) 
     r.get("max", p.scale_max);
     p.scale_start = p.scale_min;
     r.get("start", p.scale_start);
+    r.get("grid", p.scale_grid);
     r.no_unknown_keys();
     if (!(p.scale_min >= 0.5 && p.scale_min < p.scale_max)) r.fail("/scales/min", "must be >= 0.5 and below max");
     if (!(p.scale_max <= max_protocol_scale)) r.fail("/scales/max", fmt::format("must be at most {}", max_protocol_scale));
     if (!(p.scale_start >= p.scale_min && p.scale_start <= p.scale_max)) r.fail("/scales/start", "must lie in [min, max]");
+    if (!(p.scale_grid >= 0.01 && p.scale_grid <= p.scale_max - p.scale_min) ||
+        std::fabs(p.scale_grid * 100 - std::round(p.scale_grid * 100)) > 1e-6)
+      r.fail("/scales/grid", "must be a multiple of 0.01 between 0.01 and max - min");
   }
+  std::string procedure = label_of(stair_procedure_labels, p.procedure);
+  top.get("procedure", procedure);
+  if (!parse_label(stair_procedure_labels, procedure, p.procedure))
+    top.fail("/procedure", "must be " + label_alternatives(stair_procedure_labels));
+  // Settings of a procedure the protocol does not use are refused, not ignored.
+  for (const auto& [key, used] : {std::pair<const char*, stair_procedure>{"rule", stair_procedure::up_down},
+                                  {"quest", stair_procedure::quest}, {"quest_plus", stair_procedure::quest_plus}})
+    if (top.has(key) && p.procedure != used)
+      top.fail(std::string("/") + key, fmt::format("settings for procedure {}, but the protocol's procedure is {}",
+                                                   label_of(stair_procedure_labels, used), procedure));
+  const bool two_afc = p.mode == stair_mode::two_afc;
+  if (top.has("quest")) parse_quest(reader(top.raw("quest"), "/quest", lines, file), p, two_afc);
+  if (top.has("quest_plus")) parse_quest_plus(reader(top.raw("quest_plus"), "/quest_plus", lines, file), p, two_afc);
   if (top.has("rule")) {
     reader r(top.raw("rule"), "/rule", lines, file);
     stair_rule& s = p.rule;
@@ -322,6 +416,7 @@ std::string read_protocol_text(const std::string& path) {
 }
 
 std::vector<double> reachable_scales(const stair_protocol& p) {
+  if (p.procedure != stair_procedure::up_down) return procedure_grid(p.scale_min, p.scale_max, p.scale_grid);
   std::set<long> hundredths;
   const long lo = std::lround(p.scale_min * 100), hi = std::lround(p.scale_max * 100);
   const long start = std::lround(p.scale_start * 100);

@@ -8,6 +8,7 @@
 
 #include "fov/reconstruct_params.h"
 #include "fov/renderer.h"
+#include "quest.h"
 
 namespace fov {
 
@@ -32,6 +33,12 @@ struct stair_rule {
   uint32_t max_trials = 80;
 };
 
+// How a series chooses its next scale: the transformed up-down rule (`rule`), QUEST or
+// QUEST+ (`quest`, `quest_plus`; quest.h).
+enum class stair_procedure : uint8_t { up_down, quest, quest_plus };
+inline constexpr label_table<stair_procedure, 3> stair_procedure_labels = {
+    {"up-down", stair_procedure::up_down}, {"quest", stair_procedure::quest}, {"quest-plus", stair_procedure::quest_plus}};
+
 enum class stair_mode : uint8_t {
   yes_no,  // one interval: "anything unnatural?" (the thesis)
   two_afc  // two intervals, foveated and reference in random order: "which was foveated?"
@@ -49,7 +56,11 @@ struct stair_protocol {
   std::string order = "latin-square";  // latin-square (by subject number), fixed, random
   stair_mode mode = stair_mode::yes_no;
   double scale_min = 1.0, scale_max = 3.0, scale_start = 1.0;
+  double scale_grid = 0.1;         // QUEST and QUEST+ show scale_min + i x scale_grid (and scale_max)
+  stair_procedure procedure = stair_procedure::up_down;
   stair_rule rule;
+  quest_params quest;
+  quest_plus_params quest_plus;
   double catch_rate = 0.1;         // share of trials showing the reference instead
   std::vector<std::pair<double, double>> fixations{{0.5, 0.5}};  // normalised, in order
   double interval_ms = 1500;       // 2AFC: each interval's length
@@ -86,7 +97,8 @@ stair_protocol load_protocol(const std::string& path);
 std::string read_protocol_text(const std::string& path);
 stair_protocol parse_protocol(const std::string& text, const std::string& name_for_errors);
 
-// The scales a series can visit: scale_min + i x step (and the initial steps), rounded to 0.01.
+// The scales a series can visit: scale_min + i x step (and the initial steps), rounded to
+// 0.01; for QUEST and QUEST+ the grid scale_min + i x scale_grid and scale_max.
 std::vector<double> reachable_scales(const stair_protocol& p);
 
 // The render parameters a condition's stimulus is shown with: its reconstruction and

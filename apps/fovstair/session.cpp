@@ -50,7 +50,9 @@ std::vector<uint32_t> condition_order(const stair_protocol& p, const std::string
 
 stair_session::stair_session(const stair_protocol& p, const std::string& subject)
     : p_(p), subject_(subject), order_(condition_order(p, subject)) {
-  for (size_t i = 0; i < p.conditions.size(); ++i) stairs_.emplace_back(p.rule, p.scale_min, p.scale_max, p.scale_start);
+  // One series made, then copied: QUEST+'s likelihood table is shared, not rebuilt per condition.
+  const stair_series first(p);
+  stairs_.assign(p.conditions.size(), first);
   seed_ = stream_seed(p.seed, subject_number(subject), 0x5e55);
 }
 
@@ -58,7 +60,7 @@ trial_plan stair_session::next() const {
   trial_plan t;
   t.index = trials_;
   t.condition = order_[current_];
-  const staircase& s = stairs_[t.condition];
+  const stair_series& s = stairs_[t.condition];
   t.series_trial = s.trials();
   t.scale = s.scale();
   rng r(stream_seed(seed_, trials_, 0x7121));
@@ -105,6 +107,8 @@ nlohmann::json trial_record(const stair_protocol& p, const trial_plan& t, bool d
                       {"reversal", step.reversal},
                       {"recorded", step.recorded},
                       {"threshold", step.recorded ? nlohmann::json(step.threshold) : nlohmann::json(nullptr)}};
+  if (p.procedure != stair_procedure::up_down && !t.is_catch)  // the posterior after this answer
+    j["estimate"] = {{"threshold", step.posterior.estimate}, {"interval", {step.posterior.lo, step.posterior.hi}}};
   if (p.mode == stair_mode::two_afc) j["foveated_interval"] = t.foveated_interval + 1;
   return j;
 }
@@ -228,6 +232,16 @@ session_data read_session(const std::string& path) {
         (step.recorded ? !threshold.is_number() || std::fabs(threshold.get<double>() - step.threshold) > 1e-9
                        : !threshold.is_null()))
       r.fail(fmt::format("trial {}: reversal, recorded and threshold are not what the rule gives", plan.index));
+    if (step.bayesian) {  // the stored posterior must be the one the answers give (to 1e-6: libm may differ)
+      const json& e = r.field("estimate");
+      auto near = [](const json& v, double want) { return v.is_number() && std::fabs(v.get<double>() - want) <= 1e-6 * std::fabs(want); };
+      if (!e.is_object() || !near(e.value("threshold", json()), step.posterior.estimate) || !e.contains("interval") ||
+          !e["interval"].is_array() || e["interval"].size() != 2 || !near(e["interval"][0], step.posterior.lo) ||
+          !near(e["interval"][1], step.posterior.hi))
+        r.fail(fmt::format("trial {}: the estimate is not the posterior the answers give", plan.index));
+    } else if (j.contains("estimate")) {
+      r.fail(fmt::format("trial {}: an estimate where the procedure gives none (an up-down series or a catch trial)", plan.index));
+    }
     out.trials.push_back(std::move(j));
   }
   if (number == 0) throw std::runtime_error(fmt::format("{}: empty session file", path));

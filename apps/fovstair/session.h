@@ -44,14 +44,14 @@ class stair_session {
   staircase::step record(const trial_plan& t, bool detected);
 
   const std::vector<uint32_t>& order() const { return order_; }
-  const staircase& series(uint32_t condition) const { return stairs_[condition]; }
+  const stair_series& series(uint32_t condition) const { return stairs_[condition]; }
   uint64_t trials() const { return trials_; }
 
  private:
   const stair_protocol& p_;
   std::string subject_;
   std::vector<uint32_t> order_;
-  std::vector<staircase> stairs_;
+  std::vector<stair_series> stairs_;
   size_t current_ = 0;
   uint64_t trials_ = 0;
   uint64_t series_began_at_ = 0;  // the trial index the current condition's series began at

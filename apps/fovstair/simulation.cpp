@@ -37,6 +37,24 @@ double scale_at_probability(const observer_model& m, double probability, bool tw
   return (lo + hi) / 2;
 }
 
+double procedure_target_probability(const stair_protocol& p) {
+  const bool two_afc = p.mode == stair_mode::two_afc;
+  auto mean = [](const std::vector<double>& v, double otherwise) {
+    double m = 0;
+    for (double x : v) m += x / double(v.size());
+    return v.empty() ? otherwise : m;
+  };
+  switch (p.procedure) {
+    case stair_procedure::up_down: return levitt_target_probability(p.rule.up, p.rule.down);
+    case stair_procedure::quest: return p.quest.p_threshold;
+    case stair_procedure::quest_plus: {
+      const double g = mean(p.quest_plus.lower_asymptotes, two_afc ? 0.5 : 0.01), l = mean(p.quest_plus.lapse_rates, 0.01);
+      return g + (1 - g - l) * (1 - std::exp(-1.0));
+    }
+  }
+  return 0.5;
+}
+
 simulation_result simulate_rule(const stair_protocol& base, const observer_model& m, uint32_t runs) {
   const bool two_afc = base.mode == stair_mode::two_afc;
   simulation_result out;
@@ -52,7 +70,7 @@ simulation_result simulate_rule(const stair_protocol& base, const observer_model
     }
     out.trials += s.trials();
     for (uint32_t c = 0; c < p.conditions.size(); ++c) {
-      const staircase& st = s.series(c);
+      const stair_series& st = s.series(c);
       ++out.series;
       if (!st.complete()) {
         ++out.incomplete;
@@ -67,7 +85,7 @@ simulation_result simulate_rule(const stair_protocol& base, const observer_model
   for (double e : out.estimates) out.mean += e / double(out.estimates.size());
   for (double e : out.estimates) ss += (e - out.mean) * (e - out.mean);
   out.sd = out.estimates.size() > 1 ? std::sqrt(ss / double(out.estimates.size() - 1)) : 0;
-  out.target_probability = levitt_target_probability(base.rule.up, base.rule.down);
+  out.target_probability = procedure_target_probability(base);
   out.target_scale = scale_at_probability(m, out.target_probability, two_afc);
   return out;
 }

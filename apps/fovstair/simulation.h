@@ -21,11 +21,16 @@ double levitt_target_probability(uint32_t up, uint32_t down);
 // The scale at which the observer detects with `probability` (bisection over 0.01..100).
 double scale_at_probability(const observer_model& m, double probability, bool two_afc);
 
+// The detection probability the protocol's procedure aims at: Levitt's for up-down,
+// p_threshold for QUEST, and for QUEST+ where its Weibull's threshold lies (63 % of the way
+// from the lower asymptote to 1 - lapse; their means over the lists).
+double procedure_target_probability(const stair_protocol& p);
+
 struct simulation_result {
-  std::vector<double> estimates;  // each complete series' mean threshold
+  std::vector<double> estimates;  // each complete series' estimate: its thresholds' mean
   double mean = 0, sd = 0;        // of the estimates (sd with n - 1; 0 for fewer than 2)
   uint64_t series = 0, incomplete = 0, trials = 0;
-  double target_probability = 0, target_scale = 0;  // where the rule converges for this observer
+  double target_probability = 0, target_scale = 0;  // where the procedure aims, for this observer
 };
 
 // The most sessions one simulate call runs (each plans at most max_protocol_trials).

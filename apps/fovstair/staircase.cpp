@@ -40,4 +40,49 @@ staircase::step staircase::answer(bool detected) {
   return out;
 }
 
+stair_series::stair_series(const stair_protocol& p)
+    : v_(std::in_place_type<staircase>, p.rule, p.scale_min, p.scale_max, p.scale_start) {
+  const bool two_afc = p.mode == stair_mode::two_afc;
+  const std::vector<double> grid = procedure_grid(p.scale_min, p.scale_max, p.scale_grid);
+  if (p.procedure == stair_procedure::quest) v_.emplace<quest>(p.quest, grid, two_afc);
+  if (p.procedure == stair_procedure::quest_plus) v_.emplace<quest_plus>(p.quest_plus, grid, two_afc);
+}
+
+double stair_series::scale() const {
+  return std::visit([](const auto& s) { return s.scale(); }, v_);
+}
+bool stair_series::done() const {
+  return std::visit([](const auto& s) { return s.done(); }, v_);
+}
+bool stair_series::complete() const {
+  if (const auto* s = std::get_if<staircase>(&v_)) return s->complete();
+  return done();
+}
+uint32_t stair_series::trials() const {
+  return std::visit([](const auto& s) { return s.trials(); }, v_);
+}
+const std::vector<double>& stair_series::thresholds() const {
+  if (const auto* s = std::get_if<staircase>(&v_)) return s->thresholds();
+  return final_;
+}
+
+staircase::step stair_series::answer(bool detected) {
+  if (auto* s = std::get_if<staircase>(&v_)) return s->answer(detected);
+  staircase::step out;
+  out.bayesian = true;
+  std::visit(
+      [&](auto& s) {
+        if constexpr (!std::is_same_v<std::decay_t<decltype(s)>, staircase>) {
+          s.answer(detected);
+          out.posterior = s.summary();
+          if (s.done()) {
+            out.recorded = true, out.threshold = out.posterior.estimate;
+            final_ = {out.threshold};
+          }
+        }
+      },
+      v_);
+  return out;
+}
+
 }  // namespace fov
