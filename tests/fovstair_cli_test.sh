@@ -181,6 +181,28 @@ assert abs(j["estimate_mean"] - 1.7) < 0.1 and 0 < j["estimate_sd"] < 0.3, j
 PY
 check "simulate no runs"    2 -- "$fovstair" simulate --protocol "$protocol" --observer logistic:threshold=1.7 --runs 0
 
+# The procedures compared on one observer: each lands within 0.2 of its own target, and a
+# wrong --procedure or an up-down override given to QUEST is a flag error.
+"$fovstair" simulate --protocol "$src/apps/fovstair/protocols/2afc-quest-plus.json" --observer logistic:threshold=1.7,slope=8 \
+  --runs 20 --procedure all --json > "$dir/procs.json" || fail "simulate --procedure all"
+python3 - "$dir/procs.json" <<'PY' || fail "simulate --procedure all JSON"
+import json, sys
+j = json.load(open(sys.argv[1]))["procedures"]
+assert [p["procedure"] for p in j] == ["up-down", "quest", "quest-plus"], j
+for p in j:
+    assert abs(p["bias_from_target"]) < 0.2 and p["incomplete_series"] == 0, p
+# 2AFC: up-down defaults to 1-up/3-down, 0.5^(1/3) correct
+assert abs(j[1]["target_probability"] - 0.82) < 1e-9 and abs(j[0]["target_probability"] - 0.5 ** (1 / 3)) < 1e-6
+PY
+check "simulate bad procedure" 2 -- "$fovstair" simulate --protocol "$protocol" --observer logistic:threshold=1.7 --procedure bisect
+check "simulate quest with --step" 2 -- "$fovstair" simulate --protocol "$protocol" --observer logistic:threshold=1.7 \
+  --procedure quest --step 0.2
+# A QUEST+ session answered by the simulated observer: one threshold per condition, and it
+# analyses.
+"$fovstair" run --protocol "$src/apps/fovstair/protocols/2afc-quest-plus.json" --subject Q-1 --out "$dir/quest" \
+  --observer logistic:threshold=1.7,slope=8 > "$dir/quest.txt" || fail "QUEST+ session"
+[[ $(grep -c "40 trials, thresholds \[1\.[0-9]*\]" "$dir/quest.txt") == 3 ]] || fail "QUEST+ session: $(cat "$dir/quest.txt")"
+
 # A live session in a window (under Xvfb), answered by a key script: 1.0 no, 1.2 no,
 # 1.4 yes (a reversal: 1.4), 1.2 no (a reversal: 1.2), and the series is done.
 if ! command -v xvfb-run >/dev/null; then

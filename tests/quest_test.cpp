@@ -146,7 +146,7 @@ std::string error_of(const std::string& text) {
 }
 
 std::string with(const std::string& rest) {
-  return "{\"fovstair_protocol\": 1, \"conditions\": [{\"name\": \"A\"}], \"mode\": \"2afc\",\n" + rest + "}";
+  return "{\"fovstair_protocol\": 1, \"conditions\": [{\"name\": \"A\"}], \"mode\": \"2afc\"" + (rest.empty() ? "" : ",\n" + rest) + "}";
 }
 
 TEST(QuestProtocol, RefusesWhatCannotRunOrIsIgnored) {
@@ -172,6 +172,10 @@ TEST(QuestProtocol, RefusesWhatCannotRunOrIsIgnored) {
                           "}")),
             "p.json:2: quest_plus: 201 scales x 1407 parameter combinations = 282807 likelihoods; at most 262144 (so that no "
             "trial waits on the entropy search): coarsen scales.grid or the parameter lists");
+  EXPECT_EQ(error_of(with("\"rule\": {\"up\": 1, \"down\": 1}")),
+            "p.json:2: rule: a 1-up/1-down rule converges on 50 % correct, at or below chance in 2AFC: use more down than up "
+            "steps (1-up/3-down, 79.4 %, is usual)");
+  EXPECT_EQ(parse_protocol(with(""), "p").rule.down, 3u);  // 2AFC's default rule: 1-up/3-down
   EXPECT_EQ(error_of(with("\"scales\": {\"grid\": 0.015}")),
             "p.json:2: scales.grid: must be a multiple of 0.01 between 0.01 and max - min");
 }

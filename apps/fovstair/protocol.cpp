@@ -15,6 +15,7 @@
 #include "fov/files.h"
 #include "fov/json_scan.h"
 #include "fov/knn_table.h"
+#include "simulation.h"
 
 namespace fov {
 
@@ -235,8 +236,8 @@ void parse_quest_plus(reader r, stair_protocol& p, bool two_afc) {
     r.fail("/quest_plus/max_trials", fmt::format("must lie in 1..{}", max_protocol_series_trials));
   if (!(q.stop_interval >= 0 && q.stop_interval <= 10))
     r.fail("/quest_plus/stop_interval", "must lie in [0, 10] log10 units (0: off)");
-  const double lowest_gamma = q.lower_asymptotes.empty() ? (two_afc ? 0.5 : 0.01) : *std::max_element(q.lower_asymptotes.begin(), q.lower_asymptotes.end());
-  if (lowest_gamma + *std::max_element(q.lapse_rates.begin(), q.lapse_rates.end()) >= 1)
+  const double highest_gamma = q.lower_asymptotes.empty() ? (two_afc ? 0.5 : 0.01) : *std::max_element(q.lower_asymptotes.begin(), q.lower_asymptotes.end());
+  if (highest_gamma + *std::max_element(q.lapse_rates.begin(), q.lapse_rates.end()) >= 1)
     r.fail("/quest_plus/lapse_rates", "every lower asymptote + lapse rate must stay below 1");
   const uint64_t stimuli = procedure_grid(p.scale_min, p.scale_max, p.scale_grid).size();
   const uint64_t params = uint64_t(q.thresholds.empty() ? stimuli : q.thresholds.size()) * q.slopes.size() *
@@ -359,6 +360,9 @@ stair_protocol parse_protocol(const std::string& text, const std::string& file) 
   const bool two_afc = p.mode == stair_mode::two_afc;
   if (top.has("quest")) parse_quest(reader(top.raw("quest"), "/quest", lines, file), p, two_afc);
   if (top.has("quest_plus")) parse_quest_plus(reader(top.raw("quest_plus"), "/quest_plus", lines, file), p, two_afc);
+  // In 2AFC the default rule is 1-up/3-down (79.4 % correct): 1-up/1-down would converge
+  // on 50 % correct, which is chance.
+  if (two_afc) p.rule.down = 3;
   if (top.has("rule")) {
     reader r(top.raw("rule"), "/rule", lines, file);
     stair_rule& s = p.rule;
@@ -382,6 +386,10 @@ stair_protocol parse_protocol(const std::string& text, const std::string& file) 
       r.fail("/rule/discard_reversals", fmt::format("must lie in 0..{}", max_protocol_thresholds));
     if (s.max_trials < s.thresholds || s.max_trials > max_protocol_series_trials)
       r.fail("/rule/max_trials", fmt::format("must lie in thresholds..{}", max_protocol_series_trials));
+    if (two_afc && levitt_target_probability(s.up, s.down) < 0.5 + 1e-6)
+      r.fail("/rule", fmt::format("a {}-up/{}-down rule converges on {:.0f} % correct, at or below chance in 2AFC: use more "
+                                  "down than up steps (1-up/3-down, 79.4 %, is usual)",
+                                  s.up, s.down, 100 * levitt_target_probability(s.up, s.down)));
   }
   auto on_grid = [](double v, double unit) { return std::fabs(v / unit - std::round(v / unit)) < 1e-6; };
   if (!on_grid(p.rule.step, 0.01) || !on_grid(p.rule.initial_step, 0.01))
