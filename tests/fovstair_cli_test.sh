@@ -69,8 +69,43 @@ check "next session"        0 -- "$fovstair" run --protocol "$protocol" --subjec
 for s in 3 4 5; do "$fovstair" run --protocol "$protocol" --subject S$s --observer "$observer" --out "$dir/whole" >/dev/null; done
 check "analyze sessions"    0 -- "$fovstair" analyze "$dir"/whole/*.jsonl --out-csv "$dir/t.csv"
 [[ $(head -1 "$dir/t.csv") == "subject,condition,threshold" && $(wc -l < "$dir/t.csv") -eq 49 ]] || fail "thresholds CSV"
-[[ $(ls "$dir"/whole/plots/*.png | wc -l) -eq 12 ]] || fail "one staircase plot per series"
+[[ ! -e "$dir/whole/plots" ]] || fail "plots written without --plots"
+check "analyze with plots"  0 -- "$fovstair" analyze "$dir"/whole/*.jsonl --plots "$dir/plots" --bootstrap 20
+# 4 subjects x 3 conditions: a staircase plot per series (S2 ran one session here) and a
+# psychometric plot per subject and condition.
+[[ $(ls "$dir"/plots/*-psychometric.png | wc -l) -eq 12 && $(ls "$dir"/plots/*.png | wc -l) -eq 24 ]] ||
+  fail "plots: $(ls "$dir/plots")"
 check "analyze two files"   0 -- "$fovstair" analyze "$dir/whole/S3-1.jsonl" "$dir/whole/S4-1.jsonl"
+# One subject: thresholds and fits, no ANOVA, exit 0.
+out=$("$fovstair" analyze "$dir/whole/S3-1.jsonl" --bootstrap 20 2>&1) || fail "one subject: $out"
+[[ "$out" == *"no ANOVA: 3 subject means for 3 conditions"* && "$out" == *"S3 NN weibull  alpha"* ]] || fail "one subject: $out"
+"$fovstair" analyze "$dir/whole/S3-1.jsonl" --fit logistic --bootstrap 20 --json > "$dir/one.json" || fail "one subject JSON"
+python3 - "$dir/one.json" <<'PY' || fail "one subject JSON"
+import json, sys
+j = json.load(open(sys.argv[1]))
+assert j["anova"] is None and "more subject means" in j["anova_note"], j.get("anova_note")
+fits = j["psychometric"]
+assert len(fits) == 3 and all(len(f["fits"]) == 1 and f["fits"][0]["family"] == "logistic" for f in fits), fits
+for f in fits:
+    a = f["fits"][0]
+    assert f["guess"] <= 0.5 and 0 <= a["lapse"] <= 0.06 and a["bootstrap"] == 20, f
+    # Ten trials per series: the interval need not hold alpha (perfectly separated answers
+    # make the slope run away), but it lies within alpha's bounds.
+    lo, hi = a["alpha_bounds"]
+    assert lo <= a["alpha_interval"][0] <= a["alpha_interval"][1] <= hi and lo <= a["alpha"] <= hi, f
+PY
+check "analyze bad --fit"        2 -- "$fovstair" analyze "$dir/whole/S3-1.jsonl" --fit probit
+check "analyze huge --bootstrap" 2 -- "$fovstair" analyze "$dir/whole/S3-1.jsonl" --bootstrap 20000
+# A simulated session beside a person's: analysed, with a warning naming the simulated one.
+python3 - "$dir/whole/S3-1.jsonl" "$dir/person.jsonl" <<'PY'
+import json, sys
+lines = open(sys.argv[1]).read().splitlines()
+h = json.loads(lines[0]); h["observer"] = None
+open(sys.argv[2], "w").write("\n".join([json.dumps(h)] + lines[1:]) + "\n")
+PY
+err=$("$fovstair" analyze "$dir/whole/S4-1.jsonl" "$dir/person.jsonl" --fit none 2>&1 >/dev/null)
+[[ "$err" == *"warning: 1 session(s) answered by a simulated observer ($dir/whole/S4-1.jsonl) analysed together with 1 of people"* ]] ||
+  fail "no warning for mixed sessions: $err"
 echo "not json" > "$dir/junk.jsonl"
 check "analyze junk"        1 -- "$fovstair" analyze "$dir/junk.jsonl"
 

@@ -5,6 +5,8 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <map>
+#include <tuple>
 #include <set>
 #include <sstream>
 #include <stdexcept>
@@ -66,6 +68,53 @@ std::vector<threshold_value> thresholds_from_sessions(const std::vector<session_
   return out;
 }
 
+std::vector<psychometric_data> psychometric_data_from_sessions(const std::vector<session_data>& sessions) {
+  // subject -> (catch trials, false alarms) for yes-no guess rates.
+  std::map<std::string, std::pair<uint32_t, uint32_t>> catches;
+  std::map<std::tuple<std::string, std::string, bool>, std::map<long, psychometric_level>> cells;
+  std::vector<std::tuple<std::string, std::string, bool>> order;
+  for (const session_data& s : sessions) {
+    const std::string subject = s.header.value("subject", "?");
+    const stair_protocol p = parse_protocol(s.header.at("protocol_text").get<std::string>(), "stored protocol");  // checked
+    const bool two_afc = p.mode == stair_mode::two_afc;
+    for (const auto& t : s.trials) {
+      const bool detected = t.value("detected", false);
+      if (t.value("catch", false)) {
+        if (!two_afc) ++catches[subject].first, catches[subject].second += detected;
+        continue;
+      }
+      const auto key = std::make_tuple(subject, t.value("condition", "?"), two_afc);
+      if (!cells.count(key)) order.push_back(key);
+      const double scale = t.value("scale", 1.0);
+      psychometric_level& l = cells[key][std::lround(scale * 100)];
+      l.scale = std::round(scale * 100) / 100;
+      ++l.n, l.k += detected;
+    }
+  }
+  std::vector<psychometric_data> out;
+  for (const auto& key : order) {
+    psychometric_data d;
+    std::tie(d.subject, d.condition, d.two_afc) = key;
+    const auto c = catches[d.subject];
+    d.catch_trials = d.two_afc ? 0 : c.first;
+    d.guess = d.two_afc ? 0.5 : c.first ? std::min(0.5, double(c.second) / c.first) : 0.0;
+    for (const auto& [hundredths, level] : cells[key]) d.levels.push_back(level);
+    out.push_back(std::move(d));
+  }
+  return out;
+}
+
+std::string simulated_mix_warning(const std::vector<session_data>& sessions, const std::vector<std::string>& paths) {
+  std::vector<std::string> simulated, people;
+  for (size_t i = 0; i < sessions.size(); ++i) {
+    const auto it = sessions[i].header.find("observer");
+    (it != sessions[i].header.end() && !it->is_null() ? simulated : people).push_back(i < paths.size() ? paths[i] : "?");
+  }
+  if (simulated.empty() || people.empty()) return "";
+  return fmt::format("{} session(s) answered by a simulated observer ({}{}) analysed together with {} of people",
+                     simulated.size(), simulated.front(), simulated.size() > 1 ? ", ..." : "", people.size());
+}
+
 namespace {
 
 // Continued fraction for I_x(a, b), modified Lentz's method.
@@ -120,7 +169,7 @@ threshold_analysis analyze_thresholds(const std::vector<threshold_value>& values
     if (std::find(names.begin(), names.end(), v.condition) == names.end()) names.push_back(v.condition);
     out.values[v.subject][v.condition].push_back(v.threshold);
   }
-  if (names.size() < 2) throw std::runtime_error("the analysis needs at least two conditions");
+  if (values.empty()) throw std::runtime_error("no thresholds to analyse");
   // Log subject means per condition.
   std::vector<std::vector<double>> logs(names.size());
   std::vector<std::map<std::string, double>> by_subject(names.size());
@@ -161,8 +210,17 @@ threshold_analysis analyze_thresholds(const std::vector<threshold_value>& values
     for (double v : logs[c]) within += (v - group_mean[c]) * (v - group_mean[c]);
   }
   out.df1 = double(logs.size() - 1);
-  out.df2 = double(total - logs.size());
-  if (out.df2 < 1) throw std::runtime_error("the ANOVA needs more subject means than conditions");
+  out.df2 = double(total) - double(logs.size());
+  if (names.size() < 2) {
+    out.anova_note = "one condition: nothing to compare";
+    return out;
+  }
+  if (out.df2 < 1) {
+    out.anova_note = fmt::format("{} subject means for {} conditions: the ANOVA needs more subject means than conditions",
+                                 total, names.size());
+    return out;
+  }
+  out.anova = true;
   const double error = within / out.df2;
   // No spread within conditions (every subject mean equal in each): any difference between
   // conditions is certain (F = inf, p = 0), and none is none (F = 0, p = 1); 0/0 printed -nan.

@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "psychometric.h"
 #include "session.h"
 
 namespace fov {
@@ -28,6 +29,23 @@ void write_thresholds_csv(const std::vector<threshold_value>& values, const std:
 // Every recorded threshold of every series in the sessions.
 std::vector<threshold_value> thresholds_from_sessions(const std::vector<session_data>& sessions);
 
+// One subject's answers in one condition, binned by scale, for a psychometric fit: the
+// non-catch trials of all the subject's sessions in that condition. `guess` is the fit's
+// fixed lower asymptote: 0.5 in 2AFC, in yes-no the subject's false-alarm rate on catch
+// trials (all conditions; 0 without catch trials, at most 0.5).
+struct psychometric_data {
+  std::string subject, condition;
+  bool two_afc = false;
+  double guess = 0;
+  uint32_t catch_trials = 0;
+  std::vector<psychometric_level> levels;  // ascending scale
+};
+std::vector<psychometric_data> psychometric_data_from_sessions(const std::vector<session_data>& sessions);
+
+// Sessions answered by a simulated observer (`observer` in the header) beside sessions of
+// people: one line naming how many of each, or "" when they are not mixed.
+std::string simulated_mix_warning(const std::vector<session_data>& sessions, const std::vector<std::string>& paths);
+
 // Regularised incomplete beta I_x(a, b) (continued fraction), and the tails built on it.
 double incomplete_beta(double a, double b, double x);
 double f_upper_tail(double f, double df1, double df2);  // P(F > f)
@@ -49,12 +67,15 @@ struct pair_comparison {
 struct threshold_analysis {
   std::vector<condition_stats> conditions;  // in order of first appearance
   std::map<std::string, std::map<std::string, std::vector<double>>> values;  // subject -> condition -> thresholds
+  bool anova = false;                       // the ANOVA and the pairs apply (else `anova_note` says why)
+  std::string anova_note;
   double F = 0, df1 = 0, df2 = 0, p = 0;    // one-way ANOVA on log subject means
   std::vector<pair_comparison> pairs;
 };
 
-// Throws std::runtime_error when there are fewer than two conditions or too few subjects
-// for the ANOVA.
+// Per-condition statistics always; the ANOVA and pairwise tests only with two conditions or
+// more and more subject means than conditions (a pilot's single subject gets its thresholds
+// and means, and a note). Throws std::runtime_error when `values` is empty.
 threshold_analysis analyze_thresholds(const std::vector<threshold_value>& values);
 
 }  // namespace fov

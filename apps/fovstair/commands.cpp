@@ -321,6 +321,16 @@ int analyze(const analyze_options& o) {
   all_inputs.push_back(thresholds_csv);
   require_output("--out-csv", out_csv, all_inputs);
   if (!plots_dir.empty()) require_output_dir("--plots", plots_dir);
+  std::vector<psychometric_family> families;
+  for (const std::string& f : o.fits) {
+    psychometric_family v;
+    if (f == "none") continue;
+    if (!parse_label(psychometric_family_labels, f, v))
+      throw usage_error(fmt::format("--fit: '{}' is not one of {}, none", printable(f), label_list(psychometric_family_labels)));
+    if (std::find(families.begin(), families.end(), v) == families.end()) families.push_back(v);
+  }
+  if (o.bootstrap > max_psychometric_bootstrap)
+    throw usage_error(fmt::format("--bootstrap must lie in 0..{}", max_psychometric_bootstrap));
   if (!thresholds_csv.empty()) {
     if (!inputs.empty()) throw usage_error("analyze: give session files or --thresholds, not both");
     values = read_thresholds_csv(thresholds_csv);
@@ -331,11 +341,32 @@ int analyze(const analyze_options& o) {
     if (values.empty()) throw std::runtime_error("the sessions hold no recorded thresholds yet");
   }
   const threshold_analysis a = analyze_thresholds(values);
+  const std::string mix = simulated_mix_warning(sessions, inputs);
+  if (!mix.empty()) fmt::print(stderr, "fovstair: warning: {}\n", mix);
+  // Psychometric fits per subject and condition, from the sessions' trials.
+  struct fitted {
+    psychometric_data data;
+    std::vector<psychometric_fit> fits;
+    std::string skipped;
+  };
+  std::vector<fitted> fits;
+  for (psychometric_data& d : psychometric_data_from_sessions(sessions)) {
+    if (families.empty()) break;
+    fitted f{std::move(d), {}, ""};
+    if (f.data.levels.size() < 2) {
+      f.skipped = "trials at fewer than two scales";
+    } else {
+      fit_options fo;
+      fo.guess = f.data.guess, fo.bootstrap = o.bootstrap;
+      fo.seed = stream_seed(subject_number(f.data.subject), std::hash<std::string>{}(f.data.condition));
+      for (psychometric_family fam : families) f.fits.push_back(fit_psychometric(f.data.levels, fam, fo));
+    }
+    fits.push_back(std::move(f));
+  }
   if (!out_csv.empty()) write_thresholds_csv(values, out_csv);
-  // Staircase plots, one per series.
+  // Plots, only where --plots says: one per series, and one per subject and condition.
   std::vector<std::string> plots;
-  if (!sessions.empty()) {
-    if (plots_dir.empty()) plots_dir = (fs::path(inputs.front()).parent_path() / "plots").string();
+  if (!sessions.empty() && !plots_dir.empty()) {
     make_output_dir(plots_dir);
     for (const session_data& s : sessions) {
       const stair_protocol p = parse_protocol(s.header.at("protocol_text").get<std::string>(), "stored protocol");  // checked
@@ -352,6 +383,18 @@ int analyze(const analyze_options& o) {
         plots.push_back(path);
       }
     }
+    double lo = 10, hi = 0;
+    for (const session_data& s : sessions) {
+      const stair_protocol p = parse_protocol(s.header.at("protocol_text").get<std::string>(), "stored protocol");
+      lo = std::min(lo, p.scale_min), hi = std::max(hi, p.scale_max);
+    }
+    for (const fitted& f : fits) {
+      if (f.fits.empty()) continue;
+      const std::string path = (fs::path(plots_dir) / fmt::format("{}-{}-psychometric.png", f.data.subject, f.data.condition)).string();
+      write_psychometric_plot(f.data, f.fits, fmt::format("{}: {} ({} trials)", f.data.subject, f.data.condition, f.fits[0].trials),
+                              lo, hi, path);
+      plots.push_back(path);
+    }
   }
   // Catch trials: how often "yes" when nothing was foveated.
   uint64_t catches = 0, false_alarms = 0;
@@ -361,7 +404,22 @@ int analyze(const analyze_options& o) {
 
   json j;
   for (const auto& c : a.conditions) j["conditions"][c.name] = {{"n", c.n}, {"mean", c.mean}, {"sd", p_json(c.sd)}, {"values", c.values}};
-  j["anova"] = {{"F", a.F}, {"df1", a.df1}, {"df2", a.df2}, {"p", a.p}, {"on", "log subject means"}};
+  if (a.anova) j["anova"] = {{"F", a.F}, {"df1", a.df1}, {"df2", a.df2}, {"p", a.p}, {"on", "log subject means"}};
+  else j["anova"] = nullptr, j["anova_note"] = a.anova_note;
+  for (const fitted& f : fits) {
+    json entry = {{"subject", f.data.subject}, {"condition", f.data.condition}, {"mode", f.data.two_afc ? "2afc" : "yes-no"},
+                  {"guess", f.data.guess}, {"levels", f.data.levels.size()}};
+    if (!f.skipped.empty()) entry["skipped"] = f.skipped;
+    for (const psychometric_fit& pf : f.fits)
+      entry["fits"].push_back({{"family", label_of(psychometric_family_labels, pf.family)}, {"alpha", pf.params.alpha},
+                               {"alpha_interval", {p_json(pf.alpha_lo), p_json(pf.alpha_hi)}},
+                               {"alpha_interval_open", {pf.bootstrap > 1 && pf.low_open(), pf.bootstrap > 1 && pf.high_open()}},
+                               {"alpha_bounds", {pf.alpha_min, pf.alpha_max}}, {"beta", pf.params.beta},
+                               {"lapse", pf.params.lapse}, {"log_likelihood", pf.log_likelihood}, {"deviance", pf.deviance},
+                               {"trials", pf.trials}, {"bootstrap", pf.bootstrap}});
+    j["psychometric"].push_back(entry);
+  }
+  if (!mix.empty()) j["warnings"].push_back(mix);
   for (const auto& pc : a.pairs)
     j["pairwise"].push_back({{"a", pc.a}, {"b", pc.b}, {"t", pc.t}, {"df", pc.df}, {"p", pc.p}, {"p_bonferroni", pc.p_bonferroni},
                              {"paired_n", pc.paired_n}, {"paired_t", pc.paired_t}, {"paired_p", p_json(pc.paired_p)}});
@@ -378,8 +436,33 @@ int analyze(const analyze_options& o) {
     return 0;
   }
   fmt::print("{:<10} {:>4} {:>8} {:>8} {:>7}\n", "condition", "n", "mean", "sd", "values");
-  for (const auto& c : a.conditions) fmt::print("{:<10} {:>4} {:>8.3f} {:>8.3f} {:>7}\n", c.name, c.n, c.mean, c.sd, c.values);
-  fmt::print("one-way ANOVA on log subject means: F({:g}, {:g}) = {:.3f}, p = {:.3f}\n", a.df1, a.df2, a.F, a.p);
+  for (const auto& c : a.conditions)
+    fmt::print("{:<10} {:>4} {:>8.3f} {:>8} {:>7}\n", c.name, c.n, c.mean, std::isfinite(c.sd) ? fmt::format("{:.3f}", c.sd) : "-",
+               c.values);
+  if (a.values.size() == 1)
+    for (const auto& [condition, v] : a.values.begin()->second)
+      fmt::print("  {} {}: thresholds [{:.3f}]\n", a.values.begin()->first, condition, fmt::join(v, ", "));
+  if (a.anova) fmt::print("one-way ANOVA on log subject means: F({:g}, {:g}) = {:.3f}, p = {:.3f}\n", a.df1, a.df2, a.F, a.p);
+  else fmt::print("no ANOVA: {}\n", a.anova_note);
+  if (!fits.empty())
+    fmt::print("psychometric fits (maximum likelihood; guess fixed; lapse in [0, 0.06]{}):\n",
+               o.bootstrap ? fmt::format("; alpha's 95 % interval from {} bootstrap samples", o.bootstrap) : "");
+  for (const fitted& f : fits) {
+    if (!f.skipped.empty()) fmt::print("  {} {}: not fitted, {}\n", f.data.subject, f.data.condition, f.skipped);
+    for (const psychometric_fit& pf : f.fits)
+      fmt::print("  {} {} {:<8} alpha {:.3f} {}  beta {:.3g}  lapse {:.3f}  guess {:.3f}  deviance {:.2f}  ({} trials, {} scales)\n",
+                 f.data.subject, f.data.condition, label_of(psychometric_family_labels, pf.family), pf.params.alpha,
+                 pf.bootstrap > 1 ? fmt::format("[{}{:.3f}, {}{:.3f}]", pf.low_open() ? "<" : "", pf.alpha_lo,
+                                                pf.high_open() ? ">" : "", pf.alpha_hi)
+                                  : std::string("(no interval)"),
+                 pf.params.beta, pf.params.lapse, pf.params.guess, pf.deviance, pf.trials, f.data.levels.size());
+  if (std::any_of(fits.begin(), fits.end(), [](const fitted& f) {
+        return std::any_of(f.fits.begin(), f.fits.end(),
+                           [](const psychometric_fit& p) { return p.bootstrap > 1 && (p.low_open() || p.high_open()); });
+      }))
+    fmt::print("  (< or >: the interval reaches alpha's bound, the tested scales widened by their range: the data do not "
+               "bound it on that side)\n");
+  }
   for (const auto& pc : a.pairs)
     fmt::print("  {} vs {}: LSD t({:g}) = {:+.3f}, p = {:.3f} (Bonferroni {:.3f}); paired t({}) = {:+.3f}, p = {:.3f}\n", pc.a,
                pc.b, pc.df, pc.t, pc.p, pc.p_bonferroni, pc.paired_n > 0 ? pc.paired_n - 1 : 0, pc.paired_t, pc.paired_p);

@@ -35,8 +35,10 @@ int simulate(const simulate_options& o);
 
 struct analyze_options {
   std::vector<std::string> inputs;  // session files
-  std::string thresholds, out_csv, plots;
+  std::string thresholds, out_csv, plots;  // plots: none unless given
   bool json = false;
+  std::vector<std::string> fits{"weibull", "logistic", "normal"};  // psychometric families, or "none"
+  uint32_t bootstrap = 200;
 };
 int analyze(const analyze_options& o);
 

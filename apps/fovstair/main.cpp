@@ -37,11 +37,14 @@ int main(int argc, char** argv) {
   sim->add_option("--thresholds", so.overrides.thresholds, "Override thresholds per series");
   sim->add_option("--discard", so.overrides.discard, "Override the reversals discarded");
 
-  CLI::App* an = app.add_subcommand("analyze", "Thresholds, means, ANOVA and staircase plots from sessions");
+  CLI::App* an = app.add_subcommand("analyze", "Thresholds, psychometric fits, means, ANOVA and plots from sessions");
   an->add_option("sessions", ao.inputs, "Session files (.jsonl)");
   an->add_option("--thresholds", ao.thresholds, "Instead: a CSV subject,condition,threshold (e.g. published data)");
   an->add_option("--out-csv", ao.out_csv, "Write every threshold as subject,condition,threshold");
-  an->add_option("--plots", ao.plots, "Directory for staircase plots (default: plots/ beside the first session)");
+  an->add_option("--plots", ao.plots, "Write staircase and psychometric plots into this directory (default: no plots)");
+  an->add_option("--fit", ao.fits, "Psychometric functions fitted per subject and condition: weibull, logistic, normal, or none")
+      ->delimiter(',');
+  an->add_option("--bootstrap", ao.bootstrap, "Parametric bootstrap samples for each fit's threshold interval (0..10000)");
   an->add_flag("--json", ao.json, "Print JSON");
 
   CLI::App* validate = app.add_subcommand("validate", "Check a protocol file and list the point sets it needs");

@@ -1,6 +1,7 @@
 #include "staircase_plot.h"
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <stdexcept>
 
@@ -72,6 +73,58 @@ void write_staircase_plot(const std::vector<nlohmann::json>& trials, const std::
   cv::drawMarker(img, {W - 120, ly - 5}, grey, cv::MARKER_TRIANGLE_UP, 8, 1);
   cv::putText(img, "catch", {W - 110, ly}, font, 0.45, black, 1, cv::LINE_AA);
   temp_output temp(path, ".png");  // OpenCV picks the format by the name's extension
+  if (!cv::imwrite(temp.temp_path(), img)) throw file_error(fmt::format("{}: cannot write the plot", path));
+  temp.commit();
+}
+
+void write_psychometric_plot(const psychometric_data& data, const std::vector<psychometric_fit>& fits, const std::string& title,
+                             double lo, double hi, const std::string& path) {
+  const int W = 900, H = 520, left = 70, right = 20, top = 40, bottom = 90;
+  cv::Mat img(H, W, CV_8UC3, cv::Scalar(255, 255, 255));
+  auto px = [&](double s) { return left + int(std::lround((W - left - right) * (s - lo) / (hi - lo))); };
+  auto py = [&](double p) { return top + int(std::lround((H - top - bottom) * (1 - p))); };
+  const cv::Scalar black(0, 0, 0), light(235, 235, 235);
+  const cv::Scalar colours[] = {cv::Scalar(40, 40, 220), cv::Scalar(200, 90, 30), cv::Scalar(40, 150, 40)};
+  constexpr int font = cv::FONT_HERSHEY_SIMPLEX;
+  cv::line(img, {left, top}, {left, H - bottom}, black, 1);
+  cv::line(img, {left, H - bottom}, {W - right, H - bottom}, black, 1);
+  for (int i = 0; i <= 10; i += 2) {
+    const double p = i / 10.0;
+    cv::line(img, {left - 5, py(p)}, {left, py(p)}, black, 1);
+    cv::line(img, {left + 1, py(p)}, {W - right, py(p)}, light, 1);
+    cv::putText(img, fmt::format("{:.1f}", p), {left - 40, py(p) + 5}, font, 0.45, black, 1, cv::LINE_AA);
+  }
+  for (double s = lo; s <= hi + 1e-9; s += 0.2) {
+    cv::line(img, {px(s), H - bottom}, {px(s), H - bottom + 5}, black, 1);
+    cv::putText(img, fmt::format("{:.1f}", s), {px(s) - 12, H - bottom + 22}, font, 0.45, black, 1, cv::LINE_AA);
+  }
+  cv::putText(img, "scale s", {W / 2 - 150, H - bottom + 45}, font, 0.55, black, 1, cv::LINE_AA);
+  cv::putText(img, data.two_afc ? "P(correct)" : "P(detected)", {5, top - 12}, font, 0.55, black, 1, cv::LINE_AA);
+  cv::putText(img, title, {left + 110, 25}, font, 0.6, black, 1, cv::LINE_AA);
+  uint32_t most = 1;
+  for (const psychometric_level& l : data.levels) most = std::max(most, l.n);
+  for (const psychometric_level& l : data.levels)
+    if (l.n > 0)
+      cv::circle(img, {px(l.scale), py(double(l.k) / l.n)}, std::max(2, int(std::lround(10 * std::sqrt(double(l.n) / most)))),
+                 cv::Scalar(90, 90, 90), cv::FILLED, cv::LINE_AA);
+  for (size_t f = 0; f < fits.size(); ++f) {
+    const cv::Scalar c = colours[f % 3];
+    std::vector<cv::Point> curve;
+    for (int x = px(lo); x <= px(hi); x += 2) {
+      const double s = lo + (hi - lo) * (x - left) / double(W - left - right);
+      curve.push_back({x, py(psychometric_value(fits[f].family, fits[f].params, s))});
+    }
+    cv::polylines(img, curve, false, c, 2, cv::LINE_AA);
+    const double a = fits[f].params.alpha;
+    if (a >= lo && a <= hi) cv::line(img, {px(a), H - bottom}, {px(a), H - bottom - 12}, c, 2);
+    const std::string interval = std::isfinite(fits[f].alpha_lo)
+                                     ? fmt::format(" [{:.3f}, {:.3f}]", fits[f].alpha_lo, fits[f].alpha_hi)
+                                     : std::string();
+    cv::putText(img, fmt::format("{}: alpha {:.3f}{}, lapse {:.3f}", label_of(psychometric_family_labels, fits[f].family), a,
+                                 interval, fits[f].params.lapse),
+                {W / 2 + 40, H - 50 + 16 * int(f)}, font, 0.42, c, 1, cv::LINE_AA);
+  }
+  temp_output temp(path, ".png");
   if (!cv::imwrite(temp.temp_path(), img)) throw file_error(fmt::format("{}: cannot write the plot", path));
   temp.commit();
 }
