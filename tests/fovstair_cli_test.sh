@@ -94,6 +94,30 @@ for f in fits:
     lo, hi = a["alpha_bounds"]
     assert lo <= a["alpha_interval"][0] <= a["alpha_interval"][1] <= hi and lo <= a["alpha"] <= hi, f
 PY
+# Exports: PsychoPy-style CSV and BIDS _beh.tsv with a sidecar describing every column.
+check "export psychopy" 0 -- "$fovstair" export "$dir/whole/S3-1.jsonl" "$dir/whole/S4-1.jsonl" --out "$dir/export"
+[[ $(head -1 "$dir/export/S3_thesis_1.csv") == "participant,session,label,thisN,thisTrialN,intensity,response,reversal,catch,key,rt,estimate,date" &&
+   $(($(wc -l < "$dir/export/S3_thesis_1.csv") + 1)) -eq $(wc -l < "$dir/whole/S3-1.jsonl") ]] || fail "PsychoPy CSV: $(ls "$dir/export")"
+check "export bids" 0 -- "$fovstair" export "$dir/whole/S3-1.jsonl" "$dir/whole/S4-1.jsonl" --format bids --task fov2 --out "$dir/bids"
+python3 - "$dir/bids" <<'PY' || fail "BIDS export"
+import csv, json, os, sys
+root = sys.argv[1]
+assert json.load(open(os.path.join(root, "dataset_description.json")))["BIDSVersion"]
+beh = os.path.join(root, "sub-S3", "ses-1", "beh", "sub-S3_ses-1_task-fov2_beh")
+rows = list(csv.reader(open(beh + ".tsv"), delimiter="\t"))
+side = json.load(open(beh + ".json"))
+assert side["TaskName"] == "fov2"
+assert all(c in side for c in rows[0]), [c for c in rows[0] if c not in side]
+assert all(len(r) == len(rows[0]) for r in rows) and len(rows) > 5
+assert all(r[rows[0].index("response_time")] == "n/a" for r in rows[1:])  # a simulated observer has no times
+PY
+sed '1s/"subject":"S3"/"subject":"S-3"/' "$dir/whole/S3-1.jsonl" > "$dir/S-3.jsonl"
+err=$("$fovstair" export "$dir/whole/S3-1.jsonl" "$dir/S-3.jsonl" --format bids --out "$dir/bids2" 2>&1)
+[[ $? -eq 1 && "$err" == *"subjects 'S3' and 'S-3' would both be BIDS sub-S3"* && ! -e "$dir/bids2/sub-S3" ]] ||
+  fail "BIDS label collision: $err"
+check "export bad format" 2 -- "$fovstair" export "$dir/whole/S3-1.jsonl" --format xlsx --out "$dir/x"
+check "export bad task"   2 -- "$fovstair" export "$dir/whole/S3-1.jsonl" --format bids --task "a b" --out "$dir/x"
+check "export no out"     2 -- "$fovstair" export "$dir/whole/S3-1.jsonl"
 check "analyze bad --fit"        2 -- "$fovstair" analyze "$dir/whole/S3-1.jsonl" --fit probit
 check "analyze huge --bootstrap" 2 -- "$fovstair" analyze "$dir/whole/S3-1.jsonl" --bootstrap 20000
 # A simulated session beside a person's: analysed, with a warning naming the simulated one.

@@ -21,6 +21,7 @@
 #include "fov/renderer.h"
 #include "../common/window.h"
 #include "analysis.h"
+#include "export.h"
 #include "fov/pointset_io.h"
 #include "fov/random.h"
 #include "fov/scene.h"
@@ -468,6 +469,21 @@ int analyze(const analyze_options& o) {
                pc.b, pc.df, pc.t, pc.p, pc.p_bonferroni, pc.paired_n > 0 ? pc.paired_n - 1 : 0, pc.paired_t, pc.paired_p);
   if (catches) fmt::print("catch trials: {} of {} answered yes\n", false_alarms, catches);
   for (const std::string& p : plots) fmt::print("plot: {}\n", p);
+  return 0;
+}
+
+int export_command(const export_command_options& o) {
+  export_options e;
+  if (!parse_label(export_format_labels, o.format, e.format))
+    throw usage_error(fmt::format("--format: '{}' is not {}", printable(o.format), label_alternatives(export_format_labels)));
+  if (o.task.empty() || bids_label(o.task) != o.task || o.task.size() > 64)
+    throw usage_error(fmt::format("--task: '{}' must be 1-64 letters and digits (a BIDS label)", printable(o.task)));
+  if (o.inputs.empty()) throw usage_error("export: no session files");
+  require_output_dir("--out", o.out_dir);
+  e.out_dir = o.out_dir, e.task = o.task;
+  std::vector<session_data> sessions;
+  for (const std::string& f : o.inputs) sessions.push_back(read_session(f));
+  for (const std::string& path : export_sessions(sessions, o.inputs, e)) fmt::print("wrote {}\n", path);
   return 0;
 }
 

@@ -42,6 +42,12 @@ struct analyze_options {
 };
 int analyze(const analyze_options& o);
 
+struct export_command_options {
+  std::vector<std::string> inputs;  // session files
+  std::string format = "psychopy", out_dir, task = "foveation";
+};
+int export_command(const export_command_options& o);
+
 int validate_protocol(const std::string& protocol);
 
 }  // namespace fov

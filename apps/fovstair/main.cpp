@@ -47,6 +47,13 @@ int main(int argc, char** argv) {
   an->add_option("--bootstrap", ao.bootstrap, "Parametric bootstrap samples for each fit's threshold interval (0..10000)");
   an->add_flag("--json", ao.json, "Print JSON");
 
+  fov::export_command_options eo;
+  CLI::App* ex = app.add_subcommand("export", "Write sessions as PsychoPy-style CSV or BIDS behavioural files");
+  ex->add_option("sessions", eo.inputs, "Session files (.jsonl)");
+  ex->add_option("--format", eo.format, "psychopy (one CSV per session) or bids (_beh.tsv and .json per session)");
+  ex->add_option("--out", eo.out_dir, "Directory to write into (created)")->required();
+  ex->add_option("--task", eo.task, "BIDS task label, letters and digits (default foveation)");
+
   CLI::App* validate = app.add_subcommand("validate", "Check a protocol file and list the point sets it needs");
   validate->add_option("protocol", protocol, "Protocol JSON")->required();
 
@@ -54,6 +61,7 @@ int main(int argc, char** argv) {
     if (*run) return fov::run_session(r);
     if (*sim) return fov::simulate(so);
     if (*an) return fov::analyze(ao);
+    if (*ex) return fov::export_command(eo);
     return fov::validate_protocol(protocol);
   });
 }
