@@ -291,7 +291,28 @@ assert [t["scale"] for t in trials] == [1.0, 1.2, 1.4, 1.2], [t["scale"] for t i
 assert [t["threshold"] for t in trials if t["recorded"]] == [1.4, 1.2]
 assert all(t["gaze"]["samples"] >= 1 and t["mean_frame_ms"] > 0 for t in trials), trials[0]
 assert trials[2]["response"] == "yes" and trials[0]["response"] == "no"
+# Every frame's gaze is kept; the fixation target was the gaze, so fixation held.
+assert all(len(t["gaze"]["trace"]) == t["gaze"]["samples"] and not t["fixation_broken"] for t in trials), trials[0]["gaze"]
 PY
+  # Fixation control: a gaze trace far from the target (the corner), repeat once: every
+  # trial is shown twice (the script answers both showings alike), the first answer kept in a "repeat" record, the second recorded
+  # and marked broken.
+  printf 't_ms,x_norm,y_norm\n0,0.02,0.02\n600000,0.02,0.02\n' > "$dir/corner.csv"
+  python3 -c 'import json, sys; p = json.load(open(sys.argv[1])); p["fixation_control"] = {"radius_deg": 0.5, "action": "repeat", "max_repeats": 1}; json.dump(p, open(sys.argv[2], "w"))' \
+    "$dir/live.json" "$dir/live-fix.json"
+  xvfb-run -a -s "-screen 0 800x600x24" "$fovstair" run --protocol "$dir/live-fix.json" --subject L3 --out "$dir/live" \
+    --gaze-trace "$dir/corner.csv" --script-keys nnyn >/dev/null 2>"$dir/live.err" || fail "fixation session: $(cat "$dir/live.err")"
+  python3 - "$dir/live/L3-1.jsonl" <<'PY' || fail "fixation control"
+import json, sys
+lines = [json.loads(l) for l in open(sys.argv[1])]
+trials = [l for l in lines if l["type"] == "trial"]
+repeats = [l for l in lines if l["type"] == "repeat"]
+assert [t["scale"] for t in trials] == [1.0, 1.2, 1.4, 1.2], [t["scale"] for t in trials]
+assert [r["index"] for r in repeats] == [0, 1, 2, 3], repeats
+assert all(t["fixation_broken"] and t["fixation_max_deg"] > 0.5 for t in trials + repeats)
+assert "from the fixation target (radius 0.5)" in repeats[0]["reason"], repeats[0]["reason"]
+PY
+  check "analyze with repeats" 0 -- "$fovstair" analyze "$dir/live/L3-1.jsonl" --fit none
 fi
 
 echo "$passes passed, $failures failed"

@@ -123,7 +123,7 @@ int run_session(const run_options& o) {
         throw std::runtime_error(fmt::format(
             "{}: missing (the staircase can reach s = {:.2f}); make the family with: fovgen sweep --display {} --scales "
             "{:.1f}:{:.1f}:{} -o {}",
-            pointset_path(p, s), s, p.display, p.scale_min, p.scale_max, p.rule.step, p.points_dir));
+            pointset_path(p, s), s, p.display, p.scale_min, p.scale_max, sweep_step(p), p.points_dir));
     auto first = std::make_shared<const pointset>(load_pointset(pointset_path(p, state.next().scale)));
     const display_geometry& d = first->model.display;
     std::shared_ptr<const scene> scn = load_scene(p.scene);
@@ -151,6 +151,7 @@ int run_session(const run_options& o) {
   }
 
   uint64_t this_run = 0;
+  uint32_t repeats = 0;  // of the trial on screen, after broken fixation
   while (!state.finished()) {
     const trial_plan t = state.next();
     bool detected = false;
@@ -187,8 +188,23 @@ int run_session(const run_options& o) {
       extra = {{"response", a.response},
                {"rt_ms", a.rt_ms},
                {"gaze", {{"source", gaze ? gaze->name() : "fixation"}, {"samples", a.gaze_samples}, {"clamped", a.gaze_clamped},
-                         {"mean", {a.gaze_mean[0], a.gaze_mean[1]}}, {"sd", {a.gaze_sd[0], a.gaze_sd[1]}}}},
+                         {"mean", {a.gaze_mean[0], a.gaze_mean[1]}}, {"sd", {a.gaze_sd[0], a.gaze_sd[1]}},
+                         {"trace", a.gaze_trace}}},
+               {"fixation_max_deg", a.fixation_max_deg},
+               {"fixation_broken", a.fixation_broken},
                {"mean_frame_ms", a.mean_frame_ms}};
+      if (a.fixation_broken && p.fixation.action == fixation_action::repeat && repeats < p.fixation.max_repeats) {
+        // Shown again: the answer is kept in a "repeat" record, never given to the procedure.
+        ++repeats;
+        json r = {{"type", "repeat"}, {"index", t.index}, {"condition", p.conditions[t.condition].name}, {"scale", t.scale},
+                  {"detected", detected}, {"reason", fmt::format("gaze {:.2f} deg from the fixation target (radius {:g})",
+                                                                  a.fixation_max_deg, p.fixation.radius_deg)}};
+        r.update(extra);
+        r["time"] = now_iso();
+        file->append(r);
+        continue;
+      }
+      repeats = 0;
     }
     const staircase::step step = state.record(t, detected);
     json record = trial_record(p, t, detected, step);
@@ -509,7 +525,7 @@ int validate_protocol(const std::string& protocol) {
   if (missing)  // a session would stop at the first missing set: not valid for a run
     throw std::runtime_error(fmt::format("{}: {} point sets missing (listed above); make the family with: fovgen sweep "
                                          "--display {} --scales {:.1f}:{:.1f}:{} -o {}",
-                                         protocol, missing, p.display, p.scale_min, p.scale_max, p.rule.step, p.points_dir));
+                                         protocol, missing, p.display, p.scale_min, p.scale_max, sweep_step(p), p.points_dir));
   fmt::print("all point sets present\n");
   return 0;
 }

@@ -49,6 +49,7 @@ trial_answer run_live_trial(live_context& ctx, const trial_plan& t, const points
   const stair_condition& c = p.conditions[t.condition];
   const render_params s = stimulus_params(p, c);
   const double fx = t.fixation_x * w, fy = t.fixation_y * h;
+  const display_geometry& display = set.model.display;
   if (t.break_before) {
     ctx.window.show(message_screen(w, h, {"Break.", "Press Space to continue."}));
     if (ctx.scripted_keys.empty() && wait_for(ctx, " q") == 'q') return quit_answer();
@@ -84,6 +85,12 @@ trial_answer run_live_trial(live_context& ctx, const trial_plan& t, const points
         }
         sum[0] += g.x, sum[1] += g.y, sum2[0] += g.x * g.x, sum2[1] += g.y * g.y;
         ++a.gaze_samples;
+        if (a.gaze_trace.size() < max_trial_gaze_samples)
+          a.gaze_trace.push_back({std::round(ms_between(start, clock_type::now()) * 10) / 10, std::round(g.x * 10) / 10,
+                                  std::round(g.y * 10) / 10});
+        // The angle between the gaze and the target, as the acuity model measures eccentricity.
+        const double off = std::atan(std::hypot(g.x - fx, g.y - fy) / (display.width * display.viewing_distance)) * 180 / M_PI;
+        a.fixation_max_deg = std::max(a.fixation_max_deg, off);
         const frame& f = foveated ? ctx.renderer.foveated(g, s) : reference;
         ++frames;
         ctx.window.show(display_image(f));
@@ -132,6 +139,7 @@ trial_answer run_live_trial(live_context& ctx, const trial_plan& t, const points
     }
     a.gaze_clamped = ctx.gaze ? ctx.gaze->clamped - clamped_before : 0;
     a.mean_frame_ms = ms_between(start, clock_type::now()) / double(std::max<uint64_t>(1, frames));
+    a.fixation_broken = p.fixation.radius_deg > 0 && a.fixation_max_deg > p.fixation.radius_deg;
     return a;
   }
 }

@@ -1,7 +1,9 @@
 // One trial shown to a person: the stimulus in the window, the answer from the keyboard.
 #pragma once
 
+#include <array>
 #include <memory>
+#include <vector>
 #include <string>
 
 #include "../common/gaze_conditioning.h"
@@ -21,7 +23,15 @@ struct trial_answer {
   uint64_t gaze_samples = 0, gaze_clamped = 0;
   double gaze_mean[2] = {0, 0}, gaze_sd[2] = {0, 0};  // pixels
   double mean_frame_ms = 0;
+  // The gaze on every frame of the stimulus: [ms since the stimulus began, x, y] in pixels
+  // (the first max_trial_gaze_samples), and its largest distance from the fixation target.
+  std::vector<std::array<double, 3>> gaze_trace;
+  double fixation_max_deg = 0;
+  bool fixation_broken = false;  // beyond the protocol's fixation_control radius
 };
+
+// The most gaze samples a trial record keeps (minutes of frames at 100 Hz).
+constexpr size_t max_trial_gaze_samples = 20000;
 
 struct live_context {
   const stair_protocol& protocol;

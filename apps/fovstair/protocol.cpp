@@ -407,9 +407,24 @@ stair_protocol parse_protocol(const std::string& text, const std::string& file) 
       p.fixations.emplace_back(x, y);
     }
   }
+  if (top.has("fixation_control")) {
+    reader r(top.raw("fixation_control"), "/fixation_control", lines, file);
+    r.get("radius_deg", p.fixation.radius_deg);
+    std::string action = label_of(fixation_action_labels, p.fixation.action);
+    r.get("action", action);
+    r.get("max_repeats", p.fixation.max_repeats);
+    r.no_unknown_keys();
+    if (!(p.fixation.radius_deg >= 0 && p.fixation.radius_deg <= 90))
+      r.fail("/fixation_control/radius_deg", "must lie in [0, 90] degrees (0: off)");
+    if (!parse_label(fixation_action_labels, action, p.fixation.action))
+      r.fail("/fixation_control/action", "must be " + label_alternatives(fixation_action_labels));
+    if (p.fixation.max_repeats > 100) r.fail("/fixation_control/max_repeats", "must lie in 0..100");
+  }
   top.no_unknown_keys();
   return p;
 }
+
+double sweep_step(const stair_protocol& p) { return p.procedure == stair_procedure::up_down ? p.rule.step : p.scale_grid; }
 
 stair_protocol load_protocol(const std::string& path) {
   return parse_protocol(read_protocol_text(path), path);

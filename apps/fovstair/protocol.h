@@ -44,6 +44,19 @@ enum class stair_mode : uint8_t {
   two_afc  // two intervals, foveated and reference in random order: "which was foveated?"
 };
 
+// Fixation control: a trial whose gaze strays more than `radius_deg` from the fixation
+// target while the stimulus is shown is marked in its record (`mark`), or shown again
+// (`repeat`: the answer is not given to the procedure and a "repeat" record keeps it), at
+// most `max_repeats` times in a row, after which it is recorded and marked.
+enum class fixation_action : uint8_t { mark, repeat };
+inline constexpr label_table<fixation_action, 2> fixation_action_labels = {{"mark", fixation_action::mark},
+                                                                           {"repeat", fixation_action::repeat}};
+struct fixation_control {
+  double radius_deg = 2;  // 0: off
+  fixation_action action = fixation_action::mark;
+  uint32_t max_repeats = 3;
+};
+
 struct stair_protocol {
   std::string name, description;
   std::string scene = "builtin";   // builtin, FILE or env:IMAGE
@@ -63,6 +76,7 @@ struct stair_protocol {
   quest_plus_params quest_plus;
   double catch_rate = 0.1;         // share of trials showing the reference instead
   std::vector<std::pair<double, double>> fixations{{0.5, 0.5}};  // normalised, in order
+  fixation_control fixation;
   double interval_ms = 1500;       // 2AFC: each interval's length
   uint32_t break_every = 0;        // a pause every N trials (0: only between conditions)
   uint64_t seed = 1;
@@ -104,6 +118,9 @@ std::vector<double> reachable_scales(const stair_protocol& p);
 // The render parameters a condition's stimulus is shown with: its reconstruction and
 // rays, the protocol's TAA and camera (hfov) and the renderer's defaults for the rest.
 render_params stimulus_params(const stair_protocol& p, const stair_condition& c);
+
+// The step of the `fovgen sweep` that makes every set the protocol can show.
+double sweep_step(const stair_protocol& p);
 
 // The point-set file for a scale: <points_dir>/<fov::pointset_file_name> (a darts fovea).
 std::string pointset_path(const stair_protocol& p, double scale);

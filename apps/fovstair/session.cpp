@@ -207,6 +207,16 @@ session_data read_session(const std::string& path) {
       end_line = number, out.ended = true;
       continue;
     }
+    if (type == "repeat") {  // a trial shown again after broken fixation: it must be the one planned next
+      if (state->finished()) r.fail("a repeated trial after the protocol's last");
+      const trial_plan plan = state->next();
+      if (r.count("index") != plan.index || r.text("condition") != protocol->conditions[plan.condition].name ||
+          std::fabs(r.number("scale") - plan.scale) > 1e-9)
+        r.fail(fmt::format("a repeated trial that is not the plan's next (trial {})", plan.index));
+      r.flag("detected");
+      out.repeats.push_back(std::move(j));
+      continue;
+    }
     if (type != "trial") r.fail(fmt::format("unknown record type '{}'", printable(type)));
     // The trial must be the one the stored protocol plans next, and record what the rule
     // did with its answer: a duplicated, missing or spliced trial is refused here.

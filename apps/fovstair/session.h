@@ -94,6 +94,7 @@ constexpr uintmax_t max_session_bytes = uintmax_t(1) << 30;
 struct session_data {
   nlohmann::json header;
   std::vector<nlohmann::json> trials;
+  std::vector<nlohmann::json> repeats;  // trials shown again after broken fixation (fixation_control "repeat")
   bool ended = false;
 };
 session_data read_session(const std::string& path);
