@@ -313,6 +313,21 @@ assert all(t["fixation_broken"] and t["fixation_max_deg"] > 0.5 for t in trials 
 assert "from the fixation target (radius 0.5)" in repeats[0]["reason"], repeats[0]["reason"]
 PY
   check "analyze with repeats" 0 -- "$fovstair" analyze "$dir/live/L3-1.jsonl" --fit none
+  # Practice: two showings at the top scale before the first trial, recorded as practice,
+  # then the same session as L1's.
+  python3 -c 'import json, sys; p = json.load(open(sys.argv[1])); p["practice"] = {"trials": 2}; p["question"] = "Odd? Y/N"; json.dump(p, open(sys.argv[2], "w"))' \
+    "$dir/live.json" "$dir/live-practice.json"
+  xvfb-run -a -s "-screen 0 800x600x24" "$fovstair" run --protocol "$dir/live-practice.json" --subject L4 --out "$dir/live" \
+    --script-keys ynnnyn >/dev/null 2>"$dir/live.err" || fail "practice session: $(cat "$dir/live.err")"
+  python3 - "$dir/live/L4-1.jsonl" <<'PY' || fail "practice records"
+import json, sys
+lines = [json.loads(l) for l in open(sys.argv[1])]
+assert [l["type"] for l in lines[1:3]] == ["practice", "practice"], lines[1]
+assert [l["scale"] for l in lines[1:3]] == [1.4, 1.4] and [l["response"] for l in lines[1:3]] == ["yes", "no"]
+trials = [l for l in lines if l["type"] == "trial"]
+assert [t["scale"] for t in trials] == [1.0, 1.2, 1.4, 1.2], [t["scale"] for t in trials]
+PY
+  check "analyze with practice" 0 -- "$fovstair" analyze "$dir/live/L4-1.jsonl" --fit none
 fi
 
 echo "$passes passed, $failures failed"

@@ -180,6 +180,26 @@ TEST(QuestProtocol, RefusesWhatCannotRunOrIsIgnored) {
             "p.json:2: scales.grid: must be a multiple of 0.01 between 0.01 and max - min");
 }
 
+TEST(SessionProtocol, InstructionsQuestionAndPractice) {
+  const stair_protocol yes_no = parse_protocol("{\"fovstair_protocol\": 1, \"conditions\": [{\"name\": \"A\"}]}", "p");
+  EXPECT_EQ(question_text(yes_no), "Anything unnatural? Y or N.");
+  EXPECT_EQ(instruction_lines(yes_no).back(), "Press Space to begin.");
+  EXPECT_EQ(question_text(parse_protocol(with(""), "p")), "Which interval was foveated? Press 1 or 2.");
+  const stair_protocol p = parse_protocol(with("\"instructions\": [\"Hello\"], \"question\": \"Which?\", "
+                                               "\"practice\": {\"trials\": 3, \"scales\": [3, 2.5]}"), "p");
+  EXPECT_EQ(instruction_lines(p), std::vector<std::string>{"Hello"});
+  EXPECT_EQ(question_text(p), "Which?");
+  EXPECT_EQ(practice_scale(p, 0), 3);
+  EXPECT_EQ(practice_scale(p, 1), 2.5);
+  EXPECT_EQ(practice_scale(p, 2), 3);
+  EXPECT_EQ(practice_scale(parse_protocol(with("\"practice\": {\"trials\": 1}"), "p"), 0), 3);  // the top scale
+  EXPECT_EQ(error_of(with("\"practice\": {\"trials\": 1, \"scales\": [2.55]}")),
+            "p.json:2: practice.scales[0]: must be a scale the protocol's sets cover (validate lists them)");
+  EXPECT_EQ(error_of(with("\"instructions\": []")), "p.json:2: instructions: must be a list of 1 to 20 lines of text");
+  EXPECT_EQ(error_of(with("\"fixation_control\": {\"action\": \"refuse\"}")),
+            "p.json:2: fixation_control.action: must be mark or repeat");
+}
+
 TEST(QuestProtocol, TheGridIsWhatTheSetsMustCover) {
   const stair_protocol p = parse_protocol(with("\"scales\": {\"min\": 1, \"max\": 2.05, \"grid\": 0.25}, \"procedure\": \"quest\""), "p");
   EXPECT_EQ(reachable_scales(p), (std::vector<double>{1, 1.25, 1.5, 1.75, 2, 2.05}));

@@ -150,6 +150,66 @@ int run_session(const run_options& o) {
     std::cerr << fmt::format("fovstair: resuming {} at trial {}\n", path, done.size());
   }
 
+  // One showing in the window: the answer and the record fields it adds. `key_index`
+  // picks the --script-keys answer.
+  auto show_live = [&](const trial_plan& t, size_t key_index, trial_answer& a) -> json {
+    auto& set = sets[t.scale];
+    if (!set) {
+      if (sets.size() > 3) sets.erase(sets.begin() == sets.find(t.scale) ? std::next(sets.begin()) : sets.begin());
+      set = std::make_shared<const pointset>(load_pointset(pointset_path(p, t.scale)));
+    }
+    stimulus->use_pointset(set);
+    live_context ctx{p, *stimulus, *window, gaze.get(), conditioner.get(), {}};
+    if (!script_keys.empty()) {  // testing: this trial's answer from the script
+      if (key_index >= script_keys.size()) throw std::runtime_error("--script-keys: ran out of answers");
+      ctx.scripted_keys = script_keys.substr(key_index, 1);
+    }
+    if (auto* m = dynamic_cast<mouse_gaze*>(gaze.get())) {
+      double x, y;
+      if (window->mouse(x, y)) m->set(x, y);
+    }
+    a = run_live_trial(ctx, t, *set);
+    return {{"response", a.response},
+            {"rt_ms", a.rt_ms},
+            {"gaze", {{"source", gaze ? gaze->name() : "fixation"}, {"samples", a.gaze_samples}, {"clamped", a.gaze_clamped},
+                      {"mean", {a.gaze_mean[0], a.gaze_mean[1]}}, {"sd", {a.gaze_sd[0], a.gaze_sd[1]}},
+                      {"trace", a.gaze_trace}}},
+            {"fixation_max_deg", a.fixation_max_deg},
+            {"fixation_broken", a.fixation_broken},
+            {"mean_frame_ms", a.mean_frame_ms}};
+  };
+  auto quit_message = [&](uint64_t at) {
+    std::cerr << fmt::format("fovstair: quit at trial {}; continue with: fovstair run --subject {} --session {} --out {} --resume\n",
+                             at, subject, session, out_dir);
+    return 0;
+  };
+  size_t practice_keys = 0;  // --script-keys answers used by practice trials
+  if (!observer) {
+    const display_geometry& d = sets.begin()->second->model.display;
+    live_context ctx{p, *stimulus, *window, gaze.get(), conditioner.get(), script_keys.empty() ? "" : "x"};
+    if (!show_instructions(ctx, d.width, d.height)) return quit_message(done.size());
+    // Practice, at the start of a fresh session only: recorded, never given to a procedure.
+    for (uint32_t i = 0; !resume && i < p.practice.trials; ++i) {
+      trial_plan t;
+      t.index = i;
+      t.condition = state.order()[i % state.order().size()];
+      t.scale = practice_scale(p, i);
+      const auto& f = p.fixations.front();
+      t.fixation_x = f.first, t.fixation_y = f.second;
+      t.foveated_interval = uint32_t(rng(stream_seed(p.seed, subject_number(subject), 0x9ac7 + i)).next() >> 63);
+      trial_answer a;
+      json r = show_live(t, practice_keys++, a);
+      if (a.quit) return quit_message(0);
+      r.update({{"type", "practice"}, {"index", i}, {"condition", p.conditions[t.condition].name}, {"scale", t.scale},
+                {"detected", a.detected}, {"time", now_iso()}});
+      if (p.mode == stair_mode::two_afc) r["foveated_interval"] = t.foveated_interval + 1;
+      file->append(r);
+      if (p.practice.feedback)
+        show_feedback(ctx, d.width, d.height,
+                      p.mode == stair_mode::two_afc ? (a.detected ? "Correct." : fmt::format("Wrong: it was {}.", t.foveated_interval + 1))
+                                                    : "That one was foveated.");
+    }
+  }
   uint64_t this_run = 0;
   uint32_t repeats = 0;  // of the trial on screen, after broken fixation
   while (!state.finished()) {
@@ -163,36 +223,10 @@ int run_session(const run_options& o) {
                                                                : std::to_string(detected ? t.foveated_interval + 1 : 2 - t.foveated_interval)},
                {"rt_ms", nullptr}};
     } else {
-      auto& set = sets[t.scale];
-      if (!set) {
-        if (sets.size() > 3) sets.erase(sets.begin() == sets.find(t.scale) ? std::next(sets.begin()) : sets.begin());
-        set = std::make_shared<const pointset>(load_pointset(pointset_path(p, t.scale)));
-      }
-      stimulus->use_pointset(set);
-      live_context ctx{p, *stimulus, *window, gaze.get(), conditioner.get(), {}};
-      if (!script_keys.empty()) {  // testing: this trial's answer from the script
-        if (this_run >= script_keys.size()) throw std::runtime_error("--script-keys: ran out of answers");
-        ctx.scripted_keys = script_keys.substr(this_run, 1);
-      }
-      if (auto* m = dynamic_cast<mouse_gaze*>(gaze.get())) {
-        double x, y;
-        if (window->mouse(x, y)) m->set(x, y);
-      }
-      const trial_answer a = run_live_trial(ctx, t, *set);
-      if (a.quit) {
-        std::cerr << fmt::format("fovstair: quit at trial {}; continue with: fovstair run --subject {} --session {} --out {} --resume\n",
-                                 t.index, subject, session, out_dir);
-        return 0;
-      }
+      trial_answer a;
+      extra = show_live(t, practice_keys + this_run, a);
+      if (a.quit) return quit_message(t.index);
       detected = a.detected;
-      extra = {{"response", a.response},
-               {"rt_ms", a.rt_ms},
-               {"gaze", {{"source", gaze ? gaze->name() : "fixation"}, {"samples", a.gaze_samples}, {"clamped", a.gaze_clamped},
-                         {"mean", {a.gaze_mean[0], a.gaze_mean[1]}}, {"sd", {a.gaze_sd[0], a.gaze_sd[1]}},
-                         {"trace", a.gaze_trace}}},
-               {"fixation_max_deg", a.fixation_max_deg},
-               {"fixation_broken", a.fixation_broken},
-               {"mean_frame_ms", a.mean_frame_ms}};
       if (a.fixation_broken && p.fixation.action == fixation_action::repeat && repeats < p.fixation.max_repeats) {
         // Shown again: the answer is kept in a "repeat" record, never given to the procedure.
         ++repeats;

@@ -43,6 +43,17 @@ trial_answer quit_answer() {
 
 }  // namespace
 
+bool show_instructions(live_context& ctx, int width, int height) {
+  ctx.window.show(message_screen(width, height, instruction_lines(ctx.protocol)));
+  if (!ctx.scripted_keys.empty()) return true;  // testing: no waiting
+  return wait_for(ctx, " q") != 'q';
+}
+
+void show_feedback(live_context& ctx, int width, int height, const std::string& text) {
+  ctx.window.show(message_screen(width, height, {text}));
+  ctx.window.key(ctx.scripted_keys.empty() ? 800 : 1);
+}
+
 trial_answer run_live_trial(live_context& ctx, const trial_plan& t, const pointset& set) {
   const int w = set.model.display.width, h = set.model.display.height;
   const stair_protocol& p = ctx.protocol;
@@ -59,6 +70,12 @@ trial_answer run_live_trial(live_context& ctx, const trial_plan& t, const points
     // Fixation: a cross where to look, 600 ms.
     cv::Mat cross = message_screen(w, h, {});
     cv::drawMarker(cross, cv::Point(int(fx), int(fy)), {255, 255, 255}, cv::MARKER_CROSS, 30, 2);
+    if (p.mode == stair_mode::yes_no) {  // the question, at the bottom, before the stimulus
+      const fitted_text q = fit_text({question_text(p)}, w - w / 4, 0.7, 1);
+      for (size_t i = 0; i < q.lines.size(); ++i)
+        cv::putText(cross, q.lines[i], {w / 8, h - 12 - int(q.lines.size() - 1 - i) * q.line_height}, cv::FONT_HERSHEY_SIMPLEX,
+                    q.scale, {255, 255, 255}, 1, cv::LINE_AA);
+    }
     ctx.window.show(cross);
     ctx.window.key(600);
     ctx.renderer.reset_history();
@@ -113,7 +130,7 @@ trial_answer run_live_trial(live_context& ctx, const trial_plan& t, const points
         if (key == 0 && interval == 0) ctx.window.show(message_screen(w, h, {})), ctx.window.key(400);
       }
       if (key == 0) {
-        ctx.window.show(message_screen(w, h, {"Which interval was foveated?", "Press 1 or 2."}));
+        ctx.window.show(message_screen(w, h, {question_text(p)}));
         asked = clock_type::now();
         key = wait_for(ctx, "12");
       }

@@ -49,4 +49,10 @@ struct live_context {
 // in the pause Q quits, any other key resumes the trial from its start.
 trial_answer run_live_trial(live_context& ctx, const trial_plan& t, const pointset& set);
 
+// The protocol's instructions (instruction_lines) until Space; false when Q quits (or the
+// window closes). With scripted keys it does not wait.
+bool show_instructions(live_context& ctx, int width, int height);
+// A line of feedback after a practice trial, for 800 ms.
+void show_feedback(live_context& ctx, int width, int height, const std::string& text);
+
 }  // namespace fov

@@ -407,6 +407,29 @@ stair_protocol parse_protocol(const std::string& text, const std::string& file) 
       p.fixations.emplace_back(x, y);
     }
   }
+  if (top.has("instructions")) {
+    const json& v = top.raw("instructions");
+    if (!v.is_array() || v.empty() || v.size() > 20) top.fail("/instructions", "must be a list of 1 to 20 lines of text");
+    for (size_t i = 0; i < v.size(); ++i) {
+      if (!v[i].is_string() || v[i].get<std::string>().size() > 300)
+        top.fail("/instructions/" + std::to_string(i), "must be a line of text of at most 300 characters");
+      p.instructions.push_back(v[i].get<std::string>());
+    }
+  }
+  top.get("question", p.question);
+  if (p.question.size() > 300) top.fail("/question", "must be at most 300 characters");
+  if (top.has("practice")) {
+    reader r(top.raw("practice"), "/practice", lines, file);
+    r.get("trials", p.practice.trials);
+    if (r.has("scales")) p.practice.scales = number_list(r, "scales", p.scale_min, p.scale_max, 100);
+    r.get("feedback", p.practice.feedback);
+    r.no_unknown_keys();
+    if (p.practice.trials > 100) r.fail("/practice/trials", "must lie in 0..100");
+    const std::vector<double> reachable = reachable_scales(p);
+    for (size_t i = 0; i < p.practice.scales.size(); ++i)
+      if (std::none_of(reachable.begin(), reachable.end(), [&](double s) { return std::fabs(s - p.practice.scales[i]) < 1e-9; }))
+        r.fail("/practice/scales/" + std::to_string(i), "must be a scale the protocol's sets cover (validate lists them)");
+  }
   if (top.has("fixation_control")) {
     reader r(top.raw("fixation_control"), "/fixation_control", lines, file);
     r.get("radius_deg", p.fixation.radius_deg);
@@ -422,6 +445,26 @@ stair_protocol parse_protocol(const std::string& text, const std::string& file) 
   }
   top.no_unknown_keys();
   return p;
+}
+
+std::vector<std::string> instruction_lines(const stair_protocol& p) {
+  if (!p.instructions.empty()) return p.instructions;
+  if (p.mode == stair_mode::two_afc)
+    return {"Look at the cross. Two images follow, one after the other; keep your eyes where the cross was.",
+            "One of them is rendered with fewer samples away from where you look.",
+            "After both, press 1 or 2 for the one that was. If unsure, guess.", "Esc pauses.", "Press Space to begin."};
+  return {"Look at the cross. An image follows; keep your eyes where the cross was.",
+          "Does anything in it look unnatural: blur, flicker, blocks, missing detail?",
+          "Press Y for yes or N for no.", "Esc pauses.", "Press Space to begin."};
+}
+
+std::string question_text(const stair_protocol& p) {
+  if (!p.question.empty()) return p.question;
+  return p.mode == stair_mode::two_afc ? "Which interval was foveated? Press 1 or 2." : "Anything unnatural? Y or N.";
+}
+
+double practice_scale(const stair_protocol& p, uint32_t i) {
+  return p.practice.scales.empty() ? p.scale_max : p.practice.scales[i % p.practice.scales.size()];
 }
 
 double sweep_step(const stair_protocol& p) { return p.procedure == stair_procedure::up_down ? p.rule.step : p.scale_grid; }

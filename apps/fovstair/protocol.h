@@ -57,6 +57,17 @@ struct fixation_control {
   uint32_t max_repeats = 3;
 };
 
+// Practice trials before a session's first trial (not on --resume): `trials` showings at
+// `scales` in turn (empty: scale max, the easiest), cycling through the conditions in the
+// subject's order, never catch trials; with `feedback`, "Correct" / "Wrong" (2AFC) or
+// "That one was foveated" (yes-no) after each. Recorded as "practice" records that no
+// procedure or analysis uses.
+struct practice_settings {
+  uint32_t trials = 0;
+  std::vector<double> scales;
+  bool feedback = true;
+};
+
 struct stair_protocol {
   std::string name, description;
   std::string scene = "builtin";   // builtin, FILE or env:IMAGE
@@ -77,6 +88,9 @@ struct stair_protocol {
   double catch_rate = 0.1;         // share of trials showing the reference instead
   std::vector<std::pair<double, double>> fixations{{0.5, 0.5}};  // normalised, in order
   fixation_control fixation;
+  std::vector<std::string> instructions;  // the screen before the first trial (empty: the mode's, instruction_lines)
+  std::string question;                   // empty: the mode's (question_text)
+  practice_settings practice;
   double interval_ms = 1500;       // 2AFC: each interval's length
   uint32_t break_every = 0;        // a pause every N trials (0: only between conditions)
   uint64_t seed = 1;
@@ -118,6 +132,12 @@ std::vector<double> reachable_scales(const stair_protocol& p);
 // The render parameters a condition's stimulus is shown with: its reconstruction and
 // rays, the protocol's TAA and camera (hfov) and the renderer's defaults for the rest.
 render_params stimulus_params(const stair_protocol& p, const stair_condition& c);
+
+// What the subject reads: the protocol's instructions and question, or the mode's defaults.
+std::vector<std::string> instruction_lines(const stair_protocol& p);
+std::string question_text(const stair_protocol& p);
+// The scale of practice trial i.
+double practice_scale(const stair_protocol& p, uint32_t i);
 
 // The step of the `fovgen sweep` that makes every set the protocol can show.
 double sweep_step(const stair_protocol& p);

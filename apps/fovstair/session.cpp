@@ -207,6 +207,16 @@ session_data read_session(const std::string& path) {
       end_line = number, out.ended = true;
       continue;
     }
+    if (type == "practice") {  // before the first trial only; no procedure sees it
+      if (state->trials() > 0 || !out.repeats.empty()) r.fail("a practice trial after the session's first trial");
+      if (r.count("index") != out.practice.size())
+        r.fail(fmt::format("practice trial index {}, expected {}", r.count("index"), out.practice.size()));
+      const double scale = r.number("scale");
+      if (!(scale >= protocol->scale_min && scale <= protocol->scale_max)) r.fail("a practice scale outside the protocol's range");
+      r.flag("detected");
+      out.practice.push_back(std::move(j));
+      continue;
+    }
     if (type == "repeat") {  // a trial shown again after broken fixation: it must be the one planned next
       if (state->finished()) r.fail("a repeated trial after the protocol's last");
       const trial_plan plan = state->next();

@@ -95,6 +95,7 @@ struct session_data {
   nlohmann::json header;
   std::vector<nlohmann::json> trials;
   std::vector<nlohmann::json> repeats;  // trials shown again after broken fixation (fixation_control "repeat")
+  std::vector<nlohmann::json> practice;  // practice trials before the first trial
   bool ended = false;
 };
 session_data read_session(const std::string& path);
