@@ -253,6 +253,9 @@ for p in j:
 # 2AFC: up-down defaults to 1-up/3-down, 0.5^(1/3) correct
 assert abs(j[1]["target_probability"] - 0.82) < 1e-9 and abs(j[0]["target_probability"] - 0.5 ** (1 / 3)) < 1e-6
 PY
+check "run bad --screen-ppd"  2 -- "$fovstair" run --protocol "$protocol" --subject S9 --out "$dir/x" --screen-ppd -3
+check "run --screen-ppd with --observer" 2 -- "$fovstair" run --protocol "$protocol" --subject S9 --out "$dir/x" \
+  --observer "$observer" --screen-ppd 40
 check "simulate bad procedure" 2 -- "$fovstair" simulate --protocol "$protocol" --observer logistic:threshold=1.7 --procedure bisect
 check "simulate quest with --step" 2 -- "$fovstair" simulate --protocol "$protocol" --observer logistic:threshold=1.7 \
   --procedure quest --step 0.2
@@ -328,6 +331,16 @@ trials = [l for l in lines if l["type"] == "trial"]
 assert [t["scale"] for t in trials] == [1.0, 1.2, 1.4, 1.2], [t["scale"] for t in trials]
 PY
   check "analyze with practice" 0 -- "$fovstair" analyze "$dir/live/L4-1.jsonl" --fit none
+  # Degrees kept on another screen: --screen-ppd scales frames by its ratio to the protocol
+  # display's pixels per degree, recorded in the header.
+  xvfb-run -a -s "-screen 0 800x600x24" "$fovstair" run --protocol "$dir/live.json" --subject L5 --out "$dir/live" \
+    --script-keys nnyn --screen-ppd 2 --fullscreen >/dev/null 2>"$dir/live.err" || fail "scaled session: $(cat "$dir/live.err")"
+  python3 - "$dir/live/L5-1.jsonl" <<'PY' || fail "presentation in the header"
+import json, math, sys
+h = json.loads(open(sys.argv[1]).readline())["presentation"]
+# 64x72 display: 64 v pi/180 pixels per degree (v from the display spec).
+assert h["fullscreen"] and h["screen_ppd"] == 2 and 1 < h["scale"] < 3, h
+PY
 fi
 
 echo "$passes passed, $failures failed"

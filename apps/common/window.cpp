@@ -104,10 +104,23 @@ std::string display_problem() {
   return "";
 }
 
-view_window::view_window(const std::string& title, int width, int height) : title_(title) {
+view_window::view_window(const std::string& title, int width, int height, presentation how)
+    : title_(title), how_(how), frame_(width, height) {
   if (const std::string why = display_problem(); !why.empty()) throw std::runtime_error(why);
-  cv::namedWindow(title_, cv::WINDOW_AUTOSIZE | cv::WINDOW_GUI_NORMAL);
-  cv::resizeWindow(title_, width, height);
+  const cv::Size scaled(int(std::lround(width * how.scale)), int(std::lround(height * how.scale)));
+  screen_ = scaled;
+  if (how.fullscreen) {
+    cv::namedWindow(title_, cv::WINDOW_NORMAL | cv::WINDOW_GUI_NORMAL);
+    cv::setWindowProperty(title_, cv::WND_PROP_FULLSCREEN, cv::WINDOW_FULLSCREEN);
+    cv::imshow(title_, cv::Mat(scaled, CV_8UC3, cv::Scalar(0, 0, 0)));
+    cv::waitKey(50);
+    const cv::Rect r = cv::getWindowImageRect(title_);
+    if (r.width > 0 && r.height > 0) screen_ = r.size();
+    offset_ = {(screen_.width - scaled.width) / 2, (screen_.height - scaled.height) / 2};  // negative: the edges are cut
+  } else {
+    cv::namedWindow(title_, cv::WINDOW_AUTOSIZE | cv::WINDOW_GUI_NORMAL);
+    cv::resizeWindow(title_, scaled.width, scaled.height);
+  }
   cv::setMouseCallback(title_, &view_window::on_mouse, this);
 }
 
@@ -121,12 +134,25 @@ void view_window::on_mouse(int event, int x, int y, int flags, void* self) {
   if (m.right && (flags & cv::EVENT_FLAG_RBUTTON)) m.drag_x += x - m.last_x, m.drag_y += y - m.last_y, m.last_x = x, m.last_y = y;
 }
 
-void view_window::show(const cv::Mat& bgr) { cv::imshow(title_, bgr); }
+void view_window::show(const cv::Mat& bgr) {
+  if (how_.scale == 1 && !how_.fullscreen) return cv::imshow(title_, bgr);
+  cv::Mat scaled = bgr;
+  if (how_.scale != 1) {
+    const bool whole = std::fabs(how_.scale - std::round(how_.scale)) < 1e-9;
+    cv::resize(bgr, scaled, cv::Size(), how_.scale, how_.scale,
+               whole ? cv::INTER_NEAREST : how_.scale < 1 ? cv::INTER_AREA : cv::INTER_LINEAR);
+  }
+  if (!how_.fullscreen) return cv::imshow(title_, scaled);
+  cv::Mat canvas(screen_, CV_8UC3, cv::Scalar(0, 0, 0));
+  const cv::Rect where = cv::Rect(offset_, scaled.size()) & cv::Rect(cv::Point(0, 0), screen_);
+  scaled(cv::Rect(where.tl() - offset_, where.size())).copyTo(canvas(where));
+  cv::imshow(title_, canvas);
+}
 int view_window::key(int wait_ms) { return cv::waitKeyEx(std::max(1, wait_ms)); }
 
 bool view_window::mouse(double& x, double& y) const {
   if (!mouse_.seen) return false;
-  x = mouse_.x, y = mouse_.y;
+  x = (mouse_.x - offset_.x) / how_.scale, y = (mouse_.y - offset_.y) / how_.scale;
   return true;
 }
 

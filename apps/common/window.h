@@ -19,10 +19,19 @@ cv::Mat display_image(const frame& f);
 // starts: Qt aborts the process when it cannot connect). view_window checks it first.
 std::string display_problem();
 
+// How frames reach the screen: `scale` screen pixels per frame pixel (resampled: nearest
+// neighbour for whole factors, area-averaged below 1, bilinear otherwise), in a window of
+// the scaled size or, `fullscreen`, centred on black in a full-screen window.
+struct presentation {
+  double scale = 1;
+  bool fullscreen = false;
+};
+
 class view_window {
  public:
-  // Throws std::runtime_error when no display can be opened (no X server).
-  view_window(const std::string& title, int width, int height);
+  // Throws std::runtime_error when no display can be opened (no X server). Full screen, a
+  // scaled frame larger than the window shows its middle (screen() tells the caller).
+  view_window(const std::string& title, int width, int height, presentation how = {});
   ~view_window();
   view_window(const view_window&) = delete;
   view_window& operator=(const view_window&) = delete;
@@ -30,12 +39,16 @@ class view_window {
   void show(const cv::Mat& bgr);
   // Waits up to wait_ms (at least 1) for a key; returns it or -1.
   int key(int wait_ms = 1);
-  bool mouse(double& x, double& y) const;  // false until the pointer has entered
+  bool mouse(double& x, double& y) const;  // in frame pixels; false until the pointer has entered
+  cv::Size screen() const { return screen_; }  // the window's size on screen, pixels
   bool closed() const;                     // the user closed the window
   bool right_drag(double& dx, double& dy);  // movement with the right button held, since the last call
 
  private:
   std::string title_;
+  presentation how_;
+  cv::Size frame_, screen_;
+  cv::Point offset_;  // where the scaled frame's corner lies in the window
   struct mouse_state {
     double x = 0, y = 0, drag_x = 0, drag_y = 0, last_x = 0, last_y = 0;
     bool seen = false, right = false;

@@ -58,6 +58,11 @@ int run_session(const run_options& o) {
   gaze_options gaze_flags = o.gaze;
   require_valid(gaze_flags);
   if (gaze_flags.sources() + gaze_mouse > 1) throw usage_error("choose one gaze source");
+  if (!(o.screen_ppd == 0 || (o.screen_ppd >= 1 && o.screen_ppd <= 1000)))
+    throw usage_error(fmt::format("--screen-ppd {}: must lie in 1..1000 pixels per degree (or be 0: frames 1:1)", o.screen_ppd));
+  if ((o.screen_ppd > 0 || o.fullscreen) && !o.observer.empty())
+    throw usage_error("--screen-ppd and --fullscreen are for a window; --observer answers without one");
+  presentation how;
   // Lab IDs as labs write them (P-03, sub-07, S_12): letters, digits, _ and -, starting with
   // a letter or digit (the session file is SUBJECT-SESSION.jsonl).
   if (!std::regex_match(subject, std::regex("[A-Za-z0-9][A-Za-z0-9_-]{0,31}")))
@@ -128,7 +133,13 @@ int run_session(const run_options& o) {
     const display_geometry& d = first->model.display;
     std::shared_ptr<const scene> scn = load_scene(p.scene);
     stimulus = std::make_unique<fov::renderer>(scn, stimulus_params(p, p.conditions.front()));
-    window = std::make_unique<view_window>("fovstair " + p.name, d.width, d.height);
+    how.scale = o.screen_ppd > 0 ? o.screen_ppd / pixels_per_degree(d) : 1;
+    how.fullscreen = o.fullscreen;
+    window = std::make_unique<view_window>("fovstair " + p.name, d.width, d.height, how);
+    const int sw = int(std::lround(d.width * how.scale)), sh = int(std::lround(d.height * how.scale));
+    if (sw > window->screen().width || sh > window->screen().height)
+      std::cerr << fmt::format("fovstair: warning: the frame scaled x{:.3g} is {}x{} pixels and the window {}x{}: its edges "
+                               "are cut\n", how.scale, sw, sh, window->screen().width, window->screen().height);
     gaze = open_gaze(gaze_flags, d.width, d.height);
     if (gaze_mouse) gaze = std::make_unique<mouse_gaze>(d.width, d.height);
     if (gaze) conditioner = std::make_unique<gaze_conditioner>(gaze_flags.conditioning, d, gaze->live());
@@ -145,6 +156,9 @@ int run_session(const run_options& o) {
               {"session", session},    {"protocol_file", protocol_path}, {"protocol_text", protocol_text},
               {"condition_order", order}, {"started", now_iso()},
               {"observer", observer ? json(observer_text(*observer)) : json(nullptr)}};
+    if (!observer)
+      header["presentation"] = {{"scale", how.scale}, {"fullscreen", how.fullscreen}, {"screen_ppd", o.screen_ppd},
+                                {"screen", {window->screen().width, window->screen().height}}};
     file.emplace(session_file::create(path, header));
   } else {
     std::cerr << fmt::format("fovstair: resuming {} at trial {}\n", path, done.size());

@@ -16,6 +16,8 @@ struct run_options {
   gaze_options gaze;  // a tracker or a trace (none: the mouse with gaze_mouse, else the fixation target)
   bool gaze_mouse = false;
   std::string script_keys;  // testing: the window's answers, one key per trial
+  double screen_ppd = 0;    // the screen's pixels per degree for the subject (0: frames 1:1)
+  bool fullscreen = false;
 };
 int run_session(const run_options& o);
 

@@ -22,6 +22,10 @@ int main(int argc, char** argv) {
   run->add_option("--stop-after", r.stop_after, "Testing: exit abruptly (no end record) after N trials, as a crash would");
   fov::add_gaze_flags(*run, r.gaze);  // default: the fixation target
   run->add_flag("--gaze-mouse", r.gaze_mouse, "Gaze from the mouse pointer");
+  run->add_option("--screen-ppd", r.screen_ppd,
+                  "The screen's pixels per degree at the subject's distance: frames are scaled to keep the protocol display's "
+                  "degrees (default: 1:1)");
+  run->add_flag("--fullscreen", r.fullscreen, "A full-screen window, frames centred on black");
   run->add_option("--script-keys", r.script_keys, "Testing: the window's answers, one key per trial (e.g. nnyn)");
 
   CLI::App* sim = app.add_subcommand("simulate", "Estimate a procedure's bias, spread and trials with a simulated observer");
