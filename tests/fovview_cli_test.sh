@@ -36,8 +36,14 @@ mkfifo "$dir/cal.fifo"  # read as a calibration it would block forever: refused
 check "calibration FIFO"   1 -- timeout 20 "$fovview" "${set[@]}" --gaze-udp 47999 --gaze-calibration "$dir/cal.fifo"
 check "no Pupil Remote"    1 -- env -u DISPLAY -u WAYLAND_DISPLAY "$fovview" "${set[@]}" --gaze-pupil tcp://127.0.0.1:1
 check "exit without frames" 2 -- "$fovview" "${set[@]}" --exit
+check "replay and a trace"  2 -- "$fovview" "${set[@]}" --gaze-replay "$dir/gaze.csv" --gaze-trace "$dir/gaze.csv"
+check "replay adapting"    2 -- "$fovview" "${set[@]}" --gaze-replay "$dir/gaze.csv" --target-fps 60
+check "replay not a log"   1 -- "$fovview" "${set[@]}" --gaze-replay "$dir/gaze.csv" --frames 1 --exit
 check "bad screenshot frame" 2 -- "$fovview" "${set[@]}" --screenshot-at x "$dir/a.png"
 check "missing set"        1 -- "$fovview" --points "$dir/none.fovset"
+check "columns without a trace" 2 -- "$fovview" "${set[@]}" --gaze-trace-columns pupil
+check "bad trace columns"  2 -- "$fovview" "${set[@]}" --gaze-trace "$dir/gaze.csv" --gaze-trace-columns "t,x"
+check "missing export column" 1 -- "$fovview" "${set[@]}" --gaze-trace "$dir/gaze.csv" --gaze-trace-columns pupil
 check "backwards trace"    1 -- "$fovview" "${set[@]}" --gaze-trace "$dir/backwards.csv"
 check "empty points dir"   1 -- "$fovview" --points-dir "$dir/none"
 # A directory holding two displays' families: fovview asks which (once it has one, the
@@ -94,6 +100,29 @@ last = dict(zip(rows[0].split(","), rows[-1].split(",")))
 assert last["frame"] == "29" and abs(float(last["x"]) - 0.3 * 256) < 1e-3 and last["state"] == "tracking", last
 assert float(last["age_ms"]) >= 0 and float(last["shown_ms"]) >= float(last["local_ms"]), last
 PY
+  # --gaze-replay: a saccade-bearing trace logged, then replayed frame for frame: the same
+  # gaze, state, saccade landings and times in the new log, and the same last frame, byte
+  # for byte; one gaze moved by 8 pixels in the log changes the frame.
+  printf 't_ms,x_norm,y_norm\n0,0.3,0.3\n100,0.3,0.3\n200,0.8,0.7\n400,0.8,0.7\n500,0.2,0.8\n' > "$dir/saccades.csv"
+  xvfb-run -a -s "-screen 0 1024x768x24" "$fovview" "${set[@]}" --gaze-trace "$dir/saccades.csv" --frames 60 \
+    --screenshot-at 59 "$dir/live.png" --exit --gaze-log "$dir/live-log.csv" 2>"$dir/err.txt" || fail "logged run: $(cat "$dir/err.txt")"
+  xvfb-run -a -s "-screen 0 1024x768x24" "$fovview" "${set[@]}" --gaze-replay "$dir/live-log.csv" \
+    --screenshot-at 59 "$dir/replay.png" --exit --gaze-log "$dir/replay-log.csv" 2>"$dir/err.txt" || fail "replay: $(cat "$dir/err.txt")"
+  cmp -s <(cut -d, -f1-15 "$dir/live-log.csv") <(cut -d, -f1-15 "$dir/replay-log.csv") || fail "the replay's gaze log differs"
+  [[ $(awk -F, '$6 == 1' "$dir/live-log.csv" | wc -l) -ge 1 ]] || fail "the logged trace held no saccade landing"
+  python3 - "$dir/live.png" "$dir/replay.png" <<'PY' || fail "the replayed frame differs"
+import sys
+assert open(sys.argv[1], "rb").read() == open(sys.argv[2], "rb").read()
+PY
+  python3 - "$dir/live-log.csv" "$dir/moved-log.csv" <<'PY'
+import sys
+rows = open(sys.argv[1]).read().splitlines()
+c = rows[56].split(","); c[2] = str(float(c[2]) + 8); rows[56] = ",".join(c)
+open(sys.argv[2], "w").write("\n".join(rows) + "\n")
+PY
+  xvfb-run -a -s "-screen 0 1024x768x24" "$fovview" "${set[@]}" --gaze-replay "$dir/moved-log.csv" \
+    --screenshot-at 59 "$dir/moved.png" --exit 2>/dev/null || fail "moved replay"
+  ! cmp -s "$dir/live.png" "$dir/moved.png" || fail "a moved gaze replayed the same frame"
   # --pipeline (the next frame traced while one is shown) shows the same frames: without
   # TAA the ray pattern is fixed, so frame 5 at a fixed gaze is the same image either way.
   for mode in plain pipeline; do

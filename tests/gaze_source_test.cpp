@@ -11,6 +11,7 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include "gaze_log.h"
 #include "gaze_source.h"
 
 namespace fov {
@@ -37,6 +38,87 @@ TEST(GazeTrace, ReplaysByTimeInPixelsOrNormalised) {
   p = n->poll(5);
   EXPECT_EQ(p.x, 50);
   EXPECT_EQ(p.y, 50);
+}
+
+// Other tools' exports: Pupil Player's gaze_positions.csv (seconds, norm_pos from the
+// bottom-left, a confidence, extra columns) and a generic tab-separated export in
+// microseconds and pixels with a lost sample.
+TEST(GazeExport, PupilPlayerAndMappedColumns) {
+  trace_columns pupil;
+  ASSERT_EQ(parse_trace_columns("pupil", pupil), "");
+  auto g = table_gaze(write_temp("gaze_positions.csv",
+                                 "gaze_timestamp,world_index,confidence,norm_pos_x,norm_pos_y,base_data\n"
+                                 "1234.500,0,0.9,0.25,0.25,1234.49-0 1234.50-1\n"
+                                 "1234.600,1,0.4,0.5,0.75,1234.59-0\n"
+                                 "1234.700,2,0.95,,,\n"),
+                      pupil, 200, 100);
+  std::vector<gaze_sample> out;
+  g->read(1000, out);  // the first row at once
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_DOUBLE_EQ(out[0].x, 50);
+  EXPECT_DOUBLE_EQ(out[0].y, 75);  // 0.25 from the bottom
+  EXPECT_DOUBLE_EQ(out[0].confidence, 0.9);
+  g->read(1100, out);  // 100 ms later: the second row
+  ASSERT_EQ(out.size(), 2u);
+  EXPECT_DOUBLE_EQ(out[1].y, 25);
+  EXPECT_DOUBLE_EQ(out[1].confidence, 0.4);
+  EXPECT_EQ(g->malformed, 1u);  // the row without a position
+  trace_columns tobii;
+  ASSERT_EQ(parse_trace_columns("Recording timestamp,Gaze point X,Gaze point Y;time=us", tobii), "");
+  auto t = table_gaze(write_temp("tobii.tsv", "Recording timestamp\tGaze point X\tGaze point Y\n"
+                                              "5000000\t10\t20\n5100000\t\t\n5200000\t30\t40\n"),
+                      tobii, 200, 100);
+  gaze_point p = t->poll(0);
+  EXPECT_EQ(p.x, 10);
+  p = t->poll(200);
+  EXPECT_EQ(p.y, 40);
+  EXPECT_EQ(t->malformed, 1u);
+  try {
+    table_gaze(write_temp("other.csv", "time,px,py\n0,1,2\n"), tobii, 200, 100);
+    ADD_FAILURE() << "a missing column was accepted";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("no column 'Recording timestamp' (the header has: time, px, py)"), std::string::npos)
+        << e.what();
+  }
+  trace_columns bad;
+  EXPECT_NE(parse_trace_columns("t,x", bad), "");
+  EXPECT_NE(parse_trace_columns("t,x,y;time=min", bad), "");
+  EXPECT_THROW(table_gaze(write_temp("back.csv", "t,x,y\n10,1,1\n5,1,1\n"), [] {
+                 trace_columns c;
+                 parse_trace_columns("t,x,y", c);
+                 return c;
+               }(), 200, 100),
+               std::runtime_error);
+}
+
+// A gaze log reads back exactly what each frame used (the replay's promise), and a row out
+// of order or a landing without its onset is refused with its line.
+TEST(GazeLog, RoundTripsEveryFrameExactly) {
+  gaze_log_row a;
+  a.frame = 0, a.local_ms = 16.666666666666668, a.sample_local_ms = 10.5, a.shown_ms = 20;
+  a.estimate.at = {0.1 + 0.2, 1.0 / 3};
+  a.estimate.has_sample = true;
+  gaze_log_row b = a;
+  b.frame = 1, b.estimate.landed = true, b.estimate.saccade_onset = {2.0 / 7, 5}, b.estimate.state = gaze_state::saccade;
+  b.sample_local_ms = std::numeric_limits<double>::quiet_NaN();
+  const std::string path = write_temp("log.csv", gaze_log_header() + gaze_log_line(a) + gaze_log_line(b));
+  const std::vector<gaze_log_row> r = read_gaze_log(path);
+  ASSERT_EQ(r.size(), 2u);
+  EXPECT_EQ(r[0].estimate.at.x, a.estimate.at.x);  // bit for bit
+  EXPECT_EQ(r[0].estimate.at.y, a.estimate.at.y);
+  EXPECT_EQ(r[0].local_ms, a.local_ms);
+  EXPECT_TRUE(r[0].estimate.has_sample);
+  EXPECT_TRUE(r[1].estimate.landed);
+  EXPECT_EQ(r[1].estimate.saccade_onset.x, 2.0 / 7);
+  EXPECT_EQ(r[1].estimate.state, gaze_state::saccade);
+  EXPECT_FALSE(r[1].estimate.has_sample);
+  try {
+    read_gaze_log(write_temp("skip.csv", gaze_log_header() + gaze_log_line(b)));
+    ADD_FAILURE() << "a log starting at frame 1 was read";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("skip.csv:2: frame 1, expected 0"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(read_gaze_log(write_temp("trace.csv", "t_ms,x,y\n0,1,2\n")), std::runtime_error);
 }
 
 TEST(GazeTrace, ClampsAndCountsOffScreenSamplesOnce) {

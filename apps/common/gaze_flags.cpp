@@ -9,6 +9,9 @@ namespace fov {
 
 void add_gaze_flags(CLI::App& app, gaze_options& o) {
   app.add_option("--gaze-trace", o.trace, "Replay gaze from CSV (t_ms,x,y pixels or t_ms,x_norm,y_norm)");
+  app.add_option("--gaze-trace-columns", o.trace_columns,
+                 "--gaze-trace is another tool's export: pupil (Pupil Player gaze_positions.csv) or "
+                 "TIME,X,Y[,CONFIDENCE][;time=ms|s|us][;coords=pixels|norm|norm-bottom-left]");
   app.add_option("--gaze-udp", o.udp,
                  "Gaze from UDP datagrams on 127.0.0.1:PORT: 'X Y' or 'v2 T C EYE X Y' (normalised, origin top-left)");
   app.add_option("--gaze-pupil", o.pupil, "Gaze from a Pupil Labs Core tracker: Pupil Remote at tcp://HOST:PORT (default port 50020)");
@@ -27,6 +30,12 @@ void add_gaze_flags(CLI::App& app, gaze_options& o) {
 
 void require_valid(gaze_options& o) {
   if (o.sources() > 1) throw usage_error("choose one gaze source (--gaze-trace, --gaze-udp or --gaze-pupil)");
+  if (!o.trace_columns.empty()) {
+    if (o.trace.empty()) throw usage_error("--gaze-trace-columns maps the columns of a --gaze-trace file; give one");
+    trace_columns c;
+    if (const std::string why = parse_trace_columns(o.trace_columns, c); !why.empty())
+      throw usage_error("--gaze-trace-columns " + why);
+  }
   if (o.udp < 0 || o.udp > 65535) throw usage_error(fmt::format("--gaze-udp {}: not a port", o.udp));
   if (!o.pupil.empty()) {
     std::string host;
@@ -46,6 +55,11 @@ void require_valid(gaze_options& o) {
 std::unique_ptr<gaze_source> open_gaze(const gaze_options& o, int width, int height) {
   gaze_calibration calibration;
   if (!o.calibration.empty()) calibration = read_gaze_calibration(o.calibration);
+  if (!o.trace.empty() && !o.trace_columns.empty()) {
+    trace_columns c;
+    parse_trace_columns(o.trace_columns, c);  // checked by require_valid
+    return table_gaze(o.trace, c, width, height);
+  }
   if (!o.trace.empty()) return trace_gaze(o.trace, width, height);
   if (o.udp) return udp_gaze(uint16_t(o.udp), width, height, calibration);
   if (!o.pupil.empty()) {

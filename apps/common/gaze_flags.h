@@ -14,6 +14,7 @@ namespace fov {
 
 struct gaze_options {
   std::string trace;        // --gaze-trace FILE
+  std::string trace_columns;  // --gaze-trace-columns SPEC (another tool's export)
   int udp = 0;              // --gaze-udp PORT (0: none)
   std::string pupil;        // --gaze-pupil tcp://HOST:PORT
   std::string pupil_topic = "gaze.";

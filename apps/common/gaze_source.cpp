@@ -13,6 +13,7 @@
 #include <cerrno>
 #include <cmath>
 #include <cstring>
+#include <sstream>
 #include <stdexcept>
 
 #include <fmt/format.h>
@@ -118,6 +119,87 @@ class trace_source : public gaze_source {
   std::vector<row> rows_;
   size_t next_ = 0;
   double start_ = std::numeric_limits<double>::quiet_NaN();
+};
+
+// A trace whose rows were read from another tool's export.
+class table_source : public gaze_source {
+ public:
+  table_source(const std::string& path, const trace_columns& c, int w, int h) : path_(path) {
+    width_ = w, height_ = h;
+    std::istringstream in(read_input_file(path, max_gaze_table_bytes, "gaze export"));
+    std::string line;
+    if (!std::getline(in, line)) throw std::runtime_error(fmt::format("{}: empty", path));
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    if (line.rfind("\xEF\xBB\xBF", 0) == 0) line.erase(0, 3);  // a UTF-8 byte-order mark (Tobii Pro Lab writes one)
+    const char delimiter = line.find('\t') != std::string::npos ? '\t' : ',';
+    const std::vector<std::string> names = cells(line, delimiter);
+    auto column = [&](const std::string& name) -> size_t {
+      for (size_t i = 0; i < names.size(); ++i)
+        if (names[i] == name) return i;
+      std::string have;
+      for (size_t i = 0; i < names.size() && i < 12; ++i) have += (i ? ", " : "") + printable(names[i], 40);
+      throw std::runtime_error(fmt::format("{}:1: no column '{}' (the header has: {}{})", path, printable(name, 60), have,
+                                           names.size() > 12 ? ", ..." : ""));
+    };
+    const size_t ti = column(c.time), xi = column(c.x), yi = column(c.y);
+    const size_t ci = c.confidence.empty() ? size_t(-1) : column(c.confidence);
+    double first = std::numeric_limits<double>::quiet_NaN();
+    for (int number = 2; std::getline(in, line); ++number) {
+      if (!line.empty() && line.back() == '\r') line.pop_back();
+      if (line.empty()) continue;
+      const std::vector<std::string> v = cells(line, delimiter);
+      double t, x, y, conf = 1;
+      if (ti >= v.size() || !number_of(v[ti], t))
+        throw std::runtime_error(fmt::format("{}:{}: the time '{}' is not a number", path, number,
+                                             printable(ti < v.size() ? v[ti] : "", 40)));
+      if (xi >= v.size() || yi >= v.size() || !number_of(v[xi], x) || !number_of(v[yi], y) ||
+          (ci != size_t(-1) && (ci >= v.size() || !number_of(v[ci], conf) || conf < 0 || conf > 1))) {
+        refuse(fmt::format("line {}: no gaze position", number));  // a lost sample
+        continue;
+      }
+      t *= c.ms_per_unit;
+      if (!std::isfinite(first)) first = t;
+      t -= first;
+      if (!rows_.empty() && t < rows_.back().t)
+        throw std::runtime_error(fmt::format("{}:{}: time goes backwards", path, number));
+      if (c.coords == trace_coords::normalised) x *= w, y *= h;
+      if (c.coords == trace_coords::normalised_bottom_left) x *= w, y = (1 - y) * h;
+      rows_.push_back({t, x, y, conf});
+    }
+    if (rows_.empty()) throw std::runtime_error(fmt::format("{}: no gaze samples (every row lacks a position)", path));
+  }
+  void read(double now, std::vector<gaze_sample>& out) override {
+    if (!std::isfinite(start_)) start_ = now - rows_.front().t;
+    for (; next_ < rows_.size() && (next_ == 0 || rows_[next_].t <= now - start_); ++next_) {
+      emit(rows_[next_].x, rows_[next_].y, start_ + rows_[next_].t, out);
+      out.back().confidence = rows_[next_].confidence;
+    }
+  }
+  std::string name() const override { return "export " + path_; }
+
+ private:
+  struct row { double t, x, y, confidence; };
+  std::string path_;
+  std::vector<row> rows_;
+  size_t next_ = 0;
+  double start_ = std::numeric_limits<double>::quiet_NaN();
+
+  static std::vector<std::string> cells(const std::string& line, char delimiter) {
+    std::vector<std::string> out;
+    std::string cur;
+    std::stringstream in(line);
+    while (std::getline(in, cur, delimiter)) {
+      if (cur.size() >= 2 && cur.front() == '"' && cur.back() == '"') cur = cur.substr(1, cur.size() - 2);
+      out.push_back(cur);
+    }
+    if (!line.empty() && line.back() == delimiter) out.emplace_back();
+    return out;
+  }
+  static bool number_of(const std::string& s, double& v) {
+    char* end = nullptr;
+    v = std::strtod(s.c_str(), &end);
+    return !s.empty() && end == s.c_str() + s.size() && std::isfinite(v);
+  }
 };
 
 class udp_source : public gaze_source {
@@ -236,6 +318,41 @@ std::string parse_gaze_datagram(const std::string& text, gaze_datagram& out) {
 
 std::unique_ptr<gaze_source> fixed_gaze(int w, int h, double x, double y) { return std::make_unique<fixed_source>(w, h, x, y); }
 std::unique_ptr<gaze_source> trace_gaze(const std::string& path, int w, int h) { return std::make_unique<trace_source>(path, w, h); }
+std::unique_ptr<gaze_source> table_gaze(const std::string& path, const trace_columns& c, int w, int h) {
+  return std::make_unique<table_source>(path, c, w, h);
+}
+
+std::string parse_trace_columns(const std::string& spec, trace_columns& out) {
+  trace_columns c;
+  if (spec == "pupil") {
+    c.time = "gaze_timestamp", c.x = "norm_pos_x", c.y = "norm_pos_y", c.confidence = "confidence";
+    c.ms_per_unit = 1000, c.coords = trace_coords::normalised_bottom_left;
+    out = c;
+    return "";
+  }
+  std::vector<std::string> parts;
+  std::stringstream in(spec);
+  for (std::string part; std::getline(in, part, ';');) parts.push_back(part);
+  if (parts.empty()) return "expected pupil or TIME,X,Y[,CONFIDENCE][;time=ms|s|us][;coords=pixels|norm|norm-bottom-left]";
+  std::vector<std::string> names;
+  std::stringstream cols(parts[0]);
+  for (std::string n; std::getline(cols, n, ',');) names.push_back(n);
+  if (names.size() < 3 || names.size() > 4 || std::any_of(names.begin(), names.end(), [](const std::string& n) { return n.empty(); }))
+    return fmt::format("'{}': name 3 or 4 columns, TIME,X,Y[,CONFIDENCE]", printable(parts[0], 80));
+  c.time = names[0], c.x = names[1], c.y = names[2], c.confidence = names.size() == 4 ? names[3] : "";
+  for (size_t i = 1; i < parts.size(); ++i) {
+    const std::string& o = parts[i];
+    if (o == "time=ms") c.ms_per_unit = 1;
+    else if (o == "time=s") c.ms_per_unit = 1000;
+    else if (o == "time=us") c.ms_per_unit = 0.001;
+    else if (o == "coords=pixels") c.coords = trace_coords::pixels;
+    else if (o == "coords=norm") c.coords = trace_coords::normalised;
+    else if (o == "coords=norm-bottom-left") c.coords = trace_coords::normalised_bottom_left;
+    else return fmt::format("'{}': options are time=ms|s|us and coords=pixels|norm|norm-bottom-left", printable(o, 60));
+  }
+  out = c;
+  return "";
+}
 std::unique_ptr<gaze_source> udp_gaze(uint16_t port, int w, int h, const gaze_calibration& c) {
   return std::make_unique<udp_source>(port, w, h, c);
 }

@@ -115,6 +115,28 @@ std::unique_ptr<gaze_source> fixed_gaze(int width, int height, double x, double 
 // backwards. After the last row the gaze stays there.
 std::unique_ptr<gaze_source> trace_gaze(const std::string& path, int width, int height);
 
+// Which columns of another tool's export hold the gaze (--gaze-trace-columns): names from
+// its header line (comma- or tab-separated, quotes stripped), the time's unit, and the
+// coordinates: pixels, normalised with the origin top-left, or normalised with the origin
+// bottom-left (Pupil's norm_pos).
+enum class trace_coords : uint8_t { pixels, normalised, normalised_bottom_left };
+struct trace_columns {
+  std::string time, x, y, confidence;  // confidence: "" for none
+  double ms_per_unit = 1;
+  trace_coords coords = trace_coords::pixels;
+};
+// "pupil" (Pupil Player's gaze_positions.csv: gaze_timestamp in s, norm_pos_x/y from the
+// bottom-left, confidence), or "TIME,X,Y[,CONFIDENCE][;time=ms|s|us][;coords=pixels|norm|norm-bottom-left]".
+// Returns "" or why the spec is malformed.
+std::string parse_trace_columns(const std::string& spec, trace_columns& out);
+// The largest export read (Pupil's rows are long: two hours at 200 Hz is about 400 MB).
+constexpr uintmax_t max_gaze_table_bytes = uintmax_t(512) << 20;
+// A trace from an export's columns, replayed as trace_gaze replays (times relative to the
+// first row). Rows whose x, y (or confidence) are empty or not numbers are skipped and
+// counted as malformed (a tracker's lost samples); time must not go backwards. Throws
+// std::runtime_error "FILE:LINE: reason" (a missing column names the header's columns).
+std::unique_ptr<gaze_source> table_gaze(const std::string& path, const trace_columns& columns, int width, int height);
+
 // UDP datagrams on 127.0.0.1:port, non-blocking (parse_gaze_datagram's formats), mapped by
 // the calibration. Throws when the port cannot be bound.
 std::unique_ptr<gaze_source> udp_gaze(uint16_t port, int width, int height, const gaze_calibration& calibration = {});

@@ -39,6 +39,7 @@ int main(int argc, char** argv) {
   fov::add_gaze_flags(app, o.gaze);
   app.add_option("--gaze-log", o.gaze_log, "Write the gaze each frame used, with its times and state, to this CSV");
   app.add_option("--gaze", o.fixed_gaze, "A fixed gaze X,Y|centre|corner (default: the mouse)");
+  app.add_option("--gaze-replay", o.gaze_replay, "Replay a --gaze-log frame for frame: each frame's gaze, state and time");
   app.add_option("--camera-path", o.camera_path, "Replay a camera path (CSV t_ms,x,y,z,tx,ty,tz)");
   app.add_option("--frames", o.frames, "Stop after N frames (0: run until Q)");
   app.add_option("--screenshot-at", screenshot_at, "FRAME FILE: save frame FRAME (from 0) to FILE (.png) with FILE.json")->expected(2);
@@ -53,12 +54,14 @@ int main(int argc, char** argv) {
     if (o.points.empty() == o.points_dir.empty()) throw usage_error("give --points SET or --points-dir DIR");
     if (!o.display.empty() && o.points_dir.empty()) throw usage_error("--display chooses among --points-dir's sets; --points names one");
     fov::require_valid(o.gaze);
-    if (o.gaze.sources() + !o.fixed_gaze.empty() > 1) throw usage_error("choose one gaze source");
-    fov::require_output("--gaze-log", o.gaze_log);
+    if (o.gaze.sources() + !o.fixed_gaze.empty() + !o.gaze_replay.empty() > 1) throw usage_error("choose one gaze source");
+    if (!o.gaze_replay.empty() && o.target_fps > 0)
+      throw usage_error("--target-fps adapts to measured frame times, which a --gaze-replay cannot repeat");
+    fov::require_output("--gaze-log", o.gaze_log, {o.gaze_replay});
     if (!o.gaze_log.empty() && std::filesystem::exists(o.gaze_log))
       throw usage_error(fmt::format("--gaze-log {}: exists; choose a new file", o.gaze_log));
     if (!(o.target_fps >= 0 && o.target_fps <= 1000)) throw usage_error("--target-fps must lie in 0..1000");
-    if (o.exit_after && o.frames == 0) throw usage_error("--exit needs --frames N");
+    if (o.exit_after && o.frames == 0 && o.gaze_replay.empty()) throw usage_error("--exit needs --frames N (or a --gaze-replay)");
     if (!screenshot_at.empty()) {
       char* end = nullptr;
       o.screenshot_frame = std::strtol(screenshot_at[0].c_str(), &end, 10);

@@ -1,5 +1,7 @@
 #include "viewer.h"
 
+#include "../common/gaze_log.h"
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -168,8 +170,13 @@ int run_viewer(const viewer_options& o, render_params settings) {
     gaze = std::move(m);
   }
   fov::gaze_conditioner conditioner(o.gaze.conditioning, display, gaze->live());
-  std::string gaze_log = "frame,local_ms,x,y,state,landed,sample_local_ms,tracker_s,confidence,eye,raw_x,raw_y,age_ms,"
-                         "shown_ms\n";
+  std::string gaze_log = fov::gaze_log_header();
+  // A replay gives frame i the gaze, state and read time of the log's row i.
+  const std::vector<fov::gaze_log_row> replay = o.gaze_replay.empty() ? std::vector<fov::gaze_log_row>{}
+                                                                         : fov::read_gaze_log(o.gaze_replay);
+  size_t replay_next = 0;
+  // A replay runs its log's frames (or --frames of them, if fewer).
+  const uint64_t last_frame = replay.empty() ? frames : frames ? std::min<uint64_t>(frames, replay.size()) : replay.size();
   size_t safe_from_level = SIZE_MAX;  // the set's level before the safe mode switched to the densest
 
   fov::renderer renderer(scn, settings);
@@ -194,9 +201,15 @@ int run_viewer(const viewer_options& o, render_params settings) {
     double poll_ms;
     fov::camera cam;
     fov::gaze_estimate estimate;
+    double sample_local_ms;  // the newest sample's time from the start (NaN: none yet)
   };
   std::vector<fov::gaze_sample> fresh;
+  double clock_at_start = 0;
   auto read_inputs = [&](const fov::camera& current) {
+    if (!replay.empty()) {
+      const fov::gaze_log_row& r = replay[std::min(replay_next++, replay.size() - 1)];
+      return frame_inputs{r.estimate.at, r.local_ms, path ? path->at(r.local_ms, current) : current, r.estimate, r.sample_local_ms};
+    }
     const double now_ms = ms_between(start, clock_type::now());
     if (mouse) {
       double x, y;
@@ -206,13 +219,14 @@ int run_viewer(const viewer_options& o, render_params settings) {
     const double clock_ms = fov::gaze_clock_ms();
     gaze->read(clock_ms, fresh);
     const fov::gaze_estimate e = conditioner.update(clock_ms, fresh);
-    frame_inputs in{e.at, now_ms, path ? path->at(now_ms, current) : current, e};
+    frame_inputs in{e.at, now_ms, path ? path->at(now_ms, current) : current, e,
+                    e.has_sample ? e.newest.t_ms - clock_at_start : NAN};
     return in;
   };
-  const double clock_at_start = fov::gaze_clock_ms() - ms_between(start, clock_type::now());
+  clock_at_start = fov::gaze_clock_ms() - ms_between(start, clock_type::now());
   std::optional<frame_inputs> next;  // read ahead, with its trace under way
 
-  for (uint64_t frame_index = 0; frames == 0 || frame_index < frames; ++frame_index) {
+  for (uint64_t frame_index = 0; last_frame == 0 || frame_index < last_frame; ++frame_index) {
     const auto frame_start = clock_type::now();
     const double now_ms = ms_between(start, frame_start);
     const frame_inputs in = next ? *next : read_inputs(renderer.cam());
@@ -274,7 +288,8 @@ int run_viewer(const viewer_options& o, render_params settings) {
                                      fov::method_name(settings.reconstruct.how), settings.reconstruct.k,
                                      renderer.current_set()->model.scale, settings.spp, settings.taa ? "on" : "off",
                                      timing.points_traced, timing.rays),
-        fmt::format("gaze {} ({:.0f}, {:.0f}) {}{}  view {}  device {}", gaze->name(), g.x, g.y,
+        fmt::format("gaze {} ({:.0f}, {:.0f}) {}{}  view {}  device {}", replay.empty() ? gaze->name() : "replay " + o.gaze_replay,
+                    g.x, g.y,
                     fov::label_of(fov::gaze_state_labels, ge.state),
                     ge.has_sample ? fmt::format(" age {:.0f} ms conf {:.2f}", ge.age_ms, ge.newest.confidence) : "",
                     v.empty() ? "frame" : v, timing.on_device ? "OpenCL" : "C++")};
@@ -292,12 +307,7 @@ int run_viewer(const viewer_options& o, render_params settings) {
     const double shown_ms = ms_between(start, clock_type::now());
     latency_ms = shown_ms - in.poll_ms;
     const double gaze_age_ms = ge.has_sample ? fov::gaze_clock_ms() - ge.newest.t_ms : NAN;  // sample to photons, less the panel
-    if (!o.gaze_log.empty())
-      gaze_log += fmt::format("{},{:.3f},{:.3f},{:.3f},{},{},{:.3f},{:.6f},{:.3f},{},{:.3f},{:.3f},{:.3f},{:.3f}\n", frame_index,
-                              in.poll_ms, g.x, g.y, fov::label_of(fov::gaze_state_labels, ge.state), int(ge.landed),
-                              ge.has_sample ? ge.newest.t_ms - clock_at_start : NAN, ge.newest.tracker_s,
-                              ge.newest.confidence, fov::label_of(fov::gaze_eye_labels, ge.newest.eye), ge.newest.x,
-                              ge.newest.y, ge.age_ms, shown_ms);
+    if (!o.gaze_log.empty()) gaze_log += fov::gaze_log_line({frame_index, in.poll_ms, ge, in.sample_local_ms, shown_ms});
 
     auto save_screenshot = [&](const std::string& file) {
       fov::write_frame(image, file);  // the clean frame: no overlay, no cursor

@@ -19,6 +19,7 @@ struct viewer_options {
   gaze_options gaze;               // a tracker or a trace (none: the mouse or fixed_gaze)
   std::string fixed_gaze;
   std::string gaze_log;            // a CSV of the gaze each frame used
+  std::string gaze_replay;         // a gaze log to replay frame for frame (instead of a gaze source)
   std::string camera_path;
   uint32_t frames = 0;             // stop after N frames (0: run until Q)
   long screenshot_frame = -1;      // save this frame (from 0) to screenshot_file
