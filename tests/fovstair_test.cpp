@@ -372,5 +372,109 @@ TEST(Simulation, LevittTargetsAndARuleConverges) {
   EXPECT_GT(r.sd, 0.0);
 }
 
+// QUEST, QUEST+ and the session settings in protocols and session files.
+std::string with(const std::string& rest) {
+  return "{\"fovstair_protocol\": 1, \"conditions\": [{\"name\": \"A\"}], \"mode\": \"2afc\"" + (rest.empty() ? "" : ",\n" + rest) + "}";
+}
+
+TEST(QuestProtocol, RefusesWhatCannotRunOrIsIgnored) {
+  EXPECT_EQ(error_of(with("\"procedure\": \"quest\", \"quest\": {\"max_trials\": 30}")), "");
+  EXPECT_EQ(error_of(with("\"procedure\": \"bisect\"")), "p.json:2: procedure: must be up-down, quest or quest-plus");
+  EXPECT_EQ(error_of(with("\"quest\": {}")),
+            "p.json:2: quest: settings for procedure quest, but the protocol's procedure is up-down");
+  EXPECT_EQ(error_of(with("\"procedure\": \"quest\", \"rule\": {}")),
+            "p.json:2: rule: settings for procedure up-down, but the protocol's procedure is quest");
+  EXPECT_EQ(error_of(with("\"procedure\": \"quest\", \"quest\": {\"p_threshold\": 0.4}")),
+            "p.json:2: quest.p_threshold: must lie strictly between gamma (0.5) and 1 - delta (1 - gamma) (0.995)");
+  EXPECT_EQ(error_of(with("\"procedure\": \"quest\", \"quest\": {\"method\": \"median\"}")),
+            "p.json:2: quest.method: must be quantile, mean or mode");
+  EXPECT_EQ(error_of(with("\"procedure\": \"quest-plus\", \"quest_plus\": {\"lower_asymptotes\": [0.5], \"lapse_rates\": [0.6]}")),
+            "p.json:2: quest_plus.lapse_rates[0]: must be a number in [0, 0.5]");
+  EXPECT_EQ(error_of(with("\"procedure\": \"quest-plus\", \"quest_plus\": {\"lower_asymptotes\": [0.9], \"lapse_rates\": [0.2]}")),
+            "p.json:2: quest_plus.lapse_rates: every lower asymptote + lapse rate must stay below 1");
+  // 201 scales x 201 thresholds x 7 slopes = 282807 likelihoods: refused up front.
+  std::string slopes = "[1";
+  for (int i = 2; i <= 7; ++i) slopes += "," + std::to_string(i);
+  slopes += "]";
+  EXPECT_EQ(error_of(with("\"scales\": {\"grid\": 0.01}, \"procedure\": \"quest-plus\", \"quest_plus\": {\"slopes\": " + slopes +
+                          "}")),
+            "p.json:2: quest_plus: 201 scales x 1407 parameter combinations = 282807 likelihoods; at most 262144 (so that no "
+            "trial waits on the entropy search): coarsen scales.grid or the parameter lists");
+  EXPECT_EQ(error_of(with("\"rule\": {\"up\": 1, \"down\": 1}")),
+            "p.json:2: rule: a 1-up/1-down rule converges on 50 % correct, at or below chance in 2AFC: use more down than up "
+            "steps (1-up/3-down, 79.4 %, is usual)");
+  EXPECT_EQ(parse_protocol(with(""), "p").rule.down, 3u);  // 2AFC's default rule: 1-up/3-down
+  EXPECT_EQ(error_of(with("\"scales\": {\"grid\": 0.015}")),
+            "p.json:2: scales.grid: must be a multiple of 0.01 between 0.01 and max - min");
+}
+
+TEST(SessionProtocol, InstructionsQuestionAndPractice) {
+  const stair_protocol yes_no = parse_protocol("{\"fovstair_protocol\": 1, \"conditions\": [{\"name\": \"A\"}]}", "p");
+  EXPECT_EQ(question_text(yes_no), "Anything unnatural? Y or N.");
+  EXPECT_EQ(instruction_lines(yes_no).back(), "Press Space to begin.");
+  EXPECT_EQ(question_text(parse_protocol(with(""), "p")), "Which interval was foveated? Press 1 or 2.");
+  const stair_protocol p = parse_protocol(with("\"instructions\": [\"Hello\"], \"question\": \"Which?\", "
+                                               "\"practice\": {\"trials\": 3, \"scales\": [3, 2.5]}"), "p");
+  EXPECT_EQ(instruction_lines(p), std::vector<std::string>{"Hello"});
+  EXPECT_EQ(question_text(p), "Which?");
+  EXPECT_EQ(practice_scale(p, 0), 3);
+  EXPECT_EQ(practice_scale(p, 1), 2.5);
+  EXPECT_EQ(practice_scale(p, 2), 3);
+  EXPECT_EQ(practice_scale(parse_protocol(with("\"practice\": {\"trials\": 1}"), "p"), 0), 3);  // the top scale
+  EXPECT_EQ(error_of(with("\"practice\": {\"trials\": 1, \"scales\": [2.55]}")),
+            "p.json:2: practice.scales[0]: must be a scale the protocol's sets cover (validate lists them)");
+  EXPECT_EQ(error_of(with("\"instructions\": []")), "p.json:2: instructions: must be a list of 1 to 20 lines of text");
+  EXPECT_EQ(error_of(with("\"fixation_control\": {\"action\": \"refuse\"}")),
+            "p.json:2: fixation_control.action: must be mark or repeat");
+}
+
+TEST(QuestProtocol, TheGridIsWhatTheSetsMustCover) {
+  const stair_protocol p = parse_protocol(with("\"scales\": {\"min\": 1, \"max\": 2.05, \"grid\": 0.25}, \"procedure\": \"quest\""), "p");
+  EXPECT_EQ(reachable_scales(p), (std::vector<double>{1, 1.25, 1.5, 1.75, 2, 2.05}));
+}
+
+// A QUEST+ session written trial by trial reads back; a stored estimate that the answers
+// do not give is refused with its line.
+TEST(QuestSession, EstimatesAreStoredAndChecked) {
+  const std::string text = with("\"procedure\": \"quest-plus\", \"catch_rate\": 0, \"quest_plus\": {\"max_trials\": 6}");
+  const stair_protocol p = parse_protocol(text, "p.json");
+  stair_session plan(p, "S1");
+  const std::string path = ::testing::TempDir() + "/quest-S1.jsonl";
+  std::filesystem::remove(path);
+  std::vector<nlohmann::json> records;
+  {
+    session_file f = session_file::create(path, {{"type", "session"}, {"subject", "S1"}, {"session", "1"}, {"protocol_text", text}});
+    for (int i = 0; !plan.finished(); ++i) {
+      const trial_plan t = plan.next();
+      const bool yes = i % 3 != 2;
+      records.push_back(trial_record(p, t, yes, plan.record(t, yes)));
+      f.append(records.back());
+    }
+    f.append({{"type", "end"}});
+  }
+  ASSERT_EQ(records.size(), 6u);
+  EXPECT_TRUE(records.back()["recorded"].get<bool>());
+  EXPECT_DOUBLE_EQ(records.back()["threshold"].get<double>(), records.back()["estimate"]["threshold"].get<double>());
+  EXPECT_FALSE(records[2]["recorded"].get<bool>());
+  const session_data d = read_session(path);
+  EXPECT_TRUE(d.ended);
+  ASSERT_EQ(plan.series(0).thresholds().size(), 1u);
+  // Tamper with the third trial's estimate.
+  std::ifstream in(path);
+  std::string all((std::istreambuf_iterator<char>(in)), {}), line;
+  nlohmann::json third = records[2];
+  third["estimate"]["threshold"] = third["estimate"]["threshold"].get<double>() * 1.01;
+  const size_t at = all.find(records[2].dump());
+  ASSERT_NE(at, std::string::npos);
+  all.replace(at, records[2].dump().size(), third.dump());
+  std::ofstream(path, std::ios::trunc) << all;
+  try {
+    read_session(path);
+    ADD_FAILURE() << "a tampered estimate was read";
+  } catch (const std::runtime_error& e) {
+    EXPECT_EQ(std::string(e.what()), path + ":4: trial 2: the estimate is not the posterior the answers give");
+  }
+}
+
 }  // namespace
 }  // namespace fov
