@@ -314,6 +314,9 @@ assert [t["scale"] for t in trials] == [1.0, 1.2, 1.4, 1.2], [t["scale"] for t i
 assert [r["index"] for r in repeats] == [0, 1, 2, 3], repeats
 assert all(t["fixation_broken"] and t["fixation_max_deg"] > 0.5 for t in trials + repeats)
 assert "from the fixation target (radius 0.5)" in repeats[0]["reason"], repeats[0]["reason"]
+# Each frame: time, x, y, the sample's age (a trace's samples age as the trial runs), no tracker time.
+f = trials[0]["gaze"]["trace"][0]
+assert len(f) == 5 and f[3] is not None and f[3] >= 0 and f[4] is None, f
 PY
   check "analyze with repeats" 0 -- "$fovstair" analyze "$dir/live/L3-1.jsonl" --fit none
   # Practice: two showings at the top scale before the first trial, recorded as practice,

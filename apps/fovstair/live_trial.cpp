@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <limits>
 
 #include <opencv2/imgproc.hpp>
 
@@ -92,6 +93,7 @@ trial_answer run_live_trial(live_context& ctx, const trial_plan& t, const points
       const auto begin = clock_type::now();
       for (;;) {
         gaze_point g{fx, fy};
+        double age_ms = std::numeric_limits<double>::quiet_NaN(), tracker_s = age_ms;  // none without a source
         if (ctx.gaze) {
           fresh.clear();
           const double now_ms = gaze_clock_ms();
@@ -99,12 +101,13 @@ trial_answer run_live_trial(live_context& ctx, const trial_plan& t, const points
           const gaze_estimate e = ctx.conditioner->update(now_ms, fresh);
           if (e.landed) ctx.renderer.history_gaze(e.saccade_onset);
           g = e.at;
+          if (e.has_sample) age_ms = std::round(e.age_ms * 10) / 10, tracker_s = e.newest.tracker_s;
         }
         sum[0] += g.x, sum[1] += g.y, sum2[0] += g.x * g.x, sum2[1] += g.y * g.y;
         ++a.gaze_samples;
         if (a.gaze_trace.size() < max_trial_gaze_samples)
           a.gaze_trace.push_back({std::round(ms_between(start, clock_type::now()) * 10) / 10, std::round(g.x * 10) / 10,
-                                  std::round(g.y * 10) / 10});
+                                  std::round(g.y * 10) / 10, age_ms, tracker_s});
         // The angle between the gaze and the target, as the acuity model measures eccentricity.
         const double off = std::atan(std::hypot(g.x - fx, g.y - fy) / (display.width * display.viewing_distance)) * 180 / M_PI;
         a.fixation_max_deg = std::max(a.fixation_max_deg, off);

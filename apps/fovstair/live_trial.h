@@ -23,9 +23,11 @@ struct trial_answer {
   uint64_t gaze_samples = 0, gaze_clamped = 0;
   double gaze_mean[2] = {0, 0}, gaze_sd[2] = {0, 0};  // pixels
   double mean_frame_ms = 0;
-  // The gaze on every frame of the stimulus: [ms since the stimulus began, x, y] in pixels
-  // (the first max_trial_gaze_samples), and its largest distance from the fixation target.
-  std::vector<std::array<double, 3>> gaze_trace;
+  // The gaze on every frame of the stimulus: [ms since the stimulus began, x, y (pixels),
+  // the newest sample's age when read (ms), its tracker time (s)] (the last two NaN, null in
+  // JSON, without one), the first max_trial_gaze_samples; and its largest distance from
+  // the fixation target.
+  std::vector<std::array<double, 5>> gaze_trace;
   double fixation_max_deg = 0;
   bool fixation_broken = false;  // beyond the protocol's fixation_control radius
 };
