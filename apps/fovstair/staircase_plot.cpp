@@ -37,6 +37,30 @@ void write_staircase_plot(const std::vector<nlohmann::json>& trials, const std::
   cv::putText(img, "trial", {W / 2 - 20, H - 15}, font, 0.55, black, 1, cv::LINE_AA);
   cv::putText(img, "scale s", {5, top - 12}, font, 0.55, black, 1, cv::LINE_AA);
   cv::putText(img, title, {left + 10, 25}, font, 0.6, black, 1, cv::LINE_AA);
+  // QUEST / QUEST+: the posterior after each answer, its 5-95 % interval shaded, its
+  // estimate a line (catch trials carry none: the last one holds).
+  {
+    std::vector<cv::Point> upper, lower, estimate;
+    for (int i = 0; i < int(trials.size()); ++i) {
+      const auto it = trials[size_t(i)].find("estimate");
+      if (it == trials[size_t(i)].end() || !it->is_object()) continue;
+      const double e = it->value("threshold", 0.0);
+      const auto& in = (*it)["interval"];
+      if (!in.is_array() || in.size() != 2 || !in[0].is_number() || !in[1].is_number()) continue;
+      const double lo_i = std::clamp(in[0].get<double>(), lo, hi), hi_i = std::clamp(in[1].get<double>(), lo, hi);
+      upper.push_back({px(i), py(hi_i)}), lower.push_back({px(i), py(lo_i)}), estimate.push_back({px(i), py(std::clamp(e, lo, hi))});
+    }
+    if (!estimate.empty()) {
+      std::vector<cv::Point> band = upper;
+      band.insert(band.end(), lower.rbegin(), lower.rend());
+      cv::Mat shade = img.clone();
+      cv::fillPoly(shade, std::vector<std::vector<cv::Point>>{band}, cv::Scalar(200, 230, 200), cv::LINE_AA);
+      cv::addWeighted(shade, 0.6, img, 0.4, 0, img);
+      cv::polylines(img, estimate, false, cv::Scalar(40, 140, 40), 2, cv::LINE_AA);
+      cv::putText(img, "posterior estimate, 5-95 % shaded", {W - 330, top + 38}, font, 0.45, cv::Scalar(40, 140, 40), 1,
+                  cv::LINE_AA);
+    }
+  }
   // The path of the staircase, then the answers on it.
   cv::Point previous(-1, -1);
   double threshold_sum = 0;
@@ -59,8 +83,9 @@ void write_staircase_plot(const std::vector<nlohmann::json>& trials, const std::
   if (thresholds > 0) {
     const double mean = threshold_sum / thresholds;
     for (int x = left; x < W - right; x += 12) cv::line(img, {x, py(mean)}, {x + 6, py(mean)}, black, 1);
-    cv::putText(img, fmt::format("mean of {} thresholds: {:.3f}", thresholds, mean), {W - 330, top + 18}, font, 0.5, black, 1,
-                cv::LINE_AA);
+    cv::putText(img, thresholds == 1 ? fmt::format("threshold: {:.3f}", mean)
+                                     : fmt::format("mean of {} thresholds: {:.3f}", thresholds, mean),
+                {W - 330, top + 18}, font, 0.5, black, 1, cv::LINE_AA);
   }
   // Legend.
   const int ly = H - 15;
