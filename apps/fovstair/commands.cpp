@@ -423,10 +423,7 @@ int analyze(const analyze_options& o) {
     } else {
       fit_options fo;
       fo.guess = f.data.guess, fo.bootstrap = o.bootstrap;
-      // Seeded by subject and condition (FNV-1a of the name: the same on every platform).
-      uint64_t condition_hash = 1469598103934665603ull;
-      for (char ch : f.data.condition) condition_hash = (condition_hash ^ uint8_t(ch)) * 1099511628211ull;
-      fo.seed = stream_seed(subject_number(f.data.subject), condition_hash);
+      fo.seed = stream_seed(subject_number(f.data.subject), text_seed(f.data.condition));  // reruns agree
       for (psychometric_family fam : families) f.fits.push_back(fit_psychometric(f.data.levels, fam, fo));
     }
     fits.push_back(std::move(f));

@@ -21,9 +21,7 @@ uint64_t subject_number(const std::string& subject) {
   for (char c : subject)
     if (std::isdigit(static_cast<unsigned char>(c))) digits += c;
   if (!digits.empty() && digits.size() < 18) return std::stoull(digits);
-  uint64_t h = 1469598103934665603ull;  // FNV-1a
-  for (char c : subject) h = (h ^ uint8_t(c)) * 1099511628211ull;
-  return h;
+  return text_seed(subject);
 }
 
 std::vector<uint32_t> condition_order(const stair_protocol& p, const std::string& subject) {

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <string>
 
 namespace fov {
 
@@ -38,6 +39,13 @@ inline uint64_t stream_seed(uint64_t a, uint64_t b, uint64_t c = 0) {
   h = splitmix64(st);
   st = h ^ c;
   return splitmix64(st);
+}
+
+// A stream id from text (FNV-1a: the same on every platform, unlike std::hash).
+inline uint64_t text_seed(const std::string& text) {
+  uint64_t h = 1469598103934665603ull;
+  for (char c : text) h = (h ^ uint8_t(c)) * 1099511628211ull;
+  return h;
 }
 
 }  // namespace fov
