@@ -334,6 +334,16 @@ trials = [l for l in lines if l["type"] == "trial"]
 assert [t["scale"] for t in trials] == [1.0, 1.2, 1.4, 1.2], [t["scale"] for t in trials]
 PY
   check "analyze with practice" 0 -- "$fovstair" analyze "$dir/live/L4-1.jsonl" --fit none
+  # A session quit during its practice resumes the practice where it stopped.
+  mkdir -p "$dir/live2" && head -2 "$dir/live/L4-1.jsonl" > "$dir/live2/L4-1.jsonl"
+  xvfb-run -a -s "-screen 0 800x600x24" "$fovstair" run --subject L4 --out "$dir/live2" --resume --script-keys ynnyn \
+    >/dev/null 2>"$dir/live.err" || fail "practice resumed: $(cat "$dir/live.err")"
+  python3 - "$dir/live2/L4-1.jsonl" <<'PY' || fail "practice resumed records"
+import json, sys
+lines = [json.loads(l) for l in open(sys.argv[1])]
+assert [(l["type"], l.get("index")) for l in lines[1:4]] == [("practice", 0), ("practice", 1), ("trial", 0)], lines[1:4]
+assert [t["scale"] for t in lines if t["type"] == "trial"] == [1.0, 1.2, 1.4, 1.2] and lines[-1]["type"] == "end"
+PY
   # Degrees kept on another screen: --screen-ppd scales frames by its ratio to the protocol
   # display's pixels per degree, recorded in the header.
   xvfb-run -a -s "-screen 0 800x600x24" "$fovstair" run --protocol "$dir/live.json" --subject L5 --out "$dir/live" \

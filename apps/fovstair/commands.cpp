@@ -100,10 +100,12 @@ int run_session(const run_options& o) {
   }
   json header;
   std::vector<json> done;
+  size_t practiced = 0;  // practice trials the session file already holds
   std::optional<session_file> file;
   std::string protocol_text;
   if (resume) {
     if (!protocol_path.empty()) std::cerr << "fovstair: note: --resume uses the protocol stored in the session, not --protocol\n";
+    practiced = read_session(path).practice.size();  // a quit before the first trial resumes the practice
     file.emplace(session_file::resume(path, subject, header, done));
     protocol_text = header.at("protocol_text").get<std::string>();  // read_session checked the header's fields
     if (header.contains("observer") && header["observer"].is_string() && !observer)
@@ -202,8 +204,9 @@ int run_session(const run_options& o) {
     const display_geometry& d = sets.begin()->second->model.display;
     live_context ctx{p, *stimulus, *window, gaze.get(), conditioner.get(), script_keys.empty() ? "" : "x"};
     if (!show_instructions(ctx, d.width, d.height)) return quit_message(done.size());
-    // Practice, at the start of a fresh session only: recorded, never given to a procedure.
-    for (uint32_t i = 0; !resume && i < p.practice.trials; ++i) {
+    // Practice, before the first trial only (a session quit during its practice resumes it):
+    // recorded, never given to a procedure.
+    for (uint32_t i = uint32_t(practiced); done.empty() && i < p.practice.trials; ++i) {
       trial_plan t;
       t.index = i;
       t.condition = state.order()[i % state.order().size()];

@@ -57,7 +57,7 @@ struct fixation_control {
   uint32_t max_repeats = 3;
 };
 
-// Practice trials before a session's first trial (not on --resume): `trials` showings at
+// Practice trials before a session's first trial (resumed if quit during them): `trials` showings at
 // `scales` in turn (empty: scale max, the easiest), cycling through the conditions in the
 // subject's order, never catch trials; with `feedback`, "Correct" / "Wrong" (2AFC) or
 // "That one was foveated" (yes-no) after each. Recorded as "practice" records that no
