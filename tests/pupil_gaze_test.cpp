@@ -84,6 +84,44 @@ class fake_pupil {
     return out;
   }
 
+  // A surface tracker's message: gaze_on_surfaces with each datum's x, y (on the surface,
+  // origin bottom-left), confidence and timestamp, topic "gaze.3d.0._on_surface".
+  static std::string surface(const std::vector<std::array<double, 4>>& gaze) {
+    msgpack_sbuffer buffer;
+    msgpack_sbuffer_init(&buffer);
+    msgpack_packer pk;
+    msgpack_packer_init(&pk, &buffer, msgpack_sbuffer_write);
+    auto key = [&](const char* k) {
+      msgpack_pack_str(&pk, std::strlen(k));
+      msgpack_pack_str_body(&pk, k, std::strlen(k));
+    };
+    msgpack_pack_map(&pk, 3);
+    key("name");
+    key("screen");
+    key("timestamp");
+    msgpack_pack_double(&pk, gaze.empty() ? 0.0 : gaze.back()[3]);
+    key("gaze_on_surfaces");
+    msgpack_pack_array(&pk, gaze.size());
+    for (const auto& g : gaze) {
+      msgpack_pack_map(&pk, 5);
+      key("topic");
+      key("gaze.3d.0._on_surface");
+      key("norm_pos");
+      msgpack_pack_array(&pk, 2);
+      msgpack_pack_double(&pk, g[0]);
+      msgpack_pack_double(&pk, g[1]);
+      key("confidence");
+      msgpack_pack_double(&pk, g[2]);
+      key("on_surf");
+      msgpack_pack_true(&pk);
+      key("timestamp");
+      msgpack_pack_double(&pk, g[3]);
+    }
+    std::string out(buffer.data, buffer.size);
+    msgpack_sbuffer_destroy(&buffer);
+    return out;
+  }
+
   uint16_t remote_port = 0, pub_port = 0;
   std::atomic<double> clock_offset_s{5000};
   std::atomic<int> time_requests{0};
@@ -146,6 +184,25 @@ TEST(PupilGaze, ReceivesGazeMapsItToTheScreenAndToOurClock) {
   const auto right = publish_until_read(f, *g, "gaze.3d.0.", [&] { return fake_pupil::gaze(0.5, 0.5, 1, f.pupil_now()); });
   ASSERT_FALSE(right.empty());
   EXPECT_EQ(right.back().eye, gaze_eye::right);
+}
+
+// Subscribed to a surface (the screen, tracked by its markers): each gaze datum on it
+// becomes a sample in the surface's coordinates.
+TEST(PupilGaze, ReceivesGazeMappedOntoASurface) {
+  fake_pupil f;
+  pupil_params p{f.endpoint()};
+  p.topic = "surfaces.screen";
+  auto g = pupil_gaze(p, {}, 400, 200);
+  const auto got = publish_until_read(f, *g, "surfaces.screen", [&] {
+    return fake_pupil::surface({{0.25, 0.75, 0.9, f.pupil_now()}, {0.75, 0.25, 0.8, f.pupil_now()}});
+  });
+  ASSERT_GE(got.size(), 2u) << "no surface gaze within 5 s";
+  EXPECT_DOUBLE_EQ(got[0].x, 100);
+  EXPECT_DOUBLE_EQ(got[0].y, 50);
+  EXPECT_DOUBLE_EQ(got[1].x, 300);
+  EXPECT_DOUBLE_EQ(got[1].y, 150);
+  EXPECT_EQ(got[1].eye, gaze_eye::right);
+  EXPECT_EQ(g->malformed, 0u);
 }
 
 TEST(PupilGaze, CountsMalformedMessagesAndGoesOn) {
@@ -261,20 +318,30 @@ TEST(PupilGaze, ParsesEndpointsAndMessages) {
   EXPECT_NE(parse_pupil_endpoint("127.0.0.1:50020", host, port), "");
   EXPECT_NE(parse_pupil_endpoint("udp://127.0.0.1:50020", host, port), "");
   EXPECT_EQ(parse_pupil_endpoint("tcp://h:70000", host, port), "port 70000 is not in 1..65535");
-  pupil_gaze_message m;
+  std::vector<pupil_gaze_message> data;
   const std::string ok = fake_pupil::gaze(0.2, 0.3, 0.5, 12.5);
   auto parse = [&](const std::string& topic, const std::string& payload) {
-    return parse_pupil_gaze(topic, reinterpret_cast<const unsigned char*>(payload.data()), payload.size(), m);
+    return parse_pupil_gaze(topic, reinterpret_cast<const unsigned char*>(payload.data()), payload.size(), data);
   };
   EXPECT_EQ(parse("gaze.2d.1.", ok), "");
-  EXPECT_EQ(m.eye, gaze_eye::left);
-  EXPECT_DOUBLE_EQ(m.norm_y, 0.3);
-  EXPECT_DOUBLE_EQ(m.timestamp, 12.5);
-  EXPECT_EQ(parse("pupil.0.2d", ok), "topic 'pupil.0.2d' is not a gaze topic");
-  EXPECT_EQ(parse("g\t\n`", ok), "topic 'g\\t\\n`' is not a gaze topic");  // a fuzz finding: one line, printable
+  ASSERT_EQ(data.size(), 1u);
+  EXPECT_EQ(data[0].eye, gaze_eye::left);
+  EXPECT_DOUBLE_EQ(data[0].norm_y, 0.3);
+  EXPECT_DOUBLE_EQ(data[0].timestamp, 12.5);
+  EXPECT_EQ(parse("pupil.0.2d", ok), "topic 'pupil.0.2d' is not a gaze or surface topic");
+  EXPECT_EQ(parse("g\t\n`", ok), "topic 'g\\t\\n`' is not a gaze or surface topic");  // a fuzz finding: one line, printable
   EXPECT_EQ(parse("gaze.3d.01.", ok + "x"), "payload: 1 bytes after the msgpack object");
   EXPECT_EQ(parse("gaze.3d.01.", ok.substr(0, ok.size() - 1)), "payload: the payload ends inside a msgpack object");
   EXPECT_EQ(parse("gaze.3d.01.", "\x92\x01\x02"), "payload: not a msgpack map");
+  // The surface tracker: every gaze datum mapped onto the surface, each with its own topic.
+  EXPECT_EQ(parse("surfaces.screen", fake_pupil::surface({{0.25, 0.75, 0.9, 20.0}, {0.5, 0.5, 0.8, 20.004}})), "");
+  ASSERT_EQ(data.size(), 2u);
+  EXPECT_DOUBLE_EQ(data[0].norm_x, 0.25);
+  EXPECT_DOUBLE_EQ(data[1].timestamp, 20.004);
+  EXPECT_EQ(data[0].eye, gaze_eye::right);  // "gaze.3d.0._on_surface"
+  EXPECT_EQ(parse("surfaces.screen", fake_pupil::surface({})), "");  // no gaze on it this time
+  EXPECT_TRUE(data.empty());
+  EXPECT_EQ(parse("surfaces.screen", ok), "a surface message without gaze_on_surfaces");
 }
 
 }  // namespace

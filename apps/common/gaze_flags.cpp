@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include "cli.h"
+#include "fov/files.h"
 #include "pupil_gaze.h"
 
 namespace fov {
@@ -15,7 +16,7 @@ void add_gaze_flags(CLI::App& app, gaze_options& o) {
   app.add_option("--gaze-udp", o.udp,
                  "Gaze from UDP datagrams on 127.0.0.1:PORT: 'X Y' or 'v2 T C EYE X Y' (normalised, origin top-left)");
   app.add_option("--gaze-pupil", o.pupil, "Gaze from a Pupil Labs Core tracker: Pupil Remote at tcp://HOST:PORT (default port 50020)");
-  app.add_option("--gaze-pupil-topic", o.pupil_topic, "With --gaze-pupil: the topic prefix to subscribe to")->capture_default_str();
+  app.add_option("--gaze-pupil-topic", o.pupil_topic, "With --gaze-pupil: the topic prefix to subscribe to (gaze. or surfaces.NAME)")->capture_default_str();
   app.add_option("--gaze-calibration", o.calibration,
                  "With --gaze-udp or --gaze-pupil: a JSON calibration (offset/scale, homography or a validation grid)");
   app.add_option("--gaze-min-confidence", o.conditioning.min_confidence, "Drop samples below this confidence (0..1)")->capture_default_str();
@@ -43,9 +44,10 @@ void require_valid(gaze_options& o) {
     if (const std::string why = parse_pupil_endpoint(o.pupil, host, port); !why.empty())
       throw usage_error(fmt::format("--gaze-pupil {}: {}", o.pupil, why));
   }
-  if (o.pupil_topic.empty() || o.pupil_topic.rfind("gaze", 0) != 0 || o.pupil_topic.size() > 64)
-    throw usage_error(fmt::format("--gaze-pupil-topic '{}': a gaze topic prefix (gaze., gaze.3d., gaze.3d.01., ...)",
-                                  o.pupil_topic.substr(0, 64)));
+  if (o.pupil_topic.empty() || (o.pupil_topic.rfind("gaze", 0) != 0 && o.pupil_topic.rfind("surfaces.", 0) != 0) ||
+      o.pupil_topic.size() > 64)
+    throw usage_error(fmt::format("--gaze-pupil-topic '{}': a gaze topic prefix (gaze., gaze.3d., gaze.3d.01., ...) or a "
+                                  "surface's (surfaces.NAME)", printable(o.pupil_topic, 64)));
   if (!o.calibration.empty() && o.udp == 0 && o.pupil.empty())
     throw usage_error("--gaze-calibration applies to --gaze-udp and --gaze-pupil");
   if (!o.filter.empty()) o.conditioning.min_cutoff_hz = o.filter[0], o.conditioning.beta = o.filter[1];

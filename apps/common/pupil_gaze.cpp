@@ -108,48 +108,92 @@ std::string parse_pupil_endpoint(const std::string& text, std::string& host, uin
   return "";
 }
 
+namespace {
+
+// The eye a gaze topic names: "gaze.3d.01." both, "gaze.3d.0." eye 0 (Pupil Core's right
+// eye), "gaze.3d.1." eye 1; the surface mapper's datum topics end "._on_surface" after it.
+gaze_eye eye_of(std::string topic) {
+  const std::string suffix = "_on_surface";
+  if (topic.size() > suffix.size() && topic.compare(topic.size() - suffix.size(), suffix.size(), suffix) == 0)
+    topic.erase(topic.size() - suffix.size());
+  if (topic.find(".01.") != std::string::npos) return gaze_eye::both;
+  if (topic.size() >= 3 && topic.compare(topic.size() - 3, 3, ".0.") == 0) return gaze_eye::right;
+  if (topic.size() >= 3 && topic.compare(topic.size() - 3, 3, ".1.") == 0) return gaze_eye::left;
+  return gaze_eye::both;
+}
+
+// One gaze datum (a map with norm_pos, confidence, timestamp): "" or why it is malformed.
+// In a surface message each datum's own topic names its eye (`eye_from_datum`).
+std::string decode_gaze_datum(const msgpack_object& o, pupil_gaze_message& g, bool eye_from_datum) {
+  if (o.type != MSGPACK_OBJECT_MAP) return "not a msgpack map";
+  bool pos = false, conf = false, stamp = false;
+  const msgpack_object_map& map = o.via.map;
+  for (uint32_t i = 0; i < map.size; ++i) {
+    const msgpack_object &k = map.ptr[i].key, &v = map.ptr[i].val;
+    if (key_is(k, "norm_pos")) {
+      pos = v.type == MSGPACK_OBJECT_ARRAY && v.via.array.size == 2 && as_number(v.via.array.ptr[0], g.norm_x) &&
+            as_number(v.via.array.ptr[1], g.norm_y);
+      if (!pos) return "norm_pos is not two finite numbers";
+    } else if (key_is(k, "confidence")) {
+      if (!(conf = as_number(v, g.confidence))) return "confidence is not a finite number";
+    } else if (key_is(k, "timestamp")) {
+      if (!(stamp = as_number(v, g.timestamp))) return "timestamp is not a finite number";
+    } else if (eye_from_datum && key_is(k, "topic") && v.type == MSGPACK_OBJECT_STR) {
+      g.eye = eye_of(std::string(v.via.str.ptr, v.via.str.size));
+    }
+  }
+  if (!(pos && conf && stamp)) return fmt::format("lacks {}", !pos ? "norm_pos" : !conf ? "confidence" : "timestamp");
+  g.confidence = std::clamp(g.confidence, 0.0, 1.0);
+  return "";
+}
+
+}  // namespace
+
 std::string parse_pupil_gaze(const std::string& topic, const unsigned char* payload, size_t size,
-                             pupil_gaze_message& out) {
-  if (topic.rfind("gaze.", 0) != 0) return fmt::format("topic '{}' is not a gaze topic", printable(topic, 40));
-  pupil_gaze_message g;
-  // "gaze.3d.01." both eyes, "gaze.3d.0." eye 0 (Pupil Core's right eye), "gaze.3d.1." eye 1.
-  if (topic.find(".01.") != std::string::npos) g.eye = gaze_eye::both;
-  else if (topic.size() >= 3 && topic.compare(topic.size() - 3, 3, ".0.") == 0) g.eye = gaze_eye::right;
-  else if (topic.size() >= 3 && topic.compare(topic.size() - 3, 3, ".1.") == 0) g.eye = gaze_eye::left;
+                             std::vector<pupil_gaze_message>& out) {
+  const bool surface = topic.rfind("surfaces.", 0) == 0;
+  if (topic.rfind("gaze.", 0) != 0 && !surface)
+    return fmt::format("topic '{}' is not a gaze or surface topic", printable(topic, 40));
   if (const std::string why = msgpack_bounded(payload, size); !why.empty()) return "payload: " + why;
   msgpack_unpacked r;
   msgpack_unpacked_init(&r);
   size_t offset = 0;
   const msgpack_unpack_return ret = msgpack_unpack_next(&r, reinterpret_cast<const char*>(payload), size, &offset);
   std::string problem;
-  bool pos = false, conf = false, stamp = false;
+  std::vector<pupil_gaze_message> found;
   if (ret != MSGPACK_UNPACK_SUCCESS) {
     problem = "payload: not msgpack";
+  } else if (!surface) {
+    pupil_gaze_message g;
+    g.eye = eye_of(topic);
+    if (const std::string why = decode_gaze_datum(r.data, g, false); !why.empty())
+      problem = why == "not a msgpack map" ? "payload: not a msgpack map" : "the payload " + why;
+    else found.push_back(g);
   } else if (r.data.type != MSGPACK_OBJECT_MAP) {
     problem = "payload: not a msgpack map";
-  } else {
+  } else {  // the surface mapper: gaze_on_surfaces, a list of gaze data in the surface's coordinates
     const msgpack_object_map& map = r.data.via.map;
+    bool list = false;
     for (uint32_t i = 0; i < map.size && problem.empty(); ++i) {
-      const msgpack_object &k = map.ptr[i].key, &v = map.ptr[i].val;
-      if (key_is(k, "norm_pos")) {
-        pos = v.type == MSGPACK_OBJECT_ARRAY && v.via.array.size == 2 && as_number(v.via.array.ptr[0], g.norm_x) &&
-              as_number(v.via.array.ptr[1], g.norm_y);
-        if (!pos) problem = "norm_pos is not two finite numbers";
-      } else if (key_is(k, "confidence")) {
-        conf = as_number(v, g.confidence);
-        if (!conf) problem = "confidence is not a finite number";
-      } else if (key_is(k, "timestamp")) {
-        stamp = as_number(v, g.timestamp);
-        if (!stamp) problem = "timestamp is not a finite number";
+      if (!key_is(map.ptr[i].key, "gaze_on_surfaces")) continue;
+      const msgpack_object& v = map.ptr[i].val;
+      if (v.type != MSGPACK_OBJECT_ARRAY) {
+        problem = "gaze_on_surfaces is not a list";
+        break;
+      }
+      list = true;
+      for (uint32_t j = 0; j < v.via.array.size && problem.empty(); ++j) {
+        pupil_gaze_message g;
+        if (const std::string why = decode_gaze_datum(v.via.array.ptr[j], g, true); !why.empty())
+          problem = fmt::format("gaze_on_surfaces[{}]: {}", j, why);
+        else found.push_back(g);
       }
     }
-    if (problem.empty() && !(pos && conf && stamp))
-      problem = fmt::format("the payload lacks {}", !pos ? "norm_pos" : !conf ? "confidence" : "timestamp");
+    if (problem.empty() && !list) problem = "a surface message without gaze_on_surfaces";
   }
   msgpack_unpacked_destroy(&r);
   if (!problem.empty()) return problem;
-  g.confidence = std::clamp(g.confidence, 0.0, 1.0);
-  out = g;
+  out = std::move(found);
   return "";
 }
 
@@ -297,29 +341,36 @@ class pupil_source : public gaze_source {
         }
       }
       const std::string topic_text(static_cast<const char*>(zmq_msg_data(&topic)), zmq_msg_size(&topic));
-      pupil_gaze_message m;
+      std::vector<pupil_gaze_message> data;
       if (!has_payload) problem = "a message without a payload frame";
       else
         problem = parse_pupil_gaze(topic_text, static_cast<const unsigned char*>(zmq_msg_data(&payload)),
-                                   zmq_msg_size(&payload), m);
+                                   zmq_msg_size(&payload), data);
       zmq_msg_close(&topic);
       zmq_msg_close(&payload);
-      gaze_sample s;
-      if (problem.empty()) {
+      std::vector<gaze_sample> samples;
+      for (const pupil_gaze_message& m : data) {
+        gaze_sample s;
         double x = m.norm_x, y = 1 - m.norm_y;  // Pupil's origin is bottom-left
-        if (!calibration_.apply(x, y)) problem = "the calibration maps the position to infinity";
+        if (!calibration_.apply(x, y)) {
+          problem = "the calibration maps the position to infinity";
+          break;
+        }
         s.x = x * width_, s.y = y * height_;
+        s.tracker_s = m.timestamp, s.confidence = m.confidence, s.eye = m.eye;
+        samples.push_back(s);
       }
       std::lock_guard<std::mutex> lock(mutex_);
       if (!problem.empty()) {
         ++malformed_, problem_ = problem;
         continue;
       }
-      s.tracker_s = m.timestamp, s.confidence = m.confidence, s.eye = m.eye;
-      s.t_ms = clock_.to_local(m.timestamp, arrival);
-      jumps_ = clock_.jumps;
-      if (queue_.size() >= 100000) queue_.pop_front();  // nobody reads: keep the newest
-      queue_.push_back(s);
+      for (gaze_sample& s : samples) {
+        s.t_ms = clock_.to_local(s.tracker_s, arrival);
+        jumps_ = clock_.jumps;
+        if (queue_.size() >= 100000) queue_.pop_front();  // nobody reads: keep the newest
+        queue_.push_back(s);
+      }
     }
   }
   void close() {

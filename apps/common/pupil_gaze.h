@@ -5,7 +5,8 @@
 //  1. A REQ socket to Pupil Remote (tcp://HOST:PORT, Pupil's default port 50020) asks
 //     "SUB_PORT" (the answer: the port of its IPC backbone's publisher) and "t" (its clock,
 //     seconds, as text);
-//  2. a SUB socket on HOST:SUB_PORT subscribes to the topic prefix ("gaze." by default) and
+//  2. a SUB socket on HOST:SUB_PORT subscribes to the topic prefix ("gaze." by default, or
+//     "surfaces.NAME" for gaze mapped onto a tracked surface such as the screen) and
 //     receives two-frame messages: the topic ("gaze.3d.0." right eye, "gaze.3d.1." left eye,
 //     "gaze.3d.01." both; "gaze.2d.*" alike) and a msgpack map with norm_pos [x, y]
 //     (0..1, origin bottom-left), confidence (0..1) and timestamp (Pupil's clock, s);
@@ -21,6 +22,7 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "gaze_source.h"
 
@@ -41,10 +43,13 @@ struct pupil_gaze_message {
   double norm_x = 0, norm_y = 0, confidence = 0, timestamp = 0;
   gaze_eye eye = gaze_eye::both;
 };
-// Decodes the topic frame and the msgpack payload; "" or why the message is malformed.
-// Never allocates more than a small multiple of `size`.
+// Decodes the topic frame and the msgpack payload into its gaze data: one for a "gaze."
+// topic; for a surface topic ("surfaces.NAME", Pupil's surface tracker) every entry of
+// gaze_on_surfaces, in the surface's coordinates (origin bottom-left, the surface's corners
+// 0 and 1; none when the list is empty). "" or why the message is malformed. Never
+// allocates more than a small multiple of `size`.
 std::string parse_pupil_gaze(const std::string& topic, const unsigned char* payload, size_t size,
-                             pupil_gaze_message& out);
+                             std::vector<pupil_gaze_message>& out);
 
 // Connects, asks SUB_PORT and t, subscribes and starts receiving. Throws std::runtime_error
 // "--gaze-pupil ENDPOINT: reason" when Pupil Remote does not answer in time or answers

@@ -1,4 +1,4 @@
-// A Pupil Labs gaze message as --gaze-pupil receives it: the topic frame, a NUL, then the
+// A Pupil Labs gaze or surface message as --gaze-pupil receives it: the topic frame, a NUL, then the
 // msgpack payload frame (parse_pupil_gaze). It must refuse with one short line and allocate
 // within a small multiple of the payload (msgpack-c allocates what a container declares).
 #include <cmath>
@@ -13,13 +13,14 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const std::string topic(reinterpret_cast<const char*>(data), topic_size);
   const unsigned char* payload = data + std::min(size, topic_size + 1);
   const size_t payload_size = size - std::min(size, topic_size + 1);
-  fov::pupil_gaze_message m;
+  std::vector<fov::pupil_gaze_message> decoded;
   try {
-    const std::string why = fov::parse_pupil_gaze(topic, payload, payload_size, m);
+    const std::string why = fov::parse_pupil_gaze(topic, payload, payload_size, decoded);
     if (why.empty())
-      fov::fuzz::require(std::isfinite(m.norm_x) && std::isfinite(m.norm_y) && std::isfinite(m.timestamp) &&
-                             m.confidence >= 0 && m.confidence <= 1,
-                         "an accepted message is finite with a confidence in 0..1");
+      for (const fov::pupil_gaze_message& m : decoded)
+        fov::fuzz::require(std::isfinite(m.norm_x) && std::isfinite(m.norm_y) && std::isfinite(m.timestamp) &&
+                               m.confidence >= 0 && m.confidence <= 1,
+                           "an accepted message is finite with a confidence in 0..1");
     else
       fov::fuzz::require(why.size() < 200 && why.find('\n') == std::string::npos, "a refusal is one short line");
   } catch (const std::exception& e) {

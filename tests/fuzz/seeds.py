@@ -134,6 +134,10 @@ put("pupil_gaze", "huge-array", b"gaze.3d.1.\0" + b"\x81" + mp_str("norm_pos") +
 put("pupil_gaze", "missing-confidence", b"gaze.3d.1.\0" + b"\x82" + mp_str("norm_pos") + b"\x92" + mp_f64(0.1)
     + mp_f64(0.2) + mp_str("timestamp") + mp_f64(1.0))
 put("pupil_gaze", "not-gaze", b"pupil.0.2d\0" + gaze_map)
+surface_datum = (b"\x84" + mp_str("topic") + mp_str("gaze.3d.0._on_surface") + mp_str("norm_pos") + b"\x92" + mp_f64(0.4)
+                 + mp_f64(0.6) + mp_str("confidence") + mp_f64(0.9) + mp_str("timestamp") + mp_f64(1234.5))
+put("pupil_gaze", "surface", b"surfaces.screen\0" + b"\x82" + mp_str("name") + mp_str("screen") + mp_str("gaze_on_surfaces")
+    + b"\x92" + surface_datum + surface_datum)
 
 # Gaze calibrations, the three forms and a degenerate grid.
 put("gaze_calibration", "affine.json", '{"offset": [0.01, -0.02], "scale": [1.05, 0.97]}\n')
