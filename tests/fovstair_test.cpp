@@ -404,6 +404,10 @@ TEST(QuestProtocol, RefusesWhatCannotRunOrIsIgnored) {
             "p.json:2: rule: a 1-up/1-down rule converges on 50 % correct, at or below chance in 2AFC: use more down than up "
             "steps (1-up/3-down, 79.4 %, is usual)");
   EXPECT_EQ(parse_protocol(with(""), "p").rule.down, 3u);  // 2AFC's default rule: 1-up/3-down
+  // The defaults alone over a fine grid: refused too, not only with a quest_plus block.
+  EXPECT_EQ(error_of(with("\"scales\": {\"min\": 0.5, \"max\": 10, \"grid\": 0.01}, \"procedure\": \"quest-plus\"")),
+            "p.json:2: procedure: 951 scales x 951 parameter combinations = 904401 likelihoods; at most 262144 (so that no "
+            "trial waits on the entropy search): coarsen scales.grid or the parameter lists");
   EXPECT_EQ(error_of(with("\"scales\": {\"grid\": 0.015}")),
             "p.json:2: scales.grid: must be a multiple of 0.01 between 0.01 and max - min");
 }

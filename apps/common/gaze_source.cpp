@@ -80,6 +80,34 @@ double tracker_clock::to_local(double tracker_s, double arrival_ms) {
 
 namespace {
 
+// A whole, finite number: all of `text`.
+bool number(const std::string& text, double& v) {
+  char* end = nullptr;
+  v = std::strtod(text.c_str(), &end);
+  return !text.empty() && end == text.c_str() + text.size() && std::isfinite(v);
+}
+
+// Rows recorded with their times, replayed in real time from the first read: every row
+// whose time has come, once; the first row at once. After the last row the gaze stays.
+class replay_source : public gaze_source {
+ public:
+  void read(double now, std::vector<gaze_sample>& out) override {
+    if (!std::isfinite(start_)) start_ = now - rows_.front().t;
+    for (; next_ < rows_.size() && (next_ == 0 || rows_[next_].t <= now - start_); ++next_) {
+      emit(rows_[next_].x, rows_[next_].y, start_ + rows_[next_].t, out);
+      out.back().confidence = rows_[next_].confidence;
+    }
+  }
+
+ protected:
+  struct row { double t, x, y, confidence = 1; };
+  std::vector<row> rows_;
+
+ private:
+  size_t next_ = 0;
+  double start_ = std::numeric_limits<double>::quiet_NaN();
+};
+
 class fixed_source : public gaze_source {
  public:
   fixed_source(int w, int h, double x, double y) : x_(x), y_(y) { width_ = w, height_ = h; }
@@ -90,7 +118,7 @@ class fixed_source : public gaze_source {
   double x_, y_;
 };
 
-class trace_source : public gaze_source {
+class trace_source : public replay_source {
  public:
   trace_source(const std::string& path, int w, int h) : path_(path) {
     width_ = w, height_ = h;
@@ -105,24 +133,14 @@ class trace_source : public gaze_source {
     }
     if (rows_.empty()) throw std::runtime_error(fmt::format("{}: no gaze samples", path));
   }
-  // Every row whose time has come, once; the first row at once.
-  void read(double now, std::vector<gaze_sample>& out) override {
-    if (!std::isfinite(start_)) start_ = now - rows_.front().t;
-    for (; next_ < rows_.size() && (next_ == 0 || rows_[next_].t <= now - start_); ++next_)
-      emit(rows_[next_].x, rows_[next_].y, start_ + rows_[next_].t, out);
-  }
   std::string name() const override { return "trace " + path_; }
 
  private:
-  struct row { double t, x, y; };
   std::string path_;
-  std::vector<row> rows_;
-  size_t next_ = 0;
-  double start_ = std::numeric_limits<double>::quiet_NaN();
 };
 
 // A trace whose rows were read from another tool's export.
-class table_source : public gaze_source {
+class table_source : public replay_source {
  public:
   table_source(const std::string& path, const trace_columns& c, int w, int h) : path_(path) {
     width_ = w, height_ = h;
@@ -144,45 +162,34 @@ class table_source : public gaze_source {
     const size_t ti = column(c.time), xi = column(c.x), yi = column(c.y);
     const size_t ci = c.confidence.empty() ? size_t(-1) : column(c.confidence);
     double first = std::numeric_limits<double>::quiet_NaN();
-    for (int number = 2; std::getline(in, line); ++number) {
+    for (int line_no = 2; std::getline(in, line); ++line_no) {
       if (!line.empty() && line.back() == '\r') line.pop_back();
       if (line.empty()) continue;
       const std::vector<std::string> v = cells(line, delimiter);
       double t, x, y, conf = 1;
-      if (ti >= v.size() || !number_of(v[ti], t))
-        throw std::runtime_error(fmt::format("{}:{}: the time '{}' is not a number", path, number,
+      if (ti >= v.size() || !number(v[ti], t))
+        throw std::runtime_error(fmt::format("{}:{}: the time '{}' is not a number", path, line_no,
                                              printable(ti < v.size() ? v[ti] : "", 40)));
-      if (xi >= v.size() || yi >= v.size() || !number_of(v[xi], x) || !number_of(v[yi], y) ||
-          (ci != size_t(-1) && (ci >= v.size() || !number_of(v[ci], conf) || conf < 0 || conf > 1))) {
-        refuse(fmt::format("line {}: no gaze position", number));  // a lost sample
+      if (xi >= v.size() || yi >= v.size() || !number(v[xi], x) || !number(v[yi], y) ||
+          (ci != size_t(-1) && (ci >= v.size() || !number(v[ci], conf) || conf < 0 || conf > 1))) {
+        refuse(fmt::format("line {}: no gaze position", line_no));  // a lost sample
         continue;
       }
       t *= c.ms_per_unit;
       if (!std::isfinite(first)) first = t;
       t -= first;
       if (!rows_.empty() && t < rows_.back().t)
-        throw std::runtime_error(fmt::format("{}:{}: time goes backwards", path, number));
+        throw std::runtime_error(fmt::format("{}:{}: time goes backwards", path, line_no));
       if (c.coords == trace_coords::normalised) x *= w, y *= h;
       if (c.coords == trace_coords::normalised_bottom_left) x *= w, y = (1 - y) * h;
       rows_.push_back({t, x, y, conf});
     }
     if (rows_.empty()) throw std::runtime_error(fmt::format("{}: no gaze samples (every row lacks a position)", path));
   }
-  void read(double now, std::vector<gaze_sample>& out) override {
-    if (!std::isfinite(start_)) start_ = now - rows_.front().t;
-    for (; next_ < rows_.size() && (next_ == 0 || rows_[next_].t <= now - start_); ++next_) {
-      emit(rows_[next_].x, rows_[next_].y, start_ + rows_[next_].t, out);
-      out.back().confidence = rows_[next_].confidence;
-    }
-  }
   std::string name() const override { return "export " + path_; }
 
  private:
-  struct row { double t, x, y, confidence; };
   std::string path_;
-  std::vector<row> rows_;
-  size_t next_ = 0;
-  double start_ = std::numeric_limits<double>::quiet_NaN();
 
   static std::vector<std::string> cells(const std::string& line, char delimiter) {
     std::vector<std::string> out;
@@ -194,11 +201,6 @@ class table_source : public gaze_source {
     }
     if (!line.empty() && line.back() == delimiter) out.emplace_back();
     return out;
-  }
-  static bool number_of(const std::string& s, double& v) {
-    char* end = nullptr;
-    v = std::strtod(s.c_str(), &end);
-    return !s.empty() && end == s.c_str() + s.size() && std::isfinite(v);
   }
 };
 
@@ -272,12 +274,6 @@ std::vector<std::string> fields(const std::string& text) {
   }
   if (!cur.empty()) out.push_back(cur);
   return out;
-}
-
-bool number(const std::string& text, double& v) {
-  char* end = nullptr;
-  v = std::strtod(text.c_str(), &end);
-  return !text.empty() && end == text.c_str() + text.size() && std::isfinite(v);
 }
 
 }  // namespace

@@ -313,7 +313,12 @@ class pupil_source : public gaze_source {
       const double now = gaze_clock_ms();
       if (clock_.wants_sync || now - last_sync >= p_.sync_every_ms) {
         last_sync = now;
-        if (!sync_clock()) open_remote(200);  // a lost answer: start the REQ socket afresh
+        try {
+          if (!sync_clock()) open_remote(200);  // a lost answer: start the REQ socket afresh
+        } catch (const std::runtime_error& e) {  // never out of this thread: the session goes on
+          std::lock_guard<std::mutex> lock(mutex_);
+          problem_ = e.what();
+        }
       }
     }
   }

@@ -206,7 +206,7 @@ void parse_quest(reader r, stair_protocol& p, bool two_afc) {
   if (!(q.beta > 0 && q.beta <= 100)) r.fail("/quest/beta", "must lie in (0, 100]");
   if (!(q.delta >= 0 && q.delta <= 0.5)) r.fail("/quest/delta", "must lie in [0, 0.5]");
   if (!(q.gamma == -1 || (q.gamma >= 0 && q.gamma < 1))) r.fail("/quest/gamma", "must lie in [0, 1)");
-  const double gamma = q.gamma >= 0 ? q.gamma : (two_afc ? 0.5 : 0.01);
+  const double gamma = q.gamma >= 0 ? q.gamma : default_guess_rate(two_afc);
   const double top = q.delta * gamma + (1 - q.delta);
   if (!(q.p_threshold > gamma && q.p_threshold < top))
     r.fail("/quest/p_threshold", fmt::format("must lie strictly between gamma ({}) and 1 - delta (1 - gamma) ({})", gamma, top));
@@ -236,16 +236,23 @@ void parse_quest_plus(reader r, stair_protocol& p, bool two_afc) {
     r.fail("/quest_plus/max_trials", fmt::format("must lie in 1..{}", max_protocol_series_trials));
   if (!(q.stop_interval >= 0 && q.stop_interval <= 10))
     r.fail("/quest_plus/stop_interval", "must lie in [0, 10] log10 units (0: off)");
-  const double highest_gamma = q.lower_asymptotes.empty() ? (two_afc ? 0.5 : 0.01) : *std::max_element(q.lower_asymptotes.begin(), q.lower_asymptotes.end());
+  const double highest_gamma = q.lower_asymptotes.empty() ? default_guess_rate(two_afc)
+                                                          : *std::max_element(q.lower_asymptotes.begin(), q.lower_asymptotes.end());
   if (highest_gamma + *std::max_element(q.lapse_rates.begin(), q.lapse_rates.end()) >= 1)
     r.fail("/quest_plus/lapse_rates", "every lower asymptote + lapse rate must stay below 1");
+}
+
+// The QUEST+ likelihood table's size, checked with or without a quest_plus block (its
+// defaults over a fine scales.grid can exceed it too): "" or why it is refused.
+std::string quest_plus_table_problem(const stair_protocol& p) {
+  const quest_plus_params& q = p.quest_plus;
   const uint64_t stimuli = procedure_grid(p.scale_min, p.scale_max, p.scale_grid).size();
   const uint64_t params = uint64_t(q.thresholds.empty() ? stimuli : q.thresholds.size()) * q.slopes.size() *
                           std::max<size_t>(1, q.lower_asymptotes.size()) * q.lapse_rates.size();
-  if (stimuli * params > max_quest_plus_table)
-    r.fail("/quest_plus", fmt::format("{} scales x {} parameter combinations = {} likelihoods; at most {} (so that no trial "
-                                      "waits on the entropy search): coarsen scales.grid or the parameter lists",
-                                      stimuli, params, stimuli * params, max_quest_plus_table));
+  if (stimuli * params <= max_quest_plus_table) return "";
+  return fmt::format("{} scales x {} parameter combinations = {} likelihoods; at most {} (so that no trial waits on the "
+                     "entropy search): coarsen scales.grid or the parameter lists",
+                     stimuli, params, stimuli * params, max_quest_plus_table);
 }
 
 }  // namespace
@@ -360,6 +367,9 @@ stair_protocol parse_protocol(const std::string& text, const std::string& file) 
   const bool two_afc = p.mode == stair_mode::two_afc;
   if (top.has("quest")) parse_quest(reader(top.raw("quest"), "/quest", lines, file), p, two_afc);
   if (top.has("quest_plus")) parse_quest_plus(reader(top.raw("quest_plus"), "/quest_plus", lines, file), p, two_afc);
+  if (p.procedure == stair_procedure::quest_plus)
+    if (const std::string why = quest_plus_table_problem(p); !why.empty())
+      top.fail(top.has("quest_plus") ? "/quest_plus" : "/procedure", why);
   // In 2AFC the default rule is 1-up/3-down (79.4 % correct): 1-up/1-down would converge
   // on 50 % correct, which is chance.
   if (two_afc) p.rule.down = 3;

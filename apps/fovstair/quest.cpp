@@ -62,7 +62,7 @@ std::vector<double> procedure_grid(double scale_min, double scale_max, double st
 quest::quest(const quest_params& p, std::vector<double> grid, bool two_afc) : p_(p), grid_(std::move(grid)) {
   if (grid_.empty()) throw std::invalid_argument("quest: no scales to choose from");
   for (double s : grid_) log_grid_.push_back(std::log10(s));
-  gamma_ = p_.gamma >= 0 ? p_.gamma : (two_afc ? 0.5 : 0.01);
+  gamma_ = p_.gamma >= 0 ? p_.gamma : default_guess_rate(two_afc);
   const double lo = grid_.front(), hi = grid_.back();
   guess_ = std::log10(p_.threshold_guess > 0 ? p_.threshold_guess : std::sqrt(lo * hi));
   const double sd = p_.guess_sd > 0 ? p_.guess_sd : std::log10(hi / lo);
@@ -144,7 +144,7 @@ bool quest::done() const {
 quest_plus::quest_plus(const quest_plus_params& p, std::vector<double> grid, bool two_afc) : p_(p), grid_(std::move(grid)) {
   if (grid_.empty()) throw std::invalid_argument("quest_plus: no scales to choose from");
   if (p_.thresholds.empty()) p_.thresholds = grid_;
-  if (p_.lower_asymptotes.empty()) p_.lower_asymptotes = {two_afc ? 0.5 : 0.01};
+  if (p_.lower_asymptotes.empty()) p_.lower_asymptotes = {default_guess_rate(two_afc)};
   auto t = std::make_shared<table>();
   for (double s : p_.thresholds) t->thresholds.push_back(std::log10(s));
   std::sort(t->thresholds.begin(), t->thresholds.end());

@@ -51,6 +51,9 @@ struct quest_plus_params {
   double stop_interval = 0;              // as QUEST's, on the threshold's marginal posterior
 };
 
+// The guess rate QUEST's gamma and QUEST+'s lower asymptote default to: 0.5 in 2AFC, 0.01 in yes-no.
+inline double default_guess_rate(bool two_afc) { return two_afc ? 0.5 : 0.01; }
+
 // The largest QUEST+ likelihood table (stimuli x parameter combinations): a protocol asking
 // for more is refused when it is read, so no trial waits on the entropy search.
 constexpr uint64_t max_quest_plus_table = uint64_t(1) << 18;

@@ -48,7 +48,7 @@ double procedure_target_probability(const stair_protocol& p) {
     case stair_procedure::up_down: return levitt_target_probability(p.rule.up, p.rule.down);
     case stair_procedure::quest: return p.quest.p_threshold;
     case stair_procedure::quest_plus: {
-      const double g = mean(p.quest_plus.lower_asymptotes, two_afc ? 0.5 : 0.01), l = mean(p.quest_plus.lapse_rates, 0.01);
+      const double g = mean(p.quest_plus.lower_asymptotes, default_guess_rate(two_afc)), l = mean(p.quest_plus.lapse_rates, 0);
       return g + (1 - g - l) * (1 - std::exp(-1.0));
     }
   }

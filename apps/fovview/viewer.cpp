@@ -1,7 +1,5 @@
 #include "viewer.h"
 
-#include "../common/gaze_log.h"
-
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -19,6 +17,7 @@
 #include "../common/cli.h"
 #include "../common/debug_views.h"
 #include "../common/gaze_flags.h"
+#include "../common/gaze_log.h"
 #include "../common/gaze_source.h"
 #include "../common/image_io.h"
 #include "../common/render_flags.h"
@@ -175,6 +174,7 @@ int run_viewer(const viewer_options& o, render_params settings) {
   const std::vector<fov::gaze_log_row> replay = o.gaze_replay.empty() ? std::vector<fov::gaze_log_row>{}
                                                                          : fov::read_gaze_log(o.gaze_replay);
   size_t replay_next = 0;
+  const std::string gaze_name = o.gaze_replay.empty() ? gaze->name() : "replay " + o.gaze_replay;
   // A replay runs its log's frames (or --frames of them, if fewer).
   const uint64_t last_frame = replay.empty() ? frames : frames ? std::min<uint64_t>(frames, replay.size()) : replay.size();
   size_t safe_from_level = SIZE_MAX;  // the set's level before the safe mode switched to the densest
@@ -288,8 +288,7 @@ int run_viewer(const viewer_options& o, render_params settings) {
                                      fov::method_name(settings.reconstruct.how), settings.reconstruct.k,
                                      renderer.current_set()->model.scale, settings.spp, settings.taa ? "on" : "off",
                                      timing.points_traced, timing.rays),
-        fmt::format("gaze {} ({:.0f}, {:.0f}) {}{}  view {}  device {}", replay.empty() ? gaze->name() : "replay " + o.gaze_replay,
-                    g.x, g.y,
+        fmt::format("gaze {} ({:.0f}, {:.0f}) {}{}  view {}  device {}", gaze_name, g.x, g.y,
                     fov::label_of(fov::gaze_state_labels, ge.state),
                     ge.has_sample ? fmt::format(" age {:.0f} ms conf {:.2f}", ge.age_ms, ge.newest.confidence) : "",
                     v.empty() ? "frame" : v, timing.on_device ? "OpenCL" : "C++")};
@@ -457,7 +456,7 @@ int run_viewer(const viewer_options& o, render_params settings) {
                 {"gaze_age", stats([](const frame_stats& f) { return f.gaze_age; })}}},
               {"dropped", dropped},
               {"gaze",
-               {{"source", gaze->name()},
+               {{"source", gaze_name},
                 {"samples", gaze->samples},
                 {"malformed", gaze->malformed},
                 {"clamped", gaze->clamped},
