@@ -18,6 +18,7 @@
 
 #include "../common/cli.h"
 #include "fov/files.h"
+#include "fov/nested.h"
 #include "fov/pointset_io.h"
 #include "plot.h"
 #include "plots.h"
@@ -81,6 +82,16 @@ spacing_model model_from(const generate_options& o) {
   if (!parse_table_encoding(o.encoding, e))
     throw usage_error(fmt::format("--encoding: unknown '{}' (ref-left-zstd, raw, cells)", o.encoding));
   if (const std::string why = validate(m); !why.empty()) throw usage_error(why);
+  if (!o.levels.empty()) {
+    if (const std::string why = levels_problem(o.levels); !why.empty()) throw usage_error(why);
+    if (o.scale_given) throw usage_error("--scale and --levels: a nested set's scales are its levels");
+    if (o.fovea != fovea_layout::darts) throw usage_error("--levels needs --fovea darts (a nested set has no grid fovea)");
+    for (double s : o.levels) {
+      spacing_model level = m;
+      level.scale = s;
+      if (const std::string why = validate(level); !why.empty()) throw usage_error(fmt::format("--levels {}: {}", s, why));
+    }
+  }
   if (e != table_encoding::cells)
     if (const std::string why = knn_table_memory_problem(m.display, o.k); !why.empty())
       throw usage_error("--display: " + why + "; --encoding cells keeps neighbours in memory that grows with the points");
@@ -97,6 +108,18 @@ json summary(const pointset& set, const std::string& path) {
   j["pixels_per_degree"] = pixels_per_degree(set.model.display);
   j["fov_deg"] = {horizontal_fov_deg(set.model.display), vertical_fov_deg(set.model.display)};
   j["scale"] = set.model.scale;
+  if (set.nested()) {
+    // Per level (0 the coarsest): its scale, the points of its set (levels 0..l) and its own.
+    std::vector<uint64_t> own(set.level_count(), 0);
+    for (uint8_t l : set.level) ++own[l];
+    json levels = json::array();
+    uint64_t cumulative = 0;
+    for (uint32_t l = 0; l < set.level_count(); ++l) {
+      cumulative += own[l];
+      levels.push_back({{"level", l}, {"scale", set.level_scales[l]}, {"points", cumulative}, {"new_points", own[l]}});
+    }
+    j["levels"] = levels;
+  }
   j["acuity_model"] = acuity_model_name(set.model.acuity.model);
   j["csf"] = {{"ct0", set.model.acuity.ct0}, {"alpha", set.model.acuity.alpha}, {"e2", set.model.acuity.e2}};
   j["k"] = stored_k(set);
@@ -119,6 +142,14 @@ json summary(const pointset& set, const std::string& path) {
   const auto bytes = std::filesystem::file_size(path, ec);
   if (!ec) j["file_bytes"] = bytes;
   return j;
+}
+
+// Pairs closer than the spacing rule allows: in the whole set, and (nested) in each level's set.
+void add_spacing_violations(json& j, const pointset& set) {
+  j["spacing_violations"] = count_spacing_violations(set.points, set.canvas_width(), set.canvas_height());
+  if (!set.nested()) return;
+  for (uint32_t l = 0; l < set.level_count(); ++l)
+    j["levels"][l]["spacing_violations"] = count_spacing_violations(level_points(set, l), set.canvas_width(), set.canvas_height());
 }
 
 // Wall-clock provenance lives beside the set, so the set itself stays byte-identical.
@@ -164,7 +195,18 @@ pointset generate_file(const spacing_model& model, const generate_options& o, co
   set.darts.saturation_rejections = o.saturation;
   set.darts.fovea = o.fovea;
   set.darts.grid_spacing = o.grid_spacing;
-  set.points = throw_darts(model, set.darts, &set.stats);
+  if (!o.levels.empty()) {
+    nested_points nested = throw_nested_darts(model, o.levels, set.darts, &set.stats);
+    set.points = std::move(nested.points);
+    set.level = std::move(nested.level);
+    set.level_scales.assign(o.levels.rbegin(), o.levels.rend());  // coarsest first
+    set.model.scale = o.levels.front();
+    if (uint64_t coarsest = std::count(set.level.begin(), set.level.end(), uint8_t(0)); coarsest < o.k)
+      throw usage_error(fmt::format("--k {} exceeds the {} points of the coarsest level; use --k {} or less", o.k,
+                                    coarsest, coarsest));
+  } else {
+    set.points = throw_darts(model, set.darts, &set.stats);
+  }
   if (set.points.size() < o.k)
     throw usage_error(fmt::format("--k {} exceeds the {} points of this set; use --k {} or less", o.k,
                                   set.points.size(), set.points.size()));
@@ -256,7 +298,7 @@ int run_generate(const generate_options& o) {
   const pointset set = generate_file(model, o, output);
   json j = summary(set, output);
   add_timings(j, set);
-  j["spacing_violations"] = count_spacing_violations(set.points, set.canvas_width(), set.canvas_height());
+  add_spacing_violations(j, set);
   if (o.json) {
     std::cout << j.dump(2) << "\n";
   } else {
@@ -278,7 +320,7 @@ int run_info(const info_options& o) {
     throw usage_error(fmt::format("--k {}: {} stores {} neighbours per pixel", k_used, file, stored_k(set)));
   json j = summary(set, file);
   read_timings(j, file);
-  j["spacing_violations"] = count_spacing_violations(set.points, set.canvas_width(), set.canvas_height());
+  add_spacing_violations(j, set);
   if (!gaze_text.empty()) {
     const gaze_point gaze = require_gaze("--gaze", gaze_text, set.model.display);
     const uint32_t k = k_used ? std::min(k_used, stored_k(set)) : stored_k(set);

@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 
@@ -26,6 +27,10 @@ struct generate_options {
   double grid_spacing = dart_params{}.grid_spacing;
   bool json = false;
   std::string output;  // the set's file (generate only)
+  // Nested set (generate only): the levels' scales, finest first (e.g. 0.7,1.0,1.5,2.25,3.0);
+  // empty for a set of one scale.
+  std::vector<double> levels;
+  bool scale_given = false;
   // Which flags were given (with --display, only given ones replace the preset's).
   bool width_given = false, height_given = false, distance_given = false, grid_spacing_given = false;
 };

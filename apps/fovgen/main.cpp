@@ -11,6 +11,11 @@ int main(int argc, char** argv) {
   fov::add_generate_flags(app, gen);
   app.add_option("--scale,-s", gen.scale, "Eccentricity scale s (thesis 1.0 .. 3.0); larger is sparser");
   app.add_option("-o,--output", gen.output, "Output .fovset file");
+  app.add_option("--levels", gen.levels,
+                 "A nested set: scales S1,S2,... increasing (finest first, e.g. 0.7,1.0,1.5,2.25,3.0); the points of "
+                 "the coarsest levels down to each scale form a Poisson-disc set at it (docs/adaptive.md)")
+      ->delimiter(',')
+      ->expected(1, int(fov::max_levels));
 
   CLI::App* info = app.add_subcommand("info", "Describe a point-set file");
   fov::info_options io;
@@ -48,6 +53,7 @@ int main(int argc, char** argv) {
       return fov::run_sweep(so);
     }
     fov::note_given_flags(app, gen);
+    gen.scale_given = app.count("--scale") > 0;
     return fov::run_generate(gen);
   });
 }

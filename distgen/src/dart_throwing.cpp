@@ -26,19 +26,23 @@ struct tile {
   int nx = 0, ny = 0;
   std::vector<float> cx, cy;  // per cell; NaN = empty
   std::vector<point> points;  // accepted, in acceptance order
+  std::vector<uint8_t> levels;  // each point's level (nested sets)
   uint64_t darts = 0;
 };
 
 class dart_board {
  public:
-  dart_board(const spacing_model& model, const dart_params& params) : model_(model), params_(params), grid_(model, params) {
+  // Darts keep `model`'s spacing (set_model changes it); tiles are as wide as the largest
+  // spacing of `widest` (the coarsest model a nested set throws), cells fit `model`'s smallest.
+  dart_board(const spacing_model& model, const dart_params& params, const spacing_model& widest)
+      : model_(model), params_(params), grid_(model, params) {
     const double w = model.display.width, h = model.display.height;
     grid_radius_ = grid_radius(model, params);
     canvas_w_ = float(2 * w);
     canvas_h_ = float(2 * h);
     cx_ = w;
     cy_ = h;
-    const double p_max = point_spacing_px(model, std::hypot(w, h));
+    const double p_max = point_spacing_px(widest, std::hypot(w, h));
     tile_size_ = float(std::max(32.0, std::ceil(p_max)));
     tiles_x_ = int(std::ceil(canvas_w_ / tile_size_));
     tiles_y_ = int(std::ceil(canvas_h_ / tile_size_));
@@ -87,6 +91,10 @@ class dart_board {
   // True inside a grid pixel, where no dart may land (grid_test::in_grid_pixel).
   bool in_grid(float x, float y) const { return grid_.in_grid_pixel(x, y); }
 
+  // The spacing darts keep from now on (a nested set's next level): never smaller than the
+  // spacing the cells were made for.
+  void set_model(const spacing_model& m, uint8_t level) { model_ = m, level_ = level; }
+
   float spacing_at(float x, float y) const {
     return float(point_spacing_px(model_, std::hypot(double(x) - cx_, double(y) - cy_)));
   }
@@ -128,6 +136,7 @@ class dart_board {
     t.cx[c] = x;
     t.cy[c] = y;
     t.points.push_back({x, y, p});
+    t.levels.push_back(level_);
   }
 
   // Throws darts into the part of tile t inside [rx0, rx1) x [ry0, ry1) until
@@ -208,12 +217,20 @@ class dart_board {
     return all;
   }
 
+  std::vector<point> take_points_with_levels(std::vector<uint8_t>& levels) {
+    levels.clear();
+    levels.reserve(point_count());
+    for (const tile& t : tiles_) levels.insert(levels.end(), t.levels.begin(), t.levels.end());
+    return take_points();
+  }
+
   float canvas_w_, canvas_h_;
   double cx_, cy_;
 
  private:
   spacing_model model_;
   dart_params params_;
+  uint8_t level_ = 0;  // the level darts are accepted into
   grid_test grid_;
   double grid_radius_ = -1;
   float tile_size_;
@@ -238,7 +255,10 @@ uint64_t morton_code(float x, float y) {
   return spread(qx) | (spread(qy) << 1);
 }
 
-void sort_morton(std::vector<point>& points) {
+namespace {
+
+// The order sort_morton puts points in: order[j] is the index of the j-th.
+std::vector<uint32_t> morton_order(const std::vector<point>& points) {
   std::vector<std::pair<uint64_t, uint32_t>> keys(points.size());
   for (size_t i = 0; i < points.size(); ++i) keys[i] = {morton_code(points[i].x, points[i].y), uint32_t(i)};
   std::sort(keys.begin(), keys.end(), [&](const auto& a, const auto& b) {
@@ -248,20 +268,40 @@ void sort_morton(std::vector<point>& points) {
     if (pa.x != pb.x) return pa.x < pb.x;
     return a.second < b.second;
   });
-  std::vector<point> sorted(points.size());
-  for (size_t i = 0; i < keys.size(); ++i) sorted[i] = points[keys[i].second];
-  points.swap(sorted);
+  std::vector<uint32_t> order(points.size());
+  for (size_t i = 0; i < keys.size(); ++i) order[i] = keys[i].second;
+  return order;
 }
 
-std::vector<point> throw_darts(const spacing_model& model, const dart_params& params, dart_stats* stats) {
+void check_dart_params(const spacing_model& model, const dart_params& params) {
   if (const std::string why = validate(model); !why.empty()) throw std::invalid_argument(why);
   if (params.saturation_rejections == 0) throw std::invalid_argument("saturation_rejections must be positive");
   if (!(params.central_fraction >= 0 && params.central_fraction <= 2))
     throw std::invalid_argument("central_fraction must lie in [0, 2]");
   if (params.fovea == fovea_layout::grid && !valid_grid_spacing(params.grid_spacing))
     throw std::invalid_argument(fmt::format("grid_spacing must lie in {}..{} pixels", min_grid_spacing, max_grid_spacing));
+}
+
+void probe(const dart_board& board, const dart_params& params, dart_stats& s) {
+  if (params.free_area_probes > 0) {
+    s.free_probes_accepted = board.probe_free(params.seed, params.free_area_probes);
+    s.free_fraction = double(s.free_probes_accepted) / params.free_area_probes;
+  }
+}
+
+}  // namespace
+
+void sort_morton(std::vector<point>& points) {
+  const std::vector<uint32_t> order = morton_order(points);
+  std::vector<point> sorted(points.size());
+  for (size_t i = 0; i < order.size(); ++i) sorted[i] = points[order[i]];
+  points.swap(sorted);
+}
+
+std::vector<point> throw_darts(const spacing_model& model, const dart_params& params, dart_stats* stats) {
+  check_dart_params(model, params);
   const auto start = std::chrono::steady_clock::now();
-  dart_board board(model, params);
+  dart_board board(model, params, model);
   const uint64_t grid = board.place_grid();
   board.phase(1, 0, 0, board.canvas_w_, board.canvas_h_, params);
   const uint64_t after_phase1 = board.point_count();
@@ -275,15 +315,66 @@ std::vector<point> throw_darts(const spacing_model& model, const dart_params& pa
   s.phase1_points = after_phase1 - grid;
   s.phase2_points = board.point_count() - after_phase1;
   s.darts_thrown = board.darts();
-  if (params.free_area_probes > 0) {
-    s.free_probes_accepted = board.probe_free(params.seed, params.free_area_probes);
-    s.free_fraction = double(s.free_probes_accepted) / params.free_area_probes;
-  }
+  probe(board, params, s);
   std::vector<point> points = board.take_points();
   sort_morton(points);
   s.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (stats) *stats = s;
   return points;
+}
+
+std::string levels_problem(const std::vector<double>& scales) {
+  if (scales.size() < 2 || scales.size() > max_levels)
+    return fmt::format("--levels needs 2..{} scales (got {})", max_levels, scales.size());
+  for (size_t i = 0; i < scales.size(); ++i) {
+    if (!(scales[i] > 0) || !std::isfinite(scales[i]))
+      return fmt::format("--levels: scale {} must be positive and finite (got {})", i + 1, scales[i]);
+    if (i > 0 && !(scales[i] > scales[i - 1]))
+      return fmt::format("--levels must increase, finest first (got {} after {})", scales[i], scales[i - 1]);
+  }
+  return "";
+}
+
+nested_points throw_nested_darts(const spacing_model& model, const std::vector<double>& scales, const dart_params& params,
+                                 dart_stats* stats) {
+  if (const std::string why = levels_problem(scales); !why.empty()) throw std::invalid_argument(why);
+  if (params.fovea != fovea_layout::darts) throw std::invalid_argument("nested sets throw darts everywhere (no grid fovea)");
+  spacing_model finest = model, coarsest = model;
+  finest.scale = scales.front();
+  coarsest.scale = scales.back();
+  check_dart_params(finest, params);
+  check_dart_params(coarsest, params);
+  const auto start = std::chrono::steady_clock::now();
+  dart_board board(finest, params, coarsest);
+  const uint32_t levels = uint32_t(scales.size());
+  dart_stats s;
+  for (uint32_t l = 0; l < levels; ++l) {
+    spacing_model m = model;
+    m.scale = scales[levels - 1 - l];  // level 0 is the coarsest: the largest scale
+    board.set_model(m, uint8_t(l));
+    const uint64_t before = board.point_count();
+    board.phase(int(2 * l + 1), 0, 0, board.canvas_w_, board.canvas_h_, params);
+    const uint64_t after_phase1 = board.point_count();
+    const double hw = 0.5 * params.central_fraction * model.display.width;
+    const double hh = 0.5 * params.central_fraction * model.display.height;
+    if (params.central_fraction > 0)
+      board.phase(int(2 * l + 2), float(board.cx_ - hw), float(board.cy_ - hh), float(board.cx_ + hw),
+                  float(board.cy_ + hh), params);
+    s.phase1_points += after_phase1 - before;
+    s.phase2_points += board.point_count() - after_phase1;
+  }
+  s.darts_thrown = board.darts();
+  probe(board, params, s);  // at the finest level's spacing
+  nested_points out;
+  std::vector<point> all = board.take_points_with_levels(out.level);
+  const std::vector<uint32_t> order = morton_order(all);
+  out.points.resize(all.size());
+  std::vector<uint8_t> level(all.size());
+  for (size_t i = 0; i < order.size(); ++i) out.points[i] = all[order[i]], level[i] = out.level[order[i]];
+  out.level.swap(level);
+  s.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (stats) *stats = s;
+  return out;
 }
 
 }  // namespace fov

@@ -212,6 +212,35 @@ uint32_t cell_neighbours(const knn_cells& cells, const std::vector<point>& point
   return ranked_count;
 }
 
+void rect_neighbour_points(const knn_cells& cells, const std::vector<point>& points, uint32_t x0, uint32_t y0,
+                           uint32_t x1, uint32_t y1, uint32_t k, std::vector<uint32_t>& out) {
+  x1 = std::min(x1, cells.width), y1 = std::min(y1, cells.height);
+  if (x0 >= x1 || y0 >= y1 || k < 1 || k > cells.k) return;
+  const uint32_t tile = knn_cells::tile, tx = cells.tiles_x();
+  for (uint32_t ty = y0 / tile; ty <= (y1 - 1) / tile; ++ty)
+    for (uint32_t tx0 = x0 / tile; tx0 <= (x1 - 1) / tile; ++tx0) {
+      const uint32_t v = cells.tiles[size_t(ty) * tx + tx0];
+      const uint32_t l = v & 7u, side = tile >> l;
+      // The tile's cells that meet the rectangle.
+      const uint32_t cx0 = (std::max(x0, tx0 * tile) - tx0 * tile) >> l, cx1 = (std::min(x1, (tx0 + 1) * tile) - 1 - tx0 * tile) >> l;
+      const uint32_t cy0 = (std::max(y0, ty * tile) - ty * tile) >> l, cy1 = (std::min(y1, (ty + 1) * tile) - 1 - ty * tile) >> l;
+      for (uint32_t cy = cy0; cy <= cy1; ++cy)
+        for (uint32_t cx = cx0; cx <= cx1; ++cx) {
+          const uint32_t cell = (v >> 3) + cy * side + cx;
+          const double ccx = cell_centre(tx0 * tile + (cx << l), l), ccy = cell_centre(ty * tile + (cy << l), l);
+          const uint32_t a = cells.cell_start[cell], b = cells.cell_start[cell + 1];
+          // cell_neighbours's prefix: every pixel of the cell finds its k nearest in it.
+          const double reach = std::sqrt(distance2(points[cells.candidates[a + k - 1]], ccx, ccy)) + 2 * cell_delta(l);
+          const double reach2 = reach * reach * (1 + 1e-12) + 1e-12;
+          for (uint32_t at = a; at < b; ++at) {
+            const uint32_t i = cells.candidates[at];
+            if (distance2(points[i], ccx, ccy) > reach2) break;
+            out.push_back(i);
+          }
+        }
+    }
+}
+
 std::string knn_cells_problem(const knn_cells& cells, size_t point_count) {
   if (cells.k < 1 || cells.k > max_knn) return fmt::format("k = {} outside 1..{}", cells.k, max_knn);
   if (cells.tiles.size() != uint64_t(cells.tiles_x()) * cells.tiles_y())

@@ -76,7 +76,17 @@ std::string fovea_label(const dart_params& params) {
   return text;
 }
 
-std::string pointset_file_name(const spacing_model& model, const dart_params& darts) {
+std::string pointset_file_name(const spacing_model& model, const dart_params& darts,
+                               const std::vector<double>& level_scales) {
+  if (!level_scales.empty()) {  // finest first, as --levels lists them
+    std::string name = display_name(model.display) + "-n";
+    for (size_t l = level_scales.size(); l-- > 0;) {
+      char scale[64];
+      std::snprintf(scale, sizeof scale, "%.2f", level_scales[l]);
+      name += scale + std::string(l > 0 ? "-" : "");
+    }
+    return name + ".fovset";
+  }
   char scale[64];
   std::snprintf(scale, sizeof scale, "%.2f", model.scale);
   return display_name(model.display) + "-s" + scale +

@@ -48,6 +48,12 @@ struct header {
   uint32_t points_crc, table_crc;
   double grid_spacing;  // version 2
   uint64_t grid_points;  // version 2
+  // Version 3 (nested sets; 0 elsewhere): levels, their scales coarsest first, and the
+  // levels section (one byte per point) placed after the table.
+  uint32_t level_count, reserved;
+  double level_scales[max_levels];
+  uint64_t levels_offset, levels_bytes;
+  uint32_t levels_crc;
   uint32_t header_crc;  // CRC-32C of bytes [0, 508) with this field excluded
 };
 
@@ -66,6 +72,9 @@ void visit_fields(H& h, F&& f) {
   f(h.points_offset); f(h.points_bytes); f(h.table_offset); f(h.table_bytes);
   f(h.points_crc); f(h.table_crc);
   f(h.grid_spacing); f(h.grid_points);
+  f(h.level_count); f(h.reserved);
+  for (auto& v : h.level_scales) f(v);
+  f(h.levels_offset); f(h.levels_bytes); f(h.levels_crc);
 }
 constexpr size_t header_crc_offset = pointset_header_bytes - 4;
 
@@ -188,7 +197,8 @@ static_assert(sizeof(chunk_entry) == 32);
 header make_header(const pointset& set, uint32_t k, uint32_t group, const save_params& params) {
   header h{};
   std::memcpy(h.magic, magic, 8);
-  h.version = pointset_format_version;
+  // A set of one level is written as version 2 (byte for byte as before nested sets).
+  h.version = set.nested() ? pointset_format_version : 2;
   h.header_bytes = pointset_header_bytes;
   h.width = uint32_t(set.model.display.width);
   h.height = uint32_t(set.model.display.height);
@@ -217,6 +227,12 @@ header make_header(const pointset& set, uint32_t k, uint32_t group, const save_p
   h.group = std::clamp<uint32_t>(group, 1, k);
   h.encoding = uint32_t(params.encoding);
   h.chunk_rows = params.chunk_rows;
+  if (set.nested()) {
+    if (set.level_scales.size() > max_levels || set.level.size() != set.points.size())
+      throw std::invalid_argument("a nested set's levels do not match its points");
+    h.level_count = uint32_t(set.level_scales.size());
+    for (size_t l = 0; l < set.level_scales.size(); ++l) h.level_scales[l] = set.level_scales[l];
+  }
   return h;
 }
 
@@ -302,6 +318,12 @@ void save_pointset(const std::string& path, const pointset& set, uint32_t k, uin
     h.table_crc = crc32c(dir.data(), dir.size());
     out.write_at(h.table_offset, dir.data(), dir.size());
   }
+  if (set.nested()) {
+    h.levels_offset = align_up(h.table_offset + h.table_bytes);
+    h.levels_bytes = set.level.size();
+    h.levels_crc = crc32c(set.level.data(), h.levels_bytes);
+    out.write_at(h.levels_offset, set.level.data(), h.levels_bytes);
+  }
   const std::vector<uint8_t> head = encode_header(h);
   out.write_at(0, head.data(), head.size());
   out.commit();
@@ -380,9 +402,36 @@ pointset load_checked(const std::string& path, const load_params& params) {
   } else if (h.fovea != uint32_t(fovea_layout::darts) || h.grid_spacing != 0 || h.grid_points != 0) {
     throw fail(fmt::format("unknown fovea layout {}", h.fovea));
   }
+  bool nested_fields = h.level_count != 0 || h.reserved != 0 || h.levels_offset != 0 || h.levels_bytes != 0 ||
+                       h.levels_crc != 0;
+  for (double v : h.level_scales) nested_fields = nested_fields || v != 0;
+  if (h.version < 3 && nested_fields) throw fail(fmt::format("version {} file with fields of version 3 set (file corrupted)", h.version));
+  if (h.version >= 3) {
+    if (h.level_count < 2 || h.level_count > max_levels || h.reserved != 0)
+      throw fail(fmt::format("a nested set with {} levels (2..{})", h.level_count, max_levels));
+    if (h.fovea != uint32_t(fovea_layout::darts)) throw fail("a nested set with a grid fovea");
+    for (uint32_t l = 0; l < max_levels; ++l) {
+      const double v = h.level_scales[l];
+      if (l >= h.level_count) {
+        if (v != 0) throw fail("level scales past the level count");
+        continue;
+      }
+      if (!(v > 0 && std::isfinite(v)) || (l > 0 && !(v < h.level_scales[l - 1])))
+        throw fail("level scales must be positive and decrease from the coarsest level");
+      spacing_model m = set.model;
+      m.scale = v;
+      if (const std::string why = validate(m); !why.empty()) throw fail(fmt::format("level {}: invalid model: {}", l, why));
+      set.level_scales.push_back(v);
+    }
+    if (h.level_scales[h.level_count - 1] != h.scale) throw fail("the set's scale is not its finest level's");
+  }
 
   const uint64_t pixels = uint64_t(h.canvas_width) * h.canvas_height;
   if (h.points_bytes != h.point_count * sizeof(point)) throw fail("points section has the wrong size");
+  if (set.nested() && (h.levels_bytes != h.point_count || h.levels_offset < h.table_offset + h.table_bytes ||
+                       h.levels_offset > file_size || h.levels_bytes > file_size - h.levels_offset))
+    throw fail(fmt::format("truncated or inconsistent: {} bytes, the levels section lies at {} (+{}) for {} points",
+                           file_size, h.levels_offset, h.levels_bytes, h.point_count));
   // Sections inside the file, compared without sums that could wrap past 2^64: nothing
   // is allocated for a section before its size is known to fit in the file.
   if (h.points_offset < pointset_header_bytes || h.points_offset > file_size ||
@@ -423,6 +472,19 @@ pointset load_checked(const std::string& path, const load_params& params) {
                            hidden_darts));
   if (grid_points != set.stats.grid_points)
     throw fail(fmt::format("{} points on grid pixels, the header says {}", grid_points, set.stats.grid_points));
+  if (set.nested()) {
+    set.level.resize(h.point_count);
+    read_at(h.levels_offset, set.level.data(), h.levels_bytes);
+    if (!checksum_matches(crc32c(set.level.data(), h.levels_bytes), h.levels_crc))
+      throw fail("levels checksum mismatch (file corrupted)");
+    std::vector<uint64_t> per_level(h.level_count, 0);
+    for (uint8_t l : set.level) {
+      if (l >= h.level_count) throw fail(fmt::format("a point of level {} in a set of {} levels", l, h.level_count));
+      ++per_level[l];
+    }
+    // Every level's set must hold the k neighbours a reader asks for.
+    if (per_level[0] < h.k) throw fail(fmt::format("the coarsest level holds {} points, fewer than k = {}", per_level[0], h.k));
+  }
   if (cells) {  // the cells' shape is known even when they are not built
     set.cells.width = h.canvas_width;
     set.cells.height = h.canvas_height;

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <functional>
+#include <string>
 #include <vector>
 
 #include "fov/pointset.h"
@@ -18,6 +19,28 @@ namespace fov {
 // depends on the parameters and seed only, never on the thread count.
 std::vector<point> throw_darts(const spacing_model& model, const dart_params& params,
                                dart_stats* stats = nullptr);
+
+// A nested set's points (fovgen --levels): level[i] is the first level whose set holds
+// points[i], 0 the coarsest.
+struct nested_points {
+  std::vector<point> points;  // Morton order
+  std::vector<uint8_t> level;
+};
+
+// "" when these scales (as --levels lists them: increasing, finest first) can make a nested
+// set: 2..max_levels of them, positive, finite, strictly increasing. Else why, naming --levels.
+std::string levels_problem(const std::vector<double>& scales);
+
+// Throws a nested set: the coarsest level (the largest scale) exactly as throw_darts throws
+// a set at that scale with these params (point for point), then each finer level's darts
+// among the points already accepted, each keeping its own level's spacing from all of them,
+// until saturation. So the points of levels 0..l form a Poisson-disc set at that level's
+// scale (its spacing rule holds for every pair, and it is saturated as throw_darts's sets
+// are), and a coarser level's points are a subset of every finer level's. model.scale is
+// not read; params.fovea must be darts. stats sums both phases over the levels and probes
+// the free area at the finest level.
+nested_points throw_nested_darts(const spacing_model& model, const std::vector<double>& scales, const dart_params& params,
+                                 dart_stats* stats = nullptr);
 
 // Sorts points by Morton code (ties by position), in place.
 void sort_morton(std::vector<point>& points);

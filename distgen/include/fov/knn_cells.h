@@ -53,6 +53,13 @@ void set_cells_radii(knn_cells& cells, const std::vector<point>& points);
 uint32_t cell_neighbours(const knn_cells& cells, const std::vector<point>& points, uint32_t x, uint32_t y,
                          uint32_t k, uint32_t* out);
 
+// Appends to `out` every point that cell_neighbours may return among the first k of a canvas
+// pixel in [x0, x1) x [y0, y1) (clipped to the canvas): each meeting cell's prefix that those
+// pixels rank. A superset of the points the rectangle's pixels read (exact per cell, the
+// cells being what they are); indices may repeat. For the points a region needs traced.
+void rect_neighbour_points(const knn_cells& cells, const std::vector<point>& points, uint32_t x0, uint32_t y0,
+                           uint32_t x1, uint32_t y1, uint32_t k, std::vector<uint32_t>& out);
+
 // "" when cells agree with their points: sizes match the canvas, every tile's cells lie in
 // the cell array, offsets ascend, every candidate names a point, and each cell holds at
 // least k candidates. Otherwise what is wrong (for cells made or changed by hand: tests, the

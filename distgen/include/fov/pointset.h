@@ -166,12 +166,23 @@ enum class knn_storage : uint8_t { table, cells };
 inline constexpr std::pair<const char*, knn_storage> knn_storage_labels[] = {{"table", knn_storage::table},
                                                                             {"cells", knn_storage::cells}};
 
+// The most levels a nested set (fovgen --levels) may have.
+inline constexpr uint32_t max_levels = 8;
+
 struct pointset {
-  spacing_model model;
+  spacing_model model;  // a nested set's: its finest level's scale
   dart_params darts;
   dart_stats stats;
   double knn_seconds = 0;  // wall time; not stored in files
   std::vector<point> points;  // Morton order
+  // A nested set (fovgen --levels; dart_throwing.h): its levels' scales, coarsest (largest)
+  // first, and each point's level, the first whose set holds it. Both empty for a set of one
+  // level. The table or cells below are the finest level's: the set as a whole is a fixed
+  // set at model.scale == level_scales.back(); nested.h makes each level a set of its own.
+  std::vector<double> level_scales;
+  std::vector<uint8_t> level;
+  uint32_t level_count() const { return level_scales.empty() ? 1 : uint32_t(level_scales.size()); }
+  bool nested() const { return !level_scales.empty(); }
   // The neighbours of every canvas pixel: the exact table, or (for sets too large for one)
   // the cells; a loaded set holds one of them.
   knn_table table;
@@ -215,9 +226,12 @@ std::string fovea_label(const dart_params& params);
 
 // The one file name of a set, from what fixes it: DISPLAY-sS[-FOVEA].fovset, where DISPLAY is
 // display_name(model.display), S the scale to 2 decimals and FOVEA fovea_label(darts) for a
-// grid fovea (e.g. fove-s1.00.fovset, 640x720-v1-s1.75-grid.fovset). Every tool that
-// writes or looks for a set in a directory names it so.
-std::string pointset_file_name(const spacing_model& model, const dart_params& darts);
+// grid fovea (e.g. fove-s1.00.fovset, 640x720-v1-s1.75-grid.fovset); a nested set (level
+// scales given, coarsest first) is DISPLAY-nS1-S2-...fovset, finest first as --levels lists
+// them (fove-n0.70-1.00-3.00.fovset). Every tool that writes or looks for a set in a
+// directory names it so.
+std::string pointset_file_name(const spacing_model& model, const dart_params& darts,
+                               const std::vector<double>& level_scales = {});
 
 // The grid's radius: a distance from the canvas centre at which the model's spacing is at
 // most params.grid_spacing, within 1e-9 px of the largest such (bisection; the spacing never

@@ -10,8 +10,9 @@
 
 namespace fov {
 
-// 2 adds the fovea layout (a pixel grid in the fovea); version 1 files still load.
-inline constexpr uint32_t pointset_format_version = 2;
+// 2 adds the fovea layout (a pixel grid in the fovea), 3 nested sets (levels); version 1
+// and 2 files still load. Sets of one level are written as version 2.
+inline constexpr uint32_t pointset_format_version = 3;
 inline constexpr uint32_t pointset_header_bytes = 512;
 
 // How the k-NN table is stored on disk.
