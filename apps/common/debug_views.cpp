@@ -17,9 +17,24 @@ glm::vec3 heat(float t) {  // 0 blue .. 0.5 green .. 1 red
 
 }  // namespace
 
-frame debug_overlay(debug_view view, const frame& image, const pointset* set, gaze_point gaze) {
+frame debug_overlay(debug_view view, const frame& image, const pointset* set, gaze_point gaze,
+                    const refinement_map* map, uint32_t levels) {
   frame out = image;
   const int w = image.width, h = image.height;
+  if (view == debug_view::refinement) {
+    if (!map) throw std::invalid_argument("--debug-view refinement needs --adaptive (a nested set's refined frame)");
+    point_samples placement;  // the map's placement, as screen_to_canvas reads it
+    placement.offset = map->offset, placement.mirror_x = map->mirror_x, placement.mirror_y = map->mirror_y;
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        uint32_t cx, cy;
+        screen_to_canvas(placement, w, h, x, y, cx, cy);
+        const float t = levels > 1 ? float(map->at(cx, cy)) / float(levels - 1) : 0.0f;
+        glm::vec3& c = out.rgb[size_t(y) * w + x];
+        c = 0.5f * glm::clamp(c, 0.0f, 1.0f) + 0.5f * heat(t);
+      }
+    return out;
+  }
   if (view == debug_view::eccentricity) {
     const display_geometry d = set ? set->model.display : display_geometry{w, h, 1.0};
     for (double deg : {5.0, 10.0, 20.0, 30.0, 45.0}) {

@@ -2,6 +2,8 @@
 
 #include <sstream>
 
+#include <fmt/format.h>
+
 #include "camera_path.h"
 
 namespace fov {
@@ -72,6 +74,23 @@ void add_render_flags(CLI::App& app, render_params& p, unsigned groups) {
   if (groups & flags_device)
     add_label_option(app, "--device", p.device, reconstruct_device_labels,
                      "Reconstruct with OpenCL (falls back to C++ with a warning) or C++");
+  if (groups & flags_adaptive) {
+    app.add_flag("--adaptive", p.adaptive.enabled,
+                 "Refine a nested set (fovgen --levels) per frame where its samples' contrast would be visible "
+                 "(docs/adaptive.md)");
+    app.add_option("--adaptive-threshold", p.adaptive.threshold,
+                   "Refine where contrast reaches this x the acuity model's threshold (1: the model's limit; 0: refine "
+                   "everywhere)")
+        ->check(CLI::Range(0.0, max_adaptive_threshold))
+        ->capture_default_str();
+    app.add_option("--adaptive-depth", p.adaptive.depth_ratio,
+                   "Also refine where depths differ by more than this fraction of the nearest, or hits meet misses (0: off)")
+        ->check(CLI::Range(0.0, max_depth_ratio))
+        ->capture_default_str();
+    app.add_option("--adaptive-budget", p.adaptive.budget, "Rays per frame, the coarsest level's included (0: no limit)")
+        ->check(CLI::Range(uint64_t(0), uint64_t(1) << 40))
+        ->capture_default_str();
+  }
   if (groups & flags_view) {
     app.add_option("--hfov", p.view.hfov_deg, "Horizontal field of view in degrees (default: the scene's camera, else 90)");
     const auto point = parse_triple;
@@ -96,6 +115,43 @@ void add_render_flags(CLI::App& app, render_params& p, unsigned groups) {
         ->excludes(eye)
         ->excludes(target);
   }
+}
+
+std::shared_ptr<const pointset> select_level(std::shared_ptr<const pointset> set, int level, const std::string& file) {
+  if (level < 0) return set;
+  if (!set->nested() || uint32_t(level) >= set->level_count())
+    throw usage_error(set->nested() ? fmt::format("--level {}: {} has levels 0..{} (0 the coarsest)", level, file,
+                                                  set->level_count() - 1)
+                                    : fmt::format("--level {}: {} is not a nested set (fovgen --levels)", level, file));
+  const nested_levels levels = make_levels(set);
+  return levels.levels[size_t(level)].set;
+}
+
+nlohmann::json refinement_json(const frame_timing& t, const render_params& p, const nested_levels& levels) {
+  nlohmann::json j;
+  j["threshold"] = p.adaptive.threshold;
+  j["depth_ratio"] = p.adaptive.depth_ratio;
+  j["budget"] = p.adaptive.budget;
+  j["budget_short"] = t.refinement.budget_short;
+  j["points_refined"] = t.refinement.points_refined;
+  j["refinements_left_out"] = t.refinement.refinements_left_out;
+  j["blocks_kept"] = t.refinement.blocks_kept;
+  j["block_pixels"] = refinement_block;
+  nlohmann::json per = nlohmann::json::array();
+  for (size_t l = 0; l < levels.levels.size() && l < t.refinement.rays_per_level.size(); ++l)
+    per.push_back({{"level", l},
+                   {"scale", levels.levels[l].scale},
+                   {"rays", t.refinement.rays_per_level[l]},
+                   {"points", t.refinement.points_per_level[l]},
+                   {"blocks", t.refinement.blocks_per_level[l]}});
+  j["levels"] = per;
+  return j;
+}
+
+std::string refinement_warning(const frame_timing& t, const render_params& p) {
+  if (!t.adaptive || !t.refinement.budget_short) return "";
+  return fmt::format("warning: --adaptive-budget {} rays is below the coarsest level's {}: traced it alone, nothing refined",
+                     p.adaptive.budget, t.refinement.rays_per_level.empty() ? 0 : t.refinement.rays_per_level[0]);
 }
 
 void require_valid(const render_params& p, const pointset* set) {

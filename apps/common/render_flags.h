@@ -4,6 +4,7 @@
 #include <string>
 
 #include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
 
 #include "cli.h"
 #include "fov/renderer.h"
@@ -20,9 +21,21 @@ enum render_flags : unsigned {
   flags_pattern = 16,      // --pattern
   flags_device = 32,       // --device
   flags_view = 64,         // --hfov, --eye, --look-at, --up, --camera
-  flags_all = 127,
+  flags_adaptive = 128,    // --adaptive, --adaptive-threshold, --adaptive-depth, --adaptive-budget
+  flags_all = 255,
 };
 void add_render_flags(CLI::App& app, render_params& p, unsigned groups = flags_all);
+
+// The point set a tool renders from a loaded file: the set itself, or with `level` >= 0 that
+// level of a nested set as a fixed set (--level); a usage_error naming --level and the file
+// when the set has no such level.
+std::shared_ptr<const pointset> select_level(std::shared_ptr<const pointset> set, int level, const std::string& file);
+
+// An adaptive frame's report as JSON (fovrender, fovbench, fovview --json): the params, and
+// per level its scale, rays, points and blocks.
+nlohmann::json refinement_json(const frame_timing& t, const render_params& p, const nested_levels& levels);
+// "warning: ..." when the frame's coarsest level alone passed the budget, else "".
+std::string refinement_warning(const frame_timing& t, const render_params& p);
 
 // One line naming the flag when `p` is not valid (for `set`'s k when given): a usage_error.
 void require_valid(const render_params& p, const pointset* set = nullptr);

@@ -44,6 +44,7 @@ struct render_options {
   uint32_t ray_floor = 0;      // rays fall from --spp at the gaze to this (0: --spp everywhere)
   double falloff_scale = 1.0;  // the acuity model's scale s the falloff follows
   bool falloff_scale_given = false;
+  int level = -1;  // one level of a nested set as a fixed set (-1: the whole set)
 };
 
 // The flags that only make sense together, before anything is read or rendered (exit 2).
@@ -78,6 +79,12 @@ void check_options(const render_options& o, const fov::render_params& p) {
   if (!comparing && (o.no_jod || o.photometry_given))
     throw usage_error("--no-jod, --peak-luminance, --contrast and --ambient need --compare or --reference-spp");
   if (o.no_jod && o.photometry_given) throw usage_error("--no-jod: the display's light is for JOD only");
+  if (o.level >= 0 && p.adaptive.enabled) throw usage_error("--level renders one level as a fixed set; --adaptive refines them all");
+  if (o.level >= 0 && o.points.empty()) throw usage_error("--level needs --points (a nested set)");
+  if (p.adaptive.enabled && o.reference) throw usage_error("--adaptive refines a point set; drop --reference");
+  if (p.adaptive.enabled && o.speedup > 0) throw usage_error("--speedup times fixed sets; --adaptive frames report their own trace_ms");
+  if (o.debug_asked && o.debug == fov::debug_view::refinement && !p.adaptive.enabled)
+    throw usage_error("--debug-view refinement needs --adaptive");
 }
 
 }  // namespace
@@ -99,6 +106,8 @@ int main(int argc, char** argv) {
   app.add_option("--falloff-scale", o.falloff_scale,
                  "With --reference --ray-floor: the acuity model's scale s the full grid's rays follow (1 = the thesis's "
                  "model; a point set's rays follow its own)");
+  app.add_option("--level", o.level, "Render this level of a nested set (0 the coarsest) as a fixed set")
+      ->check(CLI::Range(0, int(fov::max_levels) - 1));
   app.add_option("--width", o.width, "Screen width without --points")->check(CLI::Range(1, 65536));
   app.add_option("--height", o.height, "Screen height without --points")->check(CLI::Range(1, 65536));
   app.add_option("--display", o.display, "Without --points: " + fov::display_help());
@@ -168,8 +177,12 @@ int main(int argc, char** argv) {
     fov::require_valid(p);  // what does not depend on the set, before loading it
     std::shared_ptr<const fov::pointset> set;
     fov::display_geometry display{o.width, o.height, o.viewing_distance};
+    double set_load_ms = 0;
     if (!o.points.empty()) {
+      const auto loading_set = std::chrono::steady_clock::now();
       set = std::make_shared<const fov::pointset>(fov::load_pointset(o.points));
+      set_load_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - loading_set).count();
+      set = fov::select_level(set, o.level, o.points);
       display = set->model.display;
     }
     const std::string problem = fov::validate(p, set.get());
@@ -213,6 +226,9 @@ int main(int argc, char** argv) {
     } else {
       r.use_pointset(set);
       if (p.device == fov::reconstruct_device::opencl) j["device_setup_ms"] = r.device_setup_ms();
+      j["set_load_ms"] = set_load_ms;  // reading and checking the file (a table's decoding, a cells file's build)
+      if (r.levels()) j["levels_setup_ms"] = r.levels_setup_ms();  // the coarser levels' cells and reconstructors
+      if (o.level >= 0) j["level"] = o.level, j["scale"] = set->model.scale;
       if (const std::string w = r.device_warning(); !w.empty()) std::cerr << "fovrender: " << w << "\n";
       if (!o.no_warmup) {
         const fov::warm_up_report w = r.warm_up(gaze, p);
@@ -242,6 +258,10 @@ int main(int argc, char** argv) {
                     {"condition_sampled_pixels", t.rbf.sampled}};
       if (p.taa) j["taa_frames"] = o.taa_frames, j["pattern"] = fov::label_of(fov::ray_pattern_labels, p.pattern);
       j["k"] = p.reconstruct.k;
+      if (t.adaptive) {
+        j["adaptive"] = fov::refinement_json(t, p, *r.levels());
+        if (const std::string w = fov::refinement_warning(t, p); !w.empty()) std::cerr << "fovrender: " << w << "\n";
+      }
       if (p.ray_floor > 0) j["ray_floor"] = p.ray_floor;
       j["texture_footprint"] = fov::texture_footprint_name(p.footprint);
     }
@@ -259,7 +279,9 @@ int main(int argc, char** argv) {
 
     for (const std::string& output : o.outputs) fov::write_frame(image, output);
     if (o.debug_asked) {
-      fov::write_frame(fov::debug_overlay(o.debug, image, o.reference ? nullptr : set.get(), gaze), o.debug_output);
+      fov::write_frame(fov::debug_overlay(o.debug, image, o.reference ? nullptr : set.get(), gaze, r.last_refinement(),
+                                          r.levels() ? uint32_t(r.levels()->levels.size()) : 1),
+                       o.debug_output);
     }
     std::string compared;
     if (!o.compare.empty() || o.reference_spp > 0) {

@@ -52,6 +52,8 @@ int main(int argc, char** argv) {
     using fov::usage_error;
     fov::require_valid(settings);
     if (o.points.empty() == o.points_dir.empty()) throw usage_error("give --points SET or --points-dir DIR");
+    if (settings.adaptive.enabled && o.points.empty())
+      throw usage_error("--adaptive refines one nested set: give --points SET (fovgen --levels), not --points-dir");
     if (!o.display.empty() && o.points_dir.empty()) throw usage_error("--display chooses among --points-dir's sets; --points names one");
     fov::require_valid(o.gaze);
     if (o.gaze.sources() + !o.fixed_gaze.empty() + !o.gaze_replay.empty() > 1) throw usage_error("choose one gaze source");

@@ -184,15 +184,22 @@ int run_viewer(const viewer_options& o, render_params settings) {
   if (const std::string warning = renderer.device_warning(); !warning.empty()) std::cerr << "fovview: " << warning << "\n";
   fov::view_window window("fovview", w, h);
   bool show_reference = false, show_cursor = true, show_help = false;
-  const std::vector<std::string> views = {"", "points", "density", "eccentricity", "error"};
+  std::vector<std::string> views = {"", "points", "density", "eccentricity", "error"};
+  if (settings.adaptive.enabled) views.push_back("refinement");
   size_t view = 0;
+  bool budget_warned = false;  // --adaptive-budget below the coarsest level: said once
   fov::frame error_reference;  // the full-resolution frame the error view compares with
   fov::camera error_reference_cam;
   const auto start = clock_type::now();
   double fps = 0, display_ms = 0, latency_ms = 0;
   uint64_t screenshots = 0;
   std::string status;  // one-line messages (screenshot saved, silent tracker)
-  struct frame_stats { double frame, trace, reconstruct, taa, display, latency, gaze_age; uint32_t spp; };
+  struct frame_stats {
+    double frame, trace, reconstruct, taa, display, latency, gaze_age;
+    uint32_t spp;
+    double rays, refined;  // rays traced; an adaptive frame's points refined beyond the coarsest level
+    bool budget_short;
+  };
   std::vector<frame_stats> history;
   // What a frame shows: the gaze and camera when they were read. With pipelining the next
   // frame's are read (and its trace started) before this frame is shown.
@@ -273,7 +280,9 @@ int run_viewer(const viewer_options& o, render_params settings) {
         overlay.rgb[i] = glm::vec3(std::min(1.0f, 4.0f * (d.r + d.g + d.b) / 3.0f));
       }
     } else if (fov::debug_view dv; fov::parse_label(fov::debug_view_labels, v, dv)) {
-      overlay = fov::debug_overlay(dv, image, show_reference ? nullptr : renderer.current_set(), g);
+      if (dv == fov::debug_view::refinement && show_reference) dv = fov::debug_view::eccentricity;  // no map for the reference
+      overlay = fov::debug_overlay(dv, image, show_reference ? nullptr : renderer.current_set(), g, renderer.last_refinement(),
+                                   renderer.levels() ? uint32_t(renderer.levels()->levels.size()) : 1);
       shown = &overlay;
     }
     const auto display_start = clock_type::now();
@@ -287,7 +296,8 @@ int run_viewer(const viewer_options& o, render_params settings) {
                        : fmt::format("{} k={} s={:.2f} spp={} TAA {}  {} points, {} rays/frame",
                                      fov::method_name(settings.reconstruct.how), settings.reconstruct.k,
                                      renderer.current_set()->model.scale, settings.spp, settings.taa ? "on" : "off",
-                                     timing.points_traced, timing.rays),
+                                     timing.points_traced, timing.rays) +
+                           (timing.adaptive ? fmt::format("  adaptive: {} refined", timing.refinement.points_refined) : ""),
         fmt::format("gaze {} ({:.0f}, {:.0f}) {}{}  view {}  device {}", gaze_name, g.x, g.y,
                     fov::label_of(fov::gaze_state_labels, ge.state),
                     ge.has_sample ? fmt::format(" age {:.0f} ms conf {:.2f}", ge.age_ms, ge.newest.confidence) : "",
@@ -392,7 +402,12 @@ int run_viewer(const viewer_options& o, render_params settings) {
     // Rays per point follow --target-fps: halve when over budget, add one when well under.
     const double frame_ms = ms_between(frame_start, clock_type::now());
     history.push_back({frame_ms, timing.trace_ms, timing.reconstruct_ms, timing.taa_ms, display_ms, latency_ms, gaze_age_ms,
-                       settings.spp});
+                       settings.spp, double(timing.rays), double(timing.refinement.points_refined),
+                       timing.adaptive && timing.refinement.budget_short});
+    if (timing.adaptive && timing.refinement.budget_short && !budget_warned) {
+      std::cerr << "fovview: " << fov::refinement_warning(timing, settings) << "\n";
+      budget_warned = true;
+    }
     fps = fps == 0 ? 1000 / frame_ms : 0.9 * fps + 0.1 * (1000 / frame_ms);
     if (target_fps > 0 && !show_reference) {
       const double budget = 1000 / target_fps;
@@ -466,6 +481,16 @@ int run_viewer(const viewer_options& o, render_params settings) {
                 {"dropouts", conditioner.dropouts},
                 {"safe_ms", conditioner.safe_ms}}},
               {"pipelined", pipeline}};
+    j["rays"] = stats([](const frame_stats& f) { return f.rays; });
+    if (settings.adaptive.enabled) {
+      uint64_t short_frames = 0;
+      for (const frame_stats& f : history) short_frames += f.budget_short;
+      j["adaptive"] = {{"threshold", settings.adaptive.threshold},
+                       {"depth_ratio", settings.adaptive.depth_ratio},
+                       {"budget", settings.adaptive.budget},
+                       {"points_refined", stats([](const frame_stats& f) { return f.refined; })},
+                       {"budget_short_frames", short_frames}};
+    }
     std::cout << j.dump(2) << "\n";
   }
   if (!o.gaze_log.empty()) fov::write_file_atomic(o.gaze_log, gaze_log.data(), gaze_log.size());

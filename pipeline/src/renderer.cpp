@@ -65,6 +65,9 @@ std::string validate(const render_params& p, const pointset* set) {
   if (p.sun_irradiance && !(std::isfinite(glm::length(*p.sun_irradiance)) && glm::all(glm::greaterThanEqual(*p.sun_irradiance, glm::vec3(0))) &&
                             glm::all(glm::lessThanEqual(*p.sun_irradiance, glm::vec3(1e6f)))))
     return "--sun-irradiance must be finite, non-negative and at most 1e6 per channel";
+  if (const std::string why = validate(p.adaptive); !why.empty()) return why;
+  if (p.adaptive.enabled && set && !set->nested())
+    return "--adaptive needs a nested set (fovgen --levels); this set has one level";
   if (!(p.temporal.alpha > 0 && p.temporal.alpha <= 1))
     return fmt::format("TAA alpha must lie in (0, 1] (got {})", p.temporal.alpha);
   return validate(p.view);
@@ -95,6 +98,17 @@ void renderer::use_pointset(std::shared_ptr<const pointset> set) {
   const auto t0 = clock_type::now();
   device_ = std::make_unique<cl_reconstructor>(*set_, device_kind_);
   device_setup_ms_ = ms_since(t0);
+  levels_.reset();
+  level_devices_.clear();
+  last_map_.reset();
+  levels_setup_ms_ = 0;
+  if (set_->nested()) {
+    const auto t1 = clock_type::now();
+    levels_ = std::make_shared<const nested_levels>(make_levels(set_));
+    for (size_t l = 0; l + 1 < levels_->levels.size(); ++l)
+      level_devices_.push_back(std::make_unique<cl_reconstructor>(*levels_->levels[l].set, device_kind_));
+    levels_setup_ms_ = ms_since(t1);
+  }
   reset_history();
 }
 
@@ -172,6 +186,7 @@ const frame& renderer::reconstruct(const point_samples& samples, gaze_point gaze
 void renderer::begin_trace(gaze_point gaze, const camera& view, const render_params& p) {
   require_set();
   pending_.reset();  // waits for one still running
+  if (p.adaptive.enabled) return;  // an adaptive frame chooses its points from its own samples: traced in foveated()
   const trace_params tp = frame_trace_params(p, frames_traced_++);
   auto job = [scn = scene_, set = set_, index = index_for(tp), view, gaze, tp] {
     const auto t0 = clock_type::now();
@@ -181,9 +196,76 @@ void renderer::begin_trace(gaze_point gaze, const camera& view, const render_par
   pending_ = pending_trace{gaze, view, p, set_, std::async(std::launch::async, std::move(job))};
 }
 
+const frame& renderer::adaptive_frame(gaze_point gaze, const render_params& p, uint64_t n, frame_timing& t) {
+  if (!levels_) throw std::invalid_argument("--adaptive needs a nested set (fovgen --levels); this set has one level");
+  if (const std::string why = validate(p.adaptive); !why.empty()) throw std::invalid_argument(why);
+  const trace_params tp = frame_trace_params(p, n);
+  const bool same = last_map_ && same_view(last_map_camera_, cam_) && last_map_params_.threshold == p.adaptive.threshold &&
+                    last_map_params_.depth_ratio == p.adaptive.depth_ratio && last_map_params_.budget == p.adaptive.budget;
+  const auto t0 = clock_type::now();
+  adaptive_trace a = trace_adaptive(*scene_, cam_, *levels_, gaze, tp, p.adaptive, same ? &*last_map_ : nullptr);
+  t.trace_ms = ms_since(t0);
+  t.traced_ahead = false;
+  t.trace_wait_ms = 0;
+  t.rays = a.traced.samples.rays;
+  t.points_traced = a.traced.samples.traced.size();
+  t.adaptive = true;
+  t.refinement = a.report;
+  if (!p.taa) reset_history();
+  const auto t1 = clock_type::now();
+  const point_samples& all = a.traced.samples;
+  const uint32_t levels = uint32_t(levels_->levels.size());
+  const display_geometry& disp = set_->model.display;
+  const int w = disp.width, h = disp.height;
+  reconstruct_result r;
+  bool first = true;
+  for (uint32_t l = 0; l < levels; ++l) {
+    if (a.report.blocks_per_level[l] == 0) continue;
+    const bool finest = l + 1 == levels;
+    cl_reconstructor& dev = finest ? *device_ : *level_devices_[l];
+    if (first) {  // the first level in use fills the frame; the others replace their blocks
+      r = finest ? dev.run(all, p.reconstruct, frame_) : dev.run(level_samples(*levels_, l, all), p.reconstruct, frame_);
+      first = false;
+      continue;
+    }
+    const reconstruct_result rl =
+        finest ? dev.run(all, p.reconstruct, level_frame_) : dev.run(level_samples(*levels_, l, all), p.reconstruct, level_frame_);
+    r.rbf.pixels += rl.rbf.pixels, r.rbf.fallbacks += rl.rbf.fallbacks, r.rbf.sampled += rl.rbf.sampled;
+    r.rbf.worst_condition = std::max(r.rbf.worst_condition, rl.rbf.worst_condition);
+    for (int sy = 0; sy < h; ++sy)
+      for (int sx = 0; sx < w; ++sx) {
+        uint32_t cx, cy;
+        screen_to_canvas(all, w, h, sx, sy, cx, cy);
+        if (a.map.at(cx, cy) != l) continue;
+        const size_t at = size_t(sy) * w + sx;
+        frame_.rgb[at] = level_frame_.rgb[at], frame_.depth[at] = level_frame_.depth[at];
+      }
+  }
+  frame_.rays = all.rays;
+  t.reconstruct_ms = ms_since(t1);
+  t.on_device = r.on_device;
+  t.rbf = r.rbf;
+  t.taa_ms = 0;
+  if (p.taa) {
+    const auto t2 = clock_type::now();
+    frame_ = taa_resolve(taa_, frame_, cam_, disp, gaze, p.temporal);
+    t.taa_ms = ms_since(t2);
+  }
+  last_map_ = std::move(a.map);
+  last_map_camera_ = cam_;
+  last_map_params_ = p.adaptive;
+  return frame_;
+}
+
 const frame& renderer::foveated(gaze_point gaze, const render_params& p, frame_timing* timing) {
   require_set();
   frame_timing t;
+  if (p.adaptive.enabled) {
+    pending_.reset();
+    adaptive_frame(gaze, p, frames_traced_++, t);
+    if (timing) *timing = t;
+    return frame_;
+  }
   std::optional<points_trace> traced;
   if (pending_) {
     const auto t0 = clock_type::now();
@@ -214,9 +296,13 @@ const frame& renderer::steady_state(gaze_point gaze, const render_params& p, uin
   render_params q = p;
   q.taa = true;
   reset_history();
+  last_map_.reset();  // a refinement starts afresh too
   for (uint32_t n = 0; n < frames; ++n) {
     frame_timing t;
-    reconstruct(trace_frame(gaze, q, n, t).samples, gaze, q, t);
+    if (q.adaptive.enabled)
+      adaptive_frame(gaze, q, n, t);
+    else
+      reconstruct(trace_frame(gaze, q, n, t).samples, gaze, q, t);
   }
   return frame_;
 }
@@ -265,6 +351,17 @@ reference_trace renderer::full_grid(int width, int height, const trace_params& t
 
 warm_up_report renderer::warm_up(gaze_point gaze, const render_params& p) {
   require_set();
+  if (p.adaptive.enabled) {  // one refined frame, untimed: every level's kernels and weights; nothing kept
+    frame_timing t;
+    const taa_state history = taa_;
+    adaptive_frame(gaze, p, 0, t);
+    taa_ = history;
+    last_map_.reset();
+    warm_up_report r;
+    r.trace_ms = t.trace_ms;
+    r.reconstruct_ms = t.reconstruct_ms;
+    return r;
+  }
   const trace_params tp = frame_trace_params(p, 0);
   const auto t_index = clock_type::now();
   const std::shared_ptr<const traced_index> index = index_for(tp);

@@ -387,9 +387,9 @@ std::vector<uint16_t> traced_point_rays(const pointset& set, const point_samples
   return n;
 }
 
-// trace_points, its traced points found with `index` where there is one.
+// trace_points, its traced points found with `index` where there is one, or given (`listed`).
 points_trace trace_selected(const scene& sc, const camera& cam, const pointset& set, const traced_index* index,
-                            gaze_point gaze, const trace_params& params) {
+                            gaze_point gaze, const trace_params& params, std::vector<uint32_t>* listed = nullptr) {
   const display_geometry& disp = set.model.display;
   check(params, disp.width, disp.height);
   const scene::impl& d = sc.internals();
@@ -407,7 +407,9 @@ points_trace trace_selected(const scene& sc, const camera& cam, const pointset& 
   // (1 spp, a sparse set) these serial steps are a visible share of its time.
   const size_t n = set.points.size();
   tbb::parallel_invoke(
-      [&] { out.traced = index ? traced_points(set, *index, placed) : traced_points(set, placed, params.k); },
+      [&] {
+        out.traced = listed ? std::move(*listed) : index ? traced_points(set, *index, placed) : traced_points(set, placed, params.k);
+      },
       [&] { out.colour.assign(n, glm::vec3(0)); },
       [&] {
         out.depth.assign(n, infinity);
@@ -452,6 +454,14 @@ points_trace trace_selected(const scene& sc, const camera& cam, const pointset& 
 points_trace trace_points(const scene& sc, const camera& cam, const pointset& set, gaze_point gaze,
                           const trace_params& params) {
   return trace_selected(sc, cam, set, nullptr, gaze, params);
+}
+
+points_trace trace_listed_points(const scene& sc, const camera& cam, const pointset& set, std::vector<uint32_t> points,
+                                 gaze_point gaze, const trace_params& params) {
+  for (size_t j = 0; j < points.size(); ++j)
+    if (points[j] >= set.points.size() || (j > 0 && points[j] <= points[j - 1]))
+      throw std::invalid_argument("trace_listed_points: indices must ascend and name points of the set");
+  return trace_selected(sc, cam, set, nullptr, gaze, params, &points);
 }
 
 points_trace trace_points(const scene& sc, const camera& cam, const pointset& set, const traced_index& index,

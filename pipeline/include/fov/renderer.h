@@ -11,6 +11,7 @@
 #include <optional>
 #include <string>
 
+#include "fov/adaptive.h"
 #include "fov/camera.h"
 #include "fov/cl_reconstruct.h"
 #include "fov/frame.h"
@@ -55,6 +56,9 @@ struct render_params {
   bool taa = false;
   ray_pattern pattern = ray_pattern::reseed;
   taa_params temporal;
+  // Per-frame refinement of a nested set (fov/adaptive.h); a nested set without it is traced
+  // and reconstructed as its finest level, a fixed set.
+  adaptive_params adaptive;
   // Where reconstruction runs (read when a point set is put in use).
   reconstruct_device device = reconstruct_device::opencl;
   // The camera (read when the renderer is made).
@@ -81,6 +85,11 @@ struct frame_timing {
   uint64_t rays = 0, points_traced = 0;
   bool on_device = false;
   rbf_stats rbf;
+  // An adaptive frame (render_params::adaptive): rays and points per level, blocks per level.
+  // Its trace_ms is every level's trace and the refinement's choices; its reconstruct_ms
+  // every level's reconstruction (one per level a block reads) and their composite.
+  bool adaptive = false;
+  adaptive_report refinement;
   double total_ms() const { return trace_ms + reconstruct_ms + taa_ms; }
 };
 
@@ -156,6 +165,12 @@ class renderer {
   // reconstruction (issue 24). A flat rule (f.floor == p.spp) is reference(), bit for bit.
   reference_trace falloff_frame(const ray_falloff& f, const render_params& p, frame_timing* t = nullptr);
 
+  // A nested set's levels (make_levels; null for a fixed set), built by use_pointset, and the
+  // last adaptive frame's refinement map (null before one): the debug view draws it.
+  const nested_levels* levels() const { return levels_.get(); }
+  const refinement_map* last_refinement() const { return last_map_ ? &*last_map_ : nullptr; }
+  double levels_setup_ms() const { return levels_setup_ms_; }
+
   // Untimed first use: one trace (textures, MIP levels) and one reconstruction (kernel
   // compilation, RBF weights for the screen's tiles) at this gaze. Neither the pattern
   // nor the TAA history moves.
@@ -190,6 +205,17 @@ class renderer {
   reference_trace full_grid(int width, int height, const trace_params& tp, frame_timing* t);
   std::unique_ptr<cl_reconstructor> device_;
   double device_setup_ms_ = 0;
+  // Nested sets: the levels, a reconstructor per coarser level (the finest is device_), the
+  // last refinement and the camera and params it was made under.
+  std::shared_ptr<const nested_levels> levels_;
+  std::vector<std::unique_ptr<cl_reconstructor>> level_devices_;
+  double levels_setup_ms_ = 0;
+  std::optional<refinement_map> last_map_;
+  camera last_map_camera_;
+  adaptive_params last_map_params_;
+  // An adaptive frame numbered n (trace, reconstruct every level in use, composite, TAA).
+  const frame& adaptive_frame(gaze_point gaze, const render_params& p, uint64_t n, frame_timing& t);
+  frame level_frame_;  // one level's reconstruction before the composite
   taa_state taa_;
   uint64_t frames_traced_ = 0;
   frame frame_;  // what reconstruct() and foveated() return

@@ -155,6 +155,11 @@ points_trace trace_points(const scene& s, const camera& cam, const pointset& set
 // built once per set and k) instead of a scan of the table's screen border each frame.
 points_trace trace_points(const scene& s, const camera& cam, const pointset& set, const traced_index& index,
                           gaze_point gaze, const trace_params& params);
+// Traces exactly `points` (ascending indices of the set), each as trace_points traces it: a
+// point gets the same rays for the same seed, pattern and gaze whatever else is traced. For
+// frames that choose their points themselves (adaptive refinement, pipeline/adaptive.h).
+points_trace trace_listed_points(const scene& s, const camera& cam, const pointset& set, std::vector<uint32_t> points,
+                                 gaze_point gaze, const trace_params& params);
 
 // The screen positions (pixels) of the rays trace_points cast for `samples` (its traced
 // points, placement and mirroring, at `gaze`), in the order it cast them: params.spp per

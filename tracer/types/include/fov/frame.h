@@ -33,4 +33,25 @@ struct frame {
   uint64_t rays = 0;
 };
 
+// Canvas pixels per side of a refinement block (an adaptive frame, fov/adaptive.h).
+inline constexpr uint32_t refinement_block = 16;
+
+// Which level each block of the screen's part of the canvas reads.
+struct refinement_map {
+  canvas_offset offset;           // the canvas placement the map is for (samples.offset)
+  bool mirror_x = false, mirror_y = false;  // and its mirroring (samples.mirror_x, mirror_y)
+  uint32_t x0 = 0, y0 = 0;        // the first block's canvas pixel (a multiple of the block size)
+  uint32_t blocks_x = 0, blocks_y = 0;
+  std::vector<uint8_t> level;     // per block, row-major
+  uint8_t at(uint32_t cx, uint32_t cy) const {  // the level canvas pixel (cx, cy) reads
+    return level[size_t((cy - y0) / refinement_block) * blocks_x + (cx - x0) / refinement_block];
+  }
+};
+
+// Screen pixel (sx, sy)'s canvas pixel under the samples' placement and mirroring.
+inline void screen_to_canvas(const point_samples& s, int width, int height, int sx, int sy, uint32_t& cx, uint32_t& cy) {
+  cx = uint32_t((s.mirror_x ? width - 1 - sx : sx) + s.offset.x);
+  cy = uint32_t((s.mirror_y ? height - 1 - sy : sy) + s.offset.y);
+}
+
 }  // namespace fov
