@@ -157,5 +157,27 @@ echo "left by kill -9" > "$dir/b.fovset.tmp-$dead-Xy12Zw"
 [[ ! -e "$dir/b.fovset.tmp-$dead-Xy12Zw" ]] || fail "a stale temporary file was not removed"
 grep -q "removed .*b.fovset.tmp-$dead-Xy12Zw" "$dir/b.err" || fail "the stale temporary file's removal was not reported"
 
+# Nested sets (--levels): bad scales are flags (exit 2), nothing written.
+check "levels one"        2 -- "$fovgen" "${small[@]}" --levels 1.0 -o "$dir/n.fovset"
+check "levels decreasing" 2 -- "$fovgen" "${small[@]}" --levels 2.0,1.0 -o "$dir/n.fovset"
+check "levels equal"      2 -- "$fovgen" "${small[@]}" --levels 1.0,1.0 -o "$dir/n.fovset"
+check "levels zero"       2 -- "$fovgen" "${small[@]}" --levels 0,1.0 -o "$dir/n.fovset"
+check "levels text"       2 -- "$fovgen" "${small[@]}" --levels 1.0,x -o "$dir/n.fovset"
+check "levels nine"       2 -- "$fovgen" "${small[@]}" --levels 1,2,3,4,5,6,7,8,9 -o "$dir/n.fovset"
+check "levels and scale"  2 -- "$fovgen" "${small[@]}" --levels 1.0,2.0 --scale 1.5 -o "$dir/n.fovset"
+check "levels and grid"   2 -- "$fovgen" "${small[@]}" --levels 1.0,2.0 --fovea grid -o "$dir/n.fovset"
+[[ ! -e "$dir/n.fovset" ]] || fail "a refused --levels left a file"
+check "levels"            0 -- "$fovgen" "${small[@]}" --k 4 --levels 1.0,2.0,3.0 -o "$dir/n.fovset"
+"$fovgen" info "$dir/n.fovset" --json > "$dir/n.json" || fail "info on a nested set"
+python3 - "$dir/n.json" <<'PY' || fail "info --json levels"
+import json, sys
+j = json.load(open(sys.argv[1]))
+levels = j["levels"]
+assert [l["scale"] for l in levels] == [3.0, 2.0, 1.0], levels
+assert all(l["spacing_violations"] == 0 for l in levels), levels
+assert levels[-1]["points"] == j["points_total"] and j["scale"] == 1.0, j
+assert all(a["points"] < b["points"] for a, b in zip(levels, levels[1:])), levels
+PY
+
 echo "fovgen CLI: $passes passed, $failures failed"
 [[ $failures -eq 0 ]]

@@ -169,6 +169,34 @@ for key in trace_ms reconstruct_ms taa_ms total_ms rays points_traced psnr ssim 
     foveated_psnr flip flip_fovea foveated_flip foveated_flip_p99 foveated_flip_worst_band ppd bands; do
   grep -q "\"$key\":" <<<"$json" || { echo "FAIL --json lacks $key"; failures=$((failures + 1)); }
 done
+# Nested sets and refinement (docs/adaptive.md): bad values are flags (exit 2), nothing written.
+"$fovgen" --width 64 --height 72 --k 6 --saturation 500 --levels 1.0,2.0,3.0 -o "$dir/nested.fovset" >/dev/null
+nested=(--points "$dir/nested.fovset")
+check "adaptive fixed set"  2 -- "$fovrender" "${set[@]}" --adaptive -o "$dir/ad.png"
+check "threshold negative"  2 -- "$fovrender" "${nested[@]}" --adaptive --adaptive-threshold -1 -o "$dir/ad.png"
+check "threshold huge"      2 -- "$fovrender" "${nested[@]}" --adaptive --adaptive-threshold 1e9 -o "$dir/ad.png"
+check "threshold nan"       2 -- "$fovrender" "${nested[@]}" --adaptive --adaptive-threshold nan -o "$dir/ad.png"
+check "depth negative"      2 -- "$fovrender" "${nested[@]}" --adaptive --adaptive-depth -0.5 -o "$dir/ad.png"
+check "budget negative"     2 -- "$fovrender" "${nested[@]}" --adaptive --adaptive-budget -5 -o "$dir/ad.png"
+check "budget text"         2 -- "$fovrender" "${nested[@]}" --adaptive --adaptive-budget lots -o "$dir/ad.png"
+check "level missing"       2 -- "$fovrender" "${nested[@]}" --level 3 -o "$dir/ad.png"
+check "level fixed set"     2 -- "$fovrender" "${set[@]}" --level 0 -o "$dir/ad.png"
+check "level and adaptive"  2 -- "$fovrender" "${nested[@]}" --level 0 --adaptive -o "$dir/ad.png"
+check "refinement view"     2 -- "$fovrender" "${nested[@]}" --debug-view refinement -o "$dir/ad.png"
+check "adaptive reference"  2 -- "$fovrender" --reference --width 32 --height 32 --adaptive -o "$dir/ad.png"
+[[ ! -e "$dir/ad.png" ]] && [[ ! -e "$dir/ad-refinement.png" ]] || fail "a refused --adaptive wrote a frame"
+check "level"               0 -- "$fovrender" "${nested[@]}" --level 1 --spp 2 -o "$dir/l1.png"
+budget_err=$("$fovrender" "${nested[@]}" --adaptive --adaptive-budget 10 --spp 2 -o "$dir/ad.png" --debug-view refinement --json 2>&1 >"$dir/ad.json")
+[[ $budget_err == "fovrender: warning: --adaptive-budget 10 rays"* ]] || fail "a budget below the coarsest level was not warned: $budget_err"
+python3 - "$dir/ad.json" <<'PY' || fail "--adaptive --json"
+import json, sys
+j = json.load(open(sys.argv[1]))
+a = j["adaptive"]
+assert a["budget_short"] and a["points_refined"] == 0, a
+assert [l["scale"] for l in a["levels"]] == [3.0, 2.0, 1.0], a
+assert j["rays"] == a["levels"][0]["rays"] > 0, j
+PY
+[[ -s "$dir/ad-refinement.png" ]] || fail "--debug-view refinement wrote nothing"
 ls "$dir" | grep -q 'tmp-' && { echo "FAIL temporary files left: $(ls "$dir")"; failures=$((failures + 1)); }
 [[ -e "$dir/no" ]] && { echo "FAIL created a directory"; failures=$((failures + 1)); }
 
