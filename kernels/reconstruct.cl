@@ -6,9 +6,10 @@
 
 // Constants shared with C++ come from the host at build time (cl_reconstructor::
 // kernel_build_options): FOV_MAX_K = max_knn (knn_table.h), FOV_RBF_TILE =
-// rbf_weight_cache::tile (rbf_cache.h), FOV_CELL_TILE = knn_cells::tile (pointset.h).
-#if !defined(FOV_MAX_K) || !defined(FOV_RBF_TILE) || !defined(FOV_CELL_TILE)
-#error "build with -DFOV_MAX_K=... -DFOV_RBF_TILE=... -DFOV_CELL_TILE=... (cl_reconstructor::kernel_build_options)"
+// rbf_weight_cache::tile (rbf_cache.h), FOV_CELL_TILE = knn_cells::tile (pointset.h),
+// FOV_BLOCK = refinement_block (frame.h).
+#if !defined(FOV_MAX_K) || !defined(FOV_RBF_TILE) || !defined(FOV_CELL_TILE) || !defined(FOV_BLOCK)
+#error "build with -DFOV_MAX_K=... -DFOV_RBF_TILE=... -DFOV_CELL_TILE=... -DFOV_BLOCK=... (cl_reconstructor::kernel_build_options)"
 #endif
 
 // Distances are ranked exactly as the C++ path ranks them (distgen/src/knn_cells.cpp): in
@@ -72,11 +73,16 @@ inline void neighbours(__global const uint* nb, uint cells, uint canvas_width, u
   }
 }
 
-// The arguments every kernel takes first: where the neighbours are and where the screen lies.
+// The arguments every kernel takes first: where the neighbours are and where the screen lies;
+// then, for an adaptive frame (level_mask in frame.h), its refinement map: with map_on a work
+// item whose canvas pixel's block reads another level than map_level writes nothing.
 #define FOV_NEIGHBOUR_ARGS                                                                              \
   __global const uint *table, uint cells, uint canvas_width, uint k_stored, uint group, ulong pixel_count, \
       uint cell_tiles_x, ulong cell_start_at, ulong candidates_at, __global const float2 *position,      \
-      int offset_x, int offset_y, uint width, uint mirror_x, uint mirror_y
+      int offset_x, int offset_y, uint width, uint mirror_x, uint mirror_y, __global const uchar *level_map, \
+      uint map_on, uint map_level, uint map_x0, uint map_y0, uint map_blocks_x
+#define FOV_OTHER_LEVEL(cx, cy) \
+  (map_on && level_map[((cy) - map_y0) / FOV_BLOCK * map_blocks_x + ((cx) - map_x0) / FOV_BLOCK] != map_level)
 #define FOV_NEIGHBOURS(cx, cy, k, idx)                                                                  \
   neighbours(table, cells, canvas_width, k_stored, group, pixel_count, cell_tiles_x, cell_start_at, \
              candidates_at, position, cx, cy, k, idx)
@@ -85,6 +91,7 @@ __kernel void reconstruct_nn(FOV_NEIGHBOUR_ARGS, __global const float4* colour, 
                              __global float4* out_rgb, __global float* out_depth) {
   const int sx = get_global_id(0), sy = get_global_id(1);
   const int tx = mirror_x ? (int)width - 1 - sx : sx, ty = mirror_y ? (int)get_global_size(1) - 1 - sy : sy;
+  if (FOV_OTHER_LEVEL((uint)(tx + offset_x), (uint)(ty + offset_y))) return;
   uint found[1];
   FOV_NEIGHBOURS((uint)(tx + offset_x), (uint)(ty + offset_y), 1, found);
   const uint i = found[0];
@@ -122,6 +129,7 @@ __kernel void reconstruct_shepard(FOV_NEIGHBOUR_ARGS, uint k, uint renka, __glob
                                   __global const float* depth, __global float4* out_rgb, __global float* out_depth) {
   const int sx = get_global_id(0), sy = get_global_id(1);
   const int tx = mirror_x ? (int)width - 1 - sx : sx, ty = mirror_y ? (int)get_global_size(1) - 1 - sy : sy;
+  if (FOV_OTHER_LEVEL((uint)(tx + offset_x), (uint)(ty + offset_y))) return;
   const float2 centre = (float2)((float)(tx + offset_x) + 0.5f, (float)(ty + offset_y) + 0.5f);
   float h[FOV_MAX_K];
   uint idx[FOV_MAX_K];
@@ -161,6 +169,7 @@ __kernel void reconstruct_weighted(FOV_NEIGHBOUR_ARGS, uint k, uint renka, __glo
                                    __global float4* out_rgb, __global float* out_depth) {
   const int sx = get_global_id(0), sy = get_global_id(1);
   const int tx = mirror_x ? (int)width - 1 - sx : sx, ty = mirror_y ? (int)get_global_size(1) - 1 - sy : sy;
+  if (FOV_OTHER_LEVEL((uint)(tx + offset_x), (uint)(ty + offset_y))) return;
   const uint cx = (uint)(tx + offset_x), cy = (uint)(ty + offset_y);
   const float2 centre = (float2)((float)cx + 0.5f, (float)cy + 0.5f);
   __global const float* w = weights +

@@ -14,6 +14,7 @@
 #include "fov/checksum.h"
 #include "fov/dart_throwing.h"
 #include "fov/files.h"
+#include "fov/flicker.h"
 #include "fov/knn_table.h"
 #include "fov/nested.h"
 #include "fov/pointset_io.h"
@@ -221,6 +222,7 @@ TEST_F(adaptive, AnEdgeRefinesOnlyAlongItAndMoreNearTheFovea) {
   const refinement_map& map = a.map;
   // A block's samples lie at most the coarsest level's farthest k-th neighbour past it.
   const float reach = levels.levels[0].set->cells.max_radius;
+  ASSERT_GT(reach, 0.0f);
   uint64_t refined_blocks = 0;
   for (uint32_t by = 0; by < map.blocks_y; ++by)
     for (uint32_t bx = 0; bx < map.blocks_x; ++bx) {
@@ -333,6 +335,23 @@ TEST_F(adaptive, TheDeviceRebuildsWhatTheCppPathDoes) {
       for (int c = 0; c < 3; ++c) worst = std::max(worst, std::fabs(a.rgb[i][c] - b.rgb[i][c]));
     EXPECT_LT(worst, 1e-4f) << method_name(m);
   }
+}
+
+TEST_F(adaptive, FlickerIsMeasuredAndAStillViewDoesNotFlicker) {
+  const std::shared_ptr<const scene> scn = load_scene("builtin");
+  renderer r(scn, params);
+  r.use_pointset(nested_set());
+  params.adaptive.threshold = 0.2;
+  flicker_params still;
+  still.frames = 4, still.yaw_deg_per_frame = 0, still.gaze_px_per_frame = 0, still.full_resolution = false;
+  const flicker_report a = measure_flicker(r, centre, params, still);
+  EXPECT_EQ(a.raw, 0.0) << "the same rays and the same refinement every frame";
+  flicker_params moving;
+  moving.frames = 4, moving.full_resolution = false;
+  const flicker_report b = measure_flicker(r, centre, params, moving);
+  EXPECT_GT(b.raw, 0.0);
+  EXPECT_TRUE(std::isfinite(b.taa));
+  EXPECT_LT(b.taa, b.raw) << "TAA smooths what the turning view changes";
 }
 
 }  // namespace

@@ -14,6 +14,7 @@
 #include "../common/debug_views.h"
 #include "../common/image_io.h"
 #include "../common/render_flags.h"
+#include "fov/flicker.h"
 #include "fov/metrics.h"
 #include "fov/files.h"
 #include "fov/pointset_io.h"
@@ -45,6 +46,7 @@ struct render_options {
   double falloff_scale = 1.0;  // the acuity model's scale s the falloff follows
   bool falloff_scale_given = false;
   int level = -1;  // one level of a nested set as a fixed set (-1: the whole set)
+  uint32_t flicker = 0;  // frames of the flicker path (0: none)
 };
 
 // The flags that only make sense together, before anything is read or rendered (exit 2).
@@ -81,8 +83,8 @@ void check_options(const render_options& o, const fov::render_params& p) {
   if (o.no_jod && o.photometry_given) throw usage_error("--no-jod: the display's light is for JOD only");
   if (o.level >= 0 && p.adaptive.enabled) throw usage_error("--level renders one level as a fixed set; --adaptive refines them all");
   if (o.level >= 0 && o.points.empty()) throw usage_error("--level needs --points (a nested set)");
+  if (o.flicker > 0 && o.reference) throw usage_error("--flicker measures a point set's frames; drop --reference");
   if (p.adaptive.enabled && o.reference) throw usage_error("--adaptive refines a point set; drop --reference");
-  if (p.adaptive.enabled && o.speedup > 0) throw usage_error("--speedup times fixed sets; --adaptive frames report their own trace_ms");
   if (o.debug_asked && o.debug == fov::debug_view::refinement && !p.adaptive.enabled)
     throw usage_error("--debug-view refinement needs --adaptive");
 }
@@ -119,6 +121,11 @@ int main(int argc, char** argv) {
                  "Time N full-resolution frames at the same spp, each right before a foveated frame: JSON speedup "
                  "(median, min, max of the per-pair ratios)")
       ->check(CLI::Range(1u, 1000u));
+  app.add_option("--flicker", o.flicker,
+                 "Also measure flicker along N frames of a slow turn with a drifting gaze (fov/flicker.h: 0.15 deg and "
+                 "3 px a frame): the mean frame-to-frame luminance change raw, with TAA (its own rays) and at full "
+                 "resolution, in JSON flicker")
+      ->check(CLI::Range(2u, 1000u));
   app.add_flag("--no-warmup", o.no_warmup,
                "Time the very first frame: texture loading, kernel compilation and RBF weights included");
   app.add_option("-o,--output", o.outputs, "Output image (.exr linear, .png sRGB); may be repeated");
@@ -227,7 +234,10 @@ int main(int argc, char** argv) {
       r.use_pointset(set);
       if (p.device == fov::reconstruct_device::opencl) j["device_setup_ms"] = r.device_setup_ms();
       j["set_load_ms"] = set_load_ms;  // reading and checking the file (a table's decoding, a cells file's build)
-      if (r.levels()) j["levels_setup_ms"] = r.levels_setup_ms();  // the coarser levels' cells and reconstructors
+      if (r.levels()) {  // the levels' k-NN cells, then those and a reconstructor per coarser level
+        j["levels_cells_ms"] = 1e3 * r.levels()->seconds;
+        j["levels_setup_ms"] = r.levels_setup_ms();
+      }
       if (o.level >= 0) j["level"] = o.level, j["scale"] = set->model.scale;
       if (const std::string w = r.device_warning(); !w.empty()) std::cerr << "fovrender: " << w << "\n";
       if (!o.no_warmup) {
@@ -250,6 +260,15 @@ int main(int argc, char** argv) {
         j["speedup_pairs"] = o.speedup;
         const fov::speedup_interval iv = fov::chained_speedup(st.ratios);  // 95 % bootstrap interval of the median
         j["speedup_interval"] = {iv.lo, iv.hi};
+      }
+      if (o.flicker > 0) {
+        fov::flicker_params fp;
+        fp.frames = o.flicker;
+        fp.taa_own_rays = true;  // what a viewer of TAA sees
+        const fov::frame_timing last = t;
+        const fov::flicker_report fl = fov::measure_flicker(r, gaze, p, fp);
+        t = last;
+        j["flicker"] = {{"frames", o.flicker}, {"raw", fl.raw}, {"taa", fl.taa}, {"full_resolution", fl.reference}};
       }
       j["device"] = r.device();
       if (p.reconstruct.how == fov::method::rbf)

@@ -1,5 +1,6 @@
 #include "fov/nested.h"
 
+#include <algorithm>
 #include <chrono>
 #include <stdexcept>
 
@@ -13,7 +14,7 @@ uint64_t nested_levels::bytes() const {
   uint64_t n = 0;
   for (size_t l = 0; l < levels.size(); ++l) {
     const set_level& v = levels[l];
-    n += v.own_cells.bytes() + 4 * uint64_t(v.global.size());
+    n += 4 * uint64_t(v.global.size());
     if (l + 1 < levels.size()) n += v.set->cells.bytes() + sizeof(point) * uint64_t(v.set->points.size());
   }
   return n;
@@ -25,6 +26,18 @@ std::vector<point> level_points(const pointset& set, uint32_t l) {
   for (size_t i = 0; i < set.points.size(); ++i)
     if (set.level[i] <= l) out.push_back(set.points[i]);
   return out;
+}
+
+void level_rect_points(const set_level& level, uint32_t x0, uint32_t y0, uint32_t x1, uint32_t y1, uint32_t k,
+                       std::vector<uint32_t>& out) {
+  const pointset& set = *level.set;
+  if (set.cells.loaded()) return rect_neighbour_points(set.cells, set.points, x0, y0, x1, y1, k, out);
+  const knn_table& t = set.table;
+  x1 = std::min(x1, t.width), y1 = std::min(y1, t.height);
+  k = std::min(k, t.k);
+  for (uint32_t y = y0; y < y1; ++y)
+    for (uint32_t x = x0; x < x1; ++x)
+      for (uint32_t j = 0; j < k; ++j) out.push_back(t.at(x, y, j));
 }
 
 nested_levels make_levels(std::shared_ptr<const pointset> set) {
@@ -43,7 +56,6 @@ nested_levels make_levels(std::shared_ptr<const pointset> set) {
       v.set = set;
       v.global.resize(set->points.size());
       for (uint32_t i = 0; i < v.global.size(); ++i) v.global[i] = i;
-      if (!set->cells.loaded()) v.own_cells = build_knn_cells(set->points, set->canvas_width(), set->canvas_height(), cp);
     } else {
       auto level = std::make_shared<pointset>();
       level->model = set->model;

@@ -61,6 +61,8 @@ struct cl_reconstructor::impl {
   // candidates from candidates_at (kernels/reconstruct.cl, neighbours()).
   cl_ulong cell_start_at = 0, candidates_at = 0;
   cl_mem table = nullptr, position = nullptr, colour = nullptr, depth = nullptr, out_rgb = nullptr, out_depth = nullptr;
+  cl_mem level_map = nullptr;  // an adaptive frame's refinement map (launch's level_mask)
+  size_t level_map_bytes = 0;
   // RBF weights, one slot per (k, kernel, shape) in use: the two used last are kept, so a
   // sweep that alternates two k does not solve its weights again at every switch.
   struct rbf_slot {
@@ -74,7 +76,7 @@ struct cl_reconstructor::impl {
   rbf_slot* last_rbf = nullptr;
 
   ~impl() {
-    for (cl_mem m : {table, position, colour, depth, out_rgb, out_depth, history, taa_out})
+    for (cl_mem m : {table, position, colour, depth, out_rgb, out_depth, history, taa_out, level_map})
       if (m) clReleaseMemObject(m);
     for (rbf_slot& r : rbf)
       if (r.weights) clReleaseMemObject(r.weights);
@@ -192,8 +194,8 @@ const std::string& cl_reconstructor::device() const {
 const std::string& cl_reconstructor::reason() const { return impl_->reason; }
 
 std::string cl_reconstructor::kernel_build_options() {
-  return fmt::format("-cl-std=CL1.2 -DFOV_MAX_K={} -DFOV_RBF_TILE={} -DFOV_CELL_TILE={} -DFOV_ON_POINT={:.9g}f", max_knn,
-                     rbf_weight_cache::tile, knn_cells::tile, on_point_px);
+  return fmt::format("-cl-std=CL1.2 -DFOV_MAX_K={} -DFOV_RBF_TILE={} -DFOV_CELL_TILE={} -DFOV_ON_POINT={:.9g}f -DFOV_BLOCK={}",
+                     max_knn, rbf_weight_cache::tile, knn_cells::tile, on_point_px, refinement_block);
 }
 
 frame cl_reconstructor::run(const point_samples& samples, const reconstruct_params& params) {
@@ -202,16 +204,17 @@ frame cl_reconstructor::run(const point_samples& samples, const reconstruct_para
   return out;
 }
 
-reconstruct_result cl_reconstructor::run(const point_samples& samples, const reconstruct_params& params, frame& out) {
+reconstruct_result cl_reconstructor::run(const point_samples& samples, const reconstruct_params& params, frame& out,
+                                         const level_mask* only) {
   impl& d = *impl_;
   check_reconstruct_inputs(set_, samples, params);
   reconstruct_result result;
   result.on_device = d.ok;
   if (!d.ok) {
-    out = reconstruct(set_, samples, params, &result.rbf, prepare_rbf(params));
+    reconstruct_into(set_, samples, params, out, &result.rbf, prepare_rbf(params), only);
     return result;
   }
-  cl_event done = launch(samples, params, result);
+  cl_event done = launch(samples, params, result, only);
   read_back(impl_->out_rgb, out);
   result.kernel_ms = event_ms(done);
   clReleaseEvent(done);
@@ -237,7 +240,7 @@ rbf_weight_cache* cl_reconstructor::prepare_rbf(const reconstruct_params& params
 }
 
 cl_event cl_reconstructor::launch(const point_samples& samples, const reconstruct_params& params,
-                                  reconstruct_result& result) {
+                                  reconstruct_result& result, const level_mask* only) {
   impl& d = *impl_;
   const knn_table& t = set_.table;
   rbf_weight_cache* cache = prepare_rbf(params);
@@ -287,6 +290,20 @@ cl_event cl_reconstructor::launch(const point_samples& samples, const reconstruc
   const cl_uint mirror_x = samples.mirror_x ? 1 : 0, mirror_y = samples.mirror_y ? 1 : 0;
   arg(d.table), arg(cells), arg(canvas_width), arg(k_stored), arg(group), arg(pixel_count), arg(cell_tiles_x);
   arg(d.cell_start_at), arg(d.candidates_at), arg(d.position), arg(ox), arg(oy), arg(width), arg(mirror_x), arg(mirror_y);
+  // The refinement map, when only one level's pixels are wanted (a byte per block; a dummy byte otherwise).
+  const size_t map_bytes = only ? only->map->level.size() : 1;
+  if (map_bytes > d.level_map_bytes) {
+    if (d.level_map) clReleaseMemObject(d.level_map), d.level_map = nullptr;
+    d.level_map = clCreateBuffer(d.context, CL_MEM_READ_ONLY, map_bytes, nullptr, &status);
+    check(status, "level map buffer");
+    d.level_map_bytes = map_bytes;
+  }
+  if (only)
+    check(clEnqueueWriteBuffer(d.queue, d.level_map, CL_FALSE, 0, map_bytes, only->map->level.data(), 0, nullptr, nullptr),
+          "level map upload");
+  const cl_uint map_on = only ? 1 : 0, map_level = only ? only->level : 0, map_x0 = only ? only->map->x0 : 0,
+                map_y0 = only ? only->map->y0 : 0, map_blocks_x = only ? only->map->blocks_x : 0;
+  arg(d.level_map), arg(map_on), arg(map_level), arg(map_x0), arg(map_y0), arg(map_blocks_x);
   if (params.how == method::shepard) arg(k), arg(renka);
   if (rbf) arg(k), arg(renka), arg(weights), arg(tiles_x);
   arg(d.colour), arg(d.depth), arg(d.out_rgb), arg(d.out_depth);

@@ -174,6 +174,13 @@ void check_reconstruct_inputs(const pointset& set, const point_samples& samples,
 
 frame reconstruct(const pointset& set, const point_samples& samples, const reconstruct_params& params,
                   rbf_stats* stats, rbf_weight_cache* cache) {
+  frame out;
+  reconstruct_into(set, samples, params, out, stats, cache);
+  return out;
+}
+
+void reconstruct_into(const pointset& set, const point_samples& samples, const reconstruct_params& params, frame& out,
+                      rbf_stats* stats, rbf_weight_cache* cache, const level_mask* only) {
   check_reconstruct_inputs(set, samples, params);
   const bool rbf = params.how == method::rbf;
   if (rbf && cache) {
@@ -186,9 +193,9 @@ frame reconstruct(const pointset& set, const point_samples& samples, const recon
   std::mutex stats_lock;
   const int w = set.model.display.width, h = set.model.display.height;
   const canvas_offset o = samples.offset;
-  frame out;
   out.width = w;
   out.height = h;
+  out.rays = 0;
   out.rgb.resize(size_t(w) * h);
   out.depth.resize(size_t(w) * h);
   const uint32_t k = params.k;
@@ -208,6 +215,7 @@ frame reconstruct(const pointset& set, const point_samples& samples, const recon
         const size_t at = size_t(sy) * w + sx;
         const int tx = samples.mirror_x ? w - 1 - sx : sx;
         const uint32_t cx = uint32_t(tx + o.x);
+        if (only && only->map->at(cx, cy) != only->level) continue;
         const uint32_t k_read = params.how == method::nn ? 1 : k;
         if (table)
           for (uint32_t j = 0; j < k_read; ++j) idx[j] = t.entries[t.offset(row + tx, j)];
@@ -255,7 +263,6 @@ frame reconstruct(const pointset& set, const point_samples& samples, const recon
       stats->worst_condition = std::max(stats->worst_condition, local.worst_condition);
     }
   });
-  return out;
 }
 
 }  // namespace fov

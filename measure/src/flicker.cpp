@@ -77,15 +77,26 @@ flicker_report measure_flicker(renderer& r, gaze_point start, const render_param
     r.cam() = path_camera(still, f, n);
     const gaze_point g = path_gaze(start, d, f, n);
     frame_timing t;
-    const points_trace traced = r.trace(g, raw, t);
-    frame now = r.reconstruct(traced.samples, g, raw, t);  // copies: the renderer reuses its frame
-    frame now_taa;
-    if (f.taa_own_rays) {
-      frame_timing own;
-      const points_trace jittered = r.trace(g, blended, own);
-      now_taa = r.reconstruct(jittered.samples, g, blended, own);
+    frame now, now_taa;  // copies: the renderer reuses its frame
+    if (p.adaptive.enabled) {  // a nested set refined per frame: the same stages, its own
+      const adaptive_trace refined = r.trace_refined(g, raw, t);
+      now = r.reconstruct_refined(refined, g, raw, t);
+      if (f.taa_own_rays) {
+        frame_timing own;
+        now_taa = r.reconstruct_refined(r.trace_refined(g, blended, own), g, blended, own);
+      } else {
+        now_taa = r.reconstruct_refined(refined, g, blended, t);
+      }
     } else {
-      now_taa = r.reconstruct(traced.samples, g, blended, t);
+      const points_trace traced = r.trace(g, raw, t);
+      now = r.reconstruct(traced.samples, g, raw, t);
+      if (f.taa_own_rays) {
+        frame_timing own;
+        const points_trace jittered = r.trace(g, blended, own);
+        now_taa = r.reconstruct(jittered.samples, g, blended, own);
+      } else {
+        now_taa = r.reconstruct(traced.samples, g, blended, t);
+      }
     }
     frame now_ref = f.full_resolution ? r.reference(d.width, d.height, raw).image : frame{};
     if (n > 0) {

@@ -56,13 +56,11 @@ struct block_state {
   uint8_t kept = 0;         // the previous frame's level where the view did not change
 };
 
-// The global indices of the points block b reads at level l (sorted, unique).
+// The global indices of the points block b reads at level l (unordered; may repeat).
 std::vector<uint32_t> block_points(const nested_levels& levels, uint32_t l, const block_state& b, uint32_t k) {
   const set_level& v = levels.levels[l];
   std::vector<uint32_t> local;
-  rect_neighbour_points(v.cells(), v.set->points, b.x0, b.y0, b.x1, b.y1, k, local);
-  std::sort(local.begin(), local.end());
-  local.erase(std::unique(local.begin(), local.end()), local.end());
+  level_rect_points(v, b.x0, b.y0, b.x1, b.y1, k, local);
   for (uint32_t& i : local) i = v.global[i];
   return local;
 }
@@ -153,6 +151,7 @@ adaptive_trace trace_adaptive(const scene& sc, const camera& cam, const nested_l
   out.report.rays_per_level.assign(level_count, 0);
   out.report.points_per_level.assign(level_count, 0);
   std::vector<uint8_t> scheduled(finest.points.size(), 0);  // traced or about to be
+  std::vector<uint32_t> seen(finest.points.size(), 0);      // counted for the candidate numbered seen - 1
   point_samples& all = out.traced.samples;
   auto trace_new = [&](std::vector<uint32_t> list, uint32_t l) {
     std::sort(list.begin(), list.end());
@@ -216,14 +215,15 @@ adaptive_trace trace_adaptive(const scene& sc, const camera& cam, const nested_l
       if (ratio >= 1 || (c.depth_edge && fc < fd)) wanted.push_back({c.depth_edge ? std::max(ratio, 1.0) : ratio, b});
     }
     std::stable_sort(wanted.begin(), wanted.end(), [](const candidate& a, const candidate& b) { return a.priority > b.priority; });
+    std::fill(seen.begin(), seen.end(), 0u);
     std::vector<std::vector<uint32_t>> next(wanted.size());
     tbb::parallel_for(size_t(0), wanted.size(),
                       [&](size_t j) { next[j] = block_points(levels, l + 1, blocks[wanted[j].block], k); });
     std::vector<uint32_t> list;
     for (size_t j = 0; j < wanted.size(); ++j) {
       uint64_t cost = 0;
-      for (uint32_t i : next[j])
-        if (!scheduled[i]) cost += rays_of(i);
+      for (uint32_t i : next[j])  // each new point once (a list may repeat one)
+        if (!scheduled[i] && seen[i] != j + 1) seen[i] = uint32_t(j + 1), cost += rays_of(i);
       if (p.budget > 0 && used + cost > p.budget) {
         ++out.report.refinements_left_out;
         continue;

@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include <fmt/format.h>
+#include <tbb/parallel_for.h>
 
 #include "fov/rbf_cache.h"
 
@@ -196,7 +197,7 @@ void renderer::begin_trace(gaze_point gaze, const camera& view, const render_par
   pending_ = pending_trace{gaze, view, p, set_, std::async(std::launch::async, std::move(job))};
 }
 
-const frame& renderer::adaptive_frame(gaze_point gaze, const render_params& p, uint64_t n, frame_timing& t) {
+adaptive_trace renderer::trace_refined_frame(gaze_point gaze, const render_params& p, uint64_t n, frame_timing& t) {
   if (!levels_) throw std::invalid_argument("--adaptive needs a nested set (fovgen --levels); this set has one level");
   if (const std::string why = validate(p.adaptive); !why.empty()) throw std::invalid_argument(why);
   const trace_params tp = frame_trace_params(p, n);
@@ -211,10 +212,26 @@ const frame& renderer::adaptive_frame(gaze_point gaze, const render_params& p, u
   t.points_traced = a.traced.samples.traced.size();
   t.adaptive = true;
   t.refinement = a.report;
-  if (!p.taa) reset_history();
+  last_map_ = a.map;
+  last_map_camera_ = cam_;
+  last_map_params_ = p.adaptive;
+  return a;
+}
+
+adaptive_trace renderer::trace_refined(gaze_point gaze, const render_params& p, frame_timing& t) {
+  require_set();
+  pending_.reset();
+  return trace_refined_frame(gaze, p, frames_traced_++, t);
+}
+
+const frame& renderer::reconstruct_refined(const adaptive_trace& a, gaze_point gaze, const render_params& p, frame_timing& t) {
+  require_set();
+  if (!levels_) throw std::invalid_argument("--adaptive needs a nested set (fovgen --levels); this set has one level");
   const auto t1 = clock_type::now();
   const point_samples& all = a.traced.samples;
   const uint32_t levels = uint32_t(levels_->levels.size());
+  if (all.colour.size() != set_->points.size() || a.report.blocks_per_level.size() != levels)
+    throw std::invalid_argument("reconstruct_refined: the refined trace belongs to another set");
   const display_geometry& disp = set_->model.display;
   const int w = disp.width, h = disp.height;
   reconstruct_result r;
@@ -223,16 +240,20 @@ const frame& renderer::adaptive_frame(gaze_point gaze, const render_params& p, u
     if (a.report.blocks_per_level[l] == 0) continue;
     const bool finest = l + 1 == levels;
     cl_reconstructor& dev = finest ? *device_ : *level_devices_[l];
-    if (first) {  // the first level in use fills the frame; the others replace their blocks
-      r = finest ? dev.run(all, p.reconstruct, frame_) : dev.run(level_samples(*levels_, l, all), p.reconstruct, frame_);
+    const level_mask only{&a.map, uint8_t(l)};
+    // Each level rebuilds its own blocks' pixels alone; the first fills the frame, the others
+    // are copied over it.
+    frame& into = first ? frame_ : level_frame_;
+    const reconstruct_result rl = finest ? dev.run(all, p.reconstruct, into, &only)
+                                         : dev.run(level_samples(*levels_, l, all), p.reconstruct, into, &only);
+    r.on_device = rl.on_device;
+    r.rbf.pixels += rl.rbf.pixels, r.rbf.fallbacks += rl.rbf.fallbacks, r.rbf.sampled += rl.rbf.sampled;
+    r.rbf.worst_condition = std::max(r.rbf.worst_condition, rl.rbf.worst_condition);
+    if (first) {
       first = false;
       continue;
     }
-    const reconstruct_result rl =
-        finest ? dev.run(all, p.reconstruct, level_frame_) : dev.run(level_samples(*levels_, l, all), p.reconstruct, level_frame_);
-    r.rbf.pixels += rl.rbf.pixels, r.rbf.fallbacks += rl.rbf.fallbacks, r.rbf.sampled += rl.rbf.sampled;
-    r.rbf.worst_condition = std::max(r.rbf.worst_condition, rl.rbf.worst_condition);
-    for (int sy = 0; sy < h; ++sy)
+    tbb::parallel_for(0, h, [&](int sy) {
       for (int sx = 0; sx < w; ++sx) {
         uint32_t cx, cy;
         screen_to_canvas(all, w, h, sx, sy, cx, cy);
@@ -240,6 +261,7 @@ const frame& renderer::adaptive_frame(gaze_point gaze, const render_params& p, u
         const size_t at = size_t(sy) * w + sx;
         frame_.rgb[at] = level_frame_.rgb[at], frame_.depth[at] = level_frame_.depth[at];
       }
+    });
   }
   frame_.rays = all.rays;
   t.reconstruct_ms = ms_since(t1);
@@ -251,10 +273,13 @@ const frame& renderer::adaptive_frame(gaze_point gaze, const render_params& p, u
     frame_ = taa_resolve(taa_, frame_, cam_, disp, gaze, p.temporal);
     t.taa_ms = ms_since(t2);
   }
-  last_map_ = std::move(a.map);
-  last_map_camera_ = cam_;
-  last_map_params_ = p.adaptive;
   return frame_;
+}
+
+const frame& renderer::adaptive_frame(gaze_point gaze, const render_params& p, uint64_t n, frame_timing& t) {
+  const adaptive_trace a = trace_refined_frame(gaze, p, n, t);
+  if (!p.taa) reset_history();
+  return reconstruct_refined(a, gaze, p, t);
 }
 
 const frame& renderer::foveated(gaze_point gaze, const render_params& p, frame_timing* timing) {

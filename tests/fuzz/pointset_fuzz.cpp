@@ -1,11 +1,14 @@
 // The .fovset reader: header, sections, table decoding (raw and ref-left-zstd), cells built
-// from the points (cells). Fuzz
+// from the points (cells), a nested set's levels (version 3). Fuzz
 // builds skip checksum comparison (FUZZING_BUILD_MODE_UNSAFE_FOR_PRODUCTION), so mutations
 // reach the checks behind them. A set the reader accepts must hold what the renderer
 // relies on without checking: points on the canvas, table indices in range, and the
 // traced-point index finding the same points as the table scan.
+#include <memory>
+
 #include "fov/knn_cells.h"
 #include "fov/knn_table.h"
+#include "fov/nested.h"
 #include "fov/pointset.h"
 #include "fov/pointset_io.h"
 #include "fuzz_input.h"
@@ -35,6 +38,15 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
           pixel_neighbours(set, x, y, k, found);
           for (uint32_t j = 0; j < k; ++j) fuzz::require(found[j] < set.points.size(), "cell neighbour in range");
         }
+    }
+    if (set.nested()) {  // every level a set the renderer can read: its cells consistent, its points the set's
+      const nested_levels levels = make_levels(std::make_shared<const pointset>(set));
+      fuzz::require(levels.levels.size() == set.level_count(), "a set per level");
+      for (const set_level& l : levels.levels) {
+        if (l.set->cells.loaded())
+          fuzz::require(knn_cells_problem(l.set->cells, l.set->points.size()).empty(), "level cells consistent");
+        for (uint32_t i : l.global) fuzz::require(i < set.points.size(), "level point in range");
+      }
     }
     for (const point& p : set.points)
       fuzz::require(p.x >= 0 && p.x < float(w) && p.y >= 0 && p.y < float(h), "point on the canvas");

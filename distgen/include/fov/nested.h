@@ -20,14 +20,17 @@ struct set_level {
   std::shared_ptr<const pointset> set;
   // set->points[j] is the nested set's point global[j] (ascending).
   std::vector<uint32_t> global;
-  // Cells for rect_neighbour_points when `set` keeps a table (the finest level); else empty.
-  knn_cells own_cells;
-  const knn_cells& cells() const { return set->cells.loaded() ? set->cells : own_cells; }
 };
+
+// Appends to `out` (local indices of level.set, possibly repeated) the points that canvas
+// pixels in [x0, x1) x [y0, y1) may read among their first k: with a table exactly those (each
+// pixel's entries), with cells rect_neighbour_points's superset.
+void level_rect_points(const set_level& level, uint32_t x0, uint32_t y0, uint32_t x1, uint32_t y1, uint32_t k,
+                       std::vector<uint32_t>& out);
 
 struct nested_levels {
   std::vector<set_level> levels;  // coarsest first; one level (the set itself) for a fixed set
-  double seconds = 0;             // wall time to build the coarser levels' and the rect cells
+  double seconds = 0;             // wall time to build the coarser levels' cells
   uint64_t bytes() const;         // what the levels add in memory (points, maps, cells)
 };
 

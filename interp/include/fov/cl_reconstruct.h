@@ -52,7 +52,10 @@ class cl_reconstructor {
   // tiles computes on the host and copies to the device; later runs with the same k,
   // kernel and shape only form weighted sums. `out` keeps its storage when it has the
   // screen's size (a live loop saves zero-filling 29 MB a FOVE frame).
-  reconstruct_result run(const point_samples& samples, const reconstruct_params& params, frame& out);
+  // With `only` (an adaptive frame's level), only that level's pixels are rebuilt; `out`'s other
+  // pixels are then unspecified.
+  reconstruct_result run(const point_samples& samples, const reconstruct_params& params, frame& out,
+                         const level_mask* only = nullptr);
   frame run(const point_samples& samples, const reconstruct_params& params);
 
   // run() followed by taa_resolve(), with the frame kept on the device in between and the
@@ -81,7 +84,8 @@ class cl_reconstructor {
   struct impl;
   std::unique_ptr<impl> impl_;
   rbf_weight_cache* prepare_rbf(const reconstruct_params& params);  // null unless RBF
-  ::_cl_event* launch(const point_samples& samples, const reconstruct_params& params, reconstruct_result& result);
+  ::_cl_event* launch(const point_samples& samples, const reconstruct_params& params, reconstruct_result& result,
+                      const level_mask* only = nullptr);
   void read_back(::_cl_mem* rgb, frame& out);
   const pointset& set_;
 };

@@ -67,5 +67,9 @@ void check_reconstruct_inputs(const pointset& set, const point_samples& samples,
 class rbf_weight_cache;
 frame reconstruct(const pointset& set, const point_samples& samples, const reconstruct_params& params,
                   rbf_stats* stats = nullptr, rbf_weight_cache* cache = nullptr);
+// The same into `out` (resized to the screen when it is not), and with `only` just the pixels
+// of that level of an adaptive frame's refinement map: the others keep their values.
+void reconstruct_into(const pointset& set, const point_samples& samples, const reconstruct_params& params, frame& out,
+                      rbf_stats* stats = nullptr, rbf_weight_cache* cache = nullptr, const level_mask* only = nullptr);
 
 }  // namespace fov

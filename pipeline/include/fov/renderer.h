@@ -134,6 +134,13 @@ class renderer {
   // with the TAA history when p.taa (the history is left alone otherwise).
   const frame& reconstruct(const point_samples& samples, gaze_point gaze, const render_params& p, frame_timing& t);
 
+  // The same two stages for an adaptive frame (p.adaptive, a nested set in use): the levels'
+  // trace and the refinement (the pattern advances by one frame; a still view keeps the last
+  // refinement), then every level in use reconstructed, composited and blended with the TAA
+  // history when p.taa (on the host).
+  adaptive_trace trace_refined(gaze_point gaze, const render_params& p, frame_timing& t);
+  const frame& reconstruct_refined(const adaptive_trace& a, gaze_point gaze, const render_params& p, frame_timing& t);
+
   // One foveated frame at the gaze (trace, or take the trace begun ahead, then
   // reconstruct), valid until the next call. Without TAA the history is dropped, so
   // turning TAA on starts afresh.
@@ -215,6 +222,7 @@ class renderer {
   adaptive_params last_map_params_;
   // An adaptive frame numbered n (trace, reconstruct every level in use, composite, TAA).
   const frame& adaptive_frame(gaze_point gaze, const render_params& p, uint64_t n, frame_timing& t);
+  adaptive_trace trace_refined_frame(gaze_point gaze, const render_params& p, uint64_t n, frame_timing& t);
   frame level_frame_;  // one level's reconstruction before the composite
   taa_state taa_;
   uint64_t frames_traced_ = 0;

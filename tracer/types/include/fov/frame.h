@@ -48,6 +48,14 @@ struct refinement_map {
   }
 };
 
+// One level's pixels of a refinement map: a reconstruction given one rebuilds only the screen
+// pixels whose block reads `level`, leaving the others as they were (C++) or unspecified
+// (the device's frame); the adaptive frame takes each level's pixels from its own run.
+struct level_mask {
+  const refinement_map* map = nullptr;
+  uint8_t level = 0;
+};
+
 // Screen pixel (sx, sy)'s canvas pixel under the samples' placement and mirroring.
 inline void screen_to_canvas(const point_samples& s, int width, int height, int sx, int sy, uint32_t& cx, uint32_t& cy) {
   cx = uint32_t((s.mirror_x ? width - 1 - sx : sx) + s.offset.x);
