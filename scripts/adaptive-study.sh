@@ -52,22 +52,25 @@ for scene in ${SCENES:-builtin helmet env}; do
   # Two converged references, different seeds: the first is the truth, the second its noise floor.
   [[ -f $d/ref-a.exr ]] || "$render" $flags --display fove --reference --spp "$ref_spp" --seed 1001 -o "$d/ref-a.exr" > /dev/null
   [[ -f $d/ref-b.exr ]] || "$render" $flags --display fove --reference --spp "$ref_spp" --seed 1002 -o "$d/ref-b.exr" > /dev/null
-  "$bench" compare "$d/ref-b.exr" "$d/ref-a.exr" --display fove --gaze centre --json > "$d/floor.json"
-  "$render" $flags --display fove --reference --spp "$spp" -o "$d/full.png" --compare "$d/ref-a.exr" --json > "$d/full.json"
-  # Each frame timed against full resolution at the same spp, pair by pair (--speedup), and
-  # its flicker along a slow turn (--flicker).
-  timing=(--speedup "${PAIRS:-5}" --flicker 6)
-  for l in 0 1 2 3 4; do
-    "$render" $flags --points "$nested" --level $l --spp "$spp" "${timing[@]}" -o "$d/level$l.png" \
-      --compare "$d/ref-a.exr" --json > "$d/level$l.json"
+  for gaze in centre 320,1080; do
+    g=$d/${gaze/,/-}
+    mkdir -p "$g"
+    "$bench" compare "$d/ref-b.exr" "$d/ref-a.exr" --display fove --gaze $gaze --json > "$g/floor.json"
+    "$render" $flags --display fove --reference --spp "$spp" --gaze $gaze -o "$g/full.png" --compare "$d/ref-a.exr" --json > "$g/full.json"
+    # Each frame timed against full resolution at the same spp, pair by pair (--speedup), and
+    # its flicker along a slow turn (--flicker).
+    timing=(--speedup "${PAIRS:-5}" --flicker 6 --gaze $gaze)
+    for l in 0 1 2 3 4; do
+      "$render" $flags --points "$nested" --level $l --spp "$spp" "${timing[@]}" -o "$g/level$l.png" \
+        --compare "$d/ref-a.exr" --json > "$g/level$l.json"
   done
   for t in 1 0.5 0.25; do
-    "$render" $flags --points "$nested" --adaptive --adaptive-threshold $t --spp "$spp" "${timing[@]}" -o "$d/adaptive$t.png" \
-      --debug-view refinement --compare "$d/ref-a.exr" --json > "$d/adaptive$t.json"
+    "$render" $flags --points "$nested" --adaptive --adaptive-threshold $t --spp "$spp" "${timing[@]}" -o "$g/adaptive$t.png" \
+      --debug-view refinement --compare "$d/ref-a.exr" --json > "$g/adaptive$t.json"
   done
-  echo "### $scene (FOVE, centred gaze, $spp rays per sample, against a $ref_spp-spp reference)"
+  echo "### $scene, gaze $gaze (FOVE, $spp rays per sample, against a $ref_spp-spp reference)"
   echo
-  python3 - "$d" "$spp" <<'PY'
+  python3 - "$g" "$spp" <<'PY'
 import json, sys, glob, os
 d = sys.argv[1]
 floor = json.load(open(f"{d}/floor.json"))
@@ -95,5 +98,7 @@ for t in ["1", "0.5", "0.25"]:
     per = ", ".join(f"{l['blocks']}" for l in a["levels"])
     row(f"adaptive, threshold {t} (blocks per level {per})", j, j["metrics"])
 PY
-  echo
+    echo
+  done
 done
+
