@@ -34,6 +34,10 @@ for bad in deep-nodes deep-json inf-vertex huge-vertex tiny-scale fifo-buffer em
   err=$("${R[@]}" --scene "$dir/$bad.gltf" -o "$dir/x.png" 2>&1)
   [[ "$err" == "fovrender: $dir/$bad.gltf: "* ]] || fail "$bad: the message does not begin with the scene: $err"
 done
+check "glb chunk past the end" 1 -- "${R[@]}" --scene "$dir/chunk-past-end.glb" -o "$dir/x.png"
+[[ "$("${R[@]}" --scene "$dir/chunk-past-end.glb" -o "$dir/x.png" 2>&1)" == \
+  "fovrender: $dir/chunk-past-end.glb: its JSON chunk claims 3808429344 bytes, more than the 49-byte file holds (refused)" ]] \
+  || fail "a glb chunk past the end is not refused with its length"
 [[ "$("${R[@]}" --scene "$dir/fifo-buffer.gltf" -o "$dir/x.png" 2>&1)" == *"fifo.bin: not a regular file"* ]] \
   || fail "a FIFO buffer is not named"
 [[ "$("${R[@]}" --scene "$dir/empty-buffer.gltf" -o "$dir/x.png" 2>&1)" == *"empty.bin: is empty"* ]] \

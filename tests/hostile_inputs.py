@@ -103,6 +103,10 @@ def write_test_files(out):
         text, _ = gltf(**kwargs)
         put(name + ".gltf", text)
     put("empty.bin", b"")
+    # A binary glTF whose JSON chunk claims 3.8 GB (Assimp allocated it: a fuzz finding).
+    json_chunk = b'{"asset":{"version":"2.0"}}  '
+    put("chunk-past-end.glb", struct.pack("<4sII", b"glTF", 2, 20 + len(json_chunk))
+        + struct.pack("<I4s", 3808429344, b"JSON") + json_chunk)
     put("tex.png", png(2, 2, [(1, 0, 0), (0, 1, 0), (0, 0, 1), (1, 1, 1)]))
     w, h = 16, 8
     grey = [(0.5, 0.5, 0.5)] * (w * h)

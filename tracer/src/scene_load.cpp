@@ -123,7 +123,8 @@ class checked_io : public Assimp::DefaultIOSystem {
 // A glTF's JSON (a .gltf file, a .glb's first chunk), checked before Assimp parses it:
 // nesting at most max_gltf_json_depth, and a node tree (children by index) at most
 // max_node_depth deep in which every node has at most one parent and no node is its own
-// ancestor. "" when fine, or when the JSON does not parse (Assimp's error then says why).
+// ancestor; a .glb's chunks end within the file. "" when fine, or when the JSON does not parse
+// (Assimp's error then says why).
 std::string gltf_structure_problem(const std::string& path, const std::string& extension) {
   std::string text;
   if (extension == ".glb") {  // only the JSON chunk is read (the binary one follows it)
@@ -132,9 +133,21 @@ std::string gltf_structure_problem(const std::string& path, const std::string& e
     uint32_t length = 0, type = 0;
     if (!in.read(head, sizeof head)) return "";
     std::memcpy(&length, head + 12, 4), std::memcpy(&type, head + 16, 4);
-    if (type != 0x4E4F534Au || length > std::filesystem::file_size(path) - sizeof head) return "";
+    if (type != 0x4E4F534Au) return "";
+    // Assimp allocates what a chunk's length says before reading it: a length past the
+    // file's end would be an allocation of up to 4 GiB for a file of a few bytes.
+    const uintmax_t size = std::filesystem::file_size(path);
+    if (length > size - sizeof head)
+      return fmt::format("its JSON chunk claims {} bytes, more than the {}-byte file holds (refused)", length, size);
     text.resize(length);
     if (!in.read(text.data(), std::streamsize(length))) return "";
+    char bin[8] = {};  // the binary chunk, when one follows
+    if (in.read(bin, sizeof bin)) {
+      uint32_t bin_length = 0;
+      std::memcpy(&bin_length, bin, 4);
+      if (bin_length > size - sizeof head - length - sizeof bin)
+        return fmt::format("its binary chunk claims {} bytes, more than the {}-byte file holds (refused)", bin_length, size);
+    }
   } else {
     text = read_input_file(path, max_scene_file_bytes, "scene file");
   }
