@@ -63,14 +63,14 @@ for scene in ${SCENES:-builtin helmet env}; do
     for l in 0 1 2 3 4; do
       "$render" $flags --points "$nested" --level $l --spp "$spp" "${timing[@]}" -o "$g/level$l.png" \
         --compare "$d/ref-a.exr" --json > "$g/level$l.json"
-  done
-  for t in 1 0.5 0.25; do
-    "$render" $flags --points "$nested" --adaptive --adaptive-threshold $t --spp "$spp" "${timing[@]}" -o "$g/adaptive$t.png" \
-      --debug-view refinement --compare "$d/ref-a.exr" --json > "$g/adaptive$t.json"
-  done
-  echo "### $scene, gaze $gaze (FOVE, $spp rays per sample, against a $ref_spp-spp reference)"
-  echo
-  python3 - "$g" "$spp" <<'PY'
+    done
+    for t in 1 0.5 0.25; do
+      "$render" $flags --points "$nested" --adaptive --adaptive-threshold $t --spp "$spp" "${timing[@]}" -o "$g/adaptive$t.png" \
+        --debug-view refinement --compare "$d/ref-a.exr" --json > "$g/adaptive$t.json"
+    done
+    echo "### $scene, gaze $gaze (FOVE, $spp rays per sample, against a $ref_spp-spp reference)"
+    echo
+    python3 - "$g" "$spp" <<'PY'
 import json, sys, glob, os
 d = sys.argv[1]
 floor = json.load(open(f"{d}/floor.json"))
@@ -84,12 +84,16 @@ def row(label, j, m):
     cells = [label, f"{j['rays']:,}" if j else "",
              f"{j['frame_ms']:.0f} ({j['frame_ms_lo']:.0f}-{j['frame_ms_hi']:.0f})" if timed else (f"{j['total_ms']:.0f}" if j else ""),
              f"{j['speedup']:.2f} ({j['speedup_interval'][0]:.2f}-{j['speedup_interval'][1]:.2f})" if timed else "",
-             f"{j['flicker']['raw']:.4f} / {j['flicker']['taa']:.4f}" if j and "flicker" in j else "",
+             (f"{j['flicker']['raw']:.4f}" + (f" / {j['flicker']['taa']:.4f}" if j['flicker']['taa'] == j['flicker']['taa'] else ""))
+             if j and "flicker" in j else "",
              f"{m['jod']:.3f}", f"{m['flip']:.4f}", f"{m['foveated_flip']:.4f}"]
     cells += [f"{band(m, n)['flip']:.4f}" if band(m, n)['flip'] is not None else "" for n in names]
     print("| " + " | ".join(cells) + " |")
 row("noise floor (second reference)", None, floor)
-full = json.load(open(f"{d}/full.json")); row("full resolution", full, full["metrics"])
+full = json.load(open(f"{d}/full.json"))
+# Full resolution's flicker along the same turn, measured beside each foveated frame's.
+full["flicker"] = {"raw": json.load(open(f"{d}/level0.json"))["flicker"]["full_resolution"], "taa": float("nan")}
+row("full resolution", full, full["metrics"])
 for l in range(5):
     j = json.load(open(f"{d}/level{l}.json")); row(f"fixed, level {l} (s = {j['scale']:.2f})", j, j["metrics"])
 for t in ["1", "0.5", "0.25"]:
