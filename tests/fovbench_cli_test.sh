@@ -129,6 +129,43 @@ for m in ("nn", "shepard"):
     assert int(flat["rays"]) == 4 * pts and pts <= int(one["rays"]) < int(two["rays"]) < int(flat["rays"]), (flat, two, one)
     assert int(one["rays"]) >= pts and int(two["rays"]) >= 2 * pts
 PY
+# Adaptive rows (issue 26): a nested set refined per frame at each threshold beside the fixed
+# sets, in results.csv as density adaptive with its threshold, levels and rays per level.
+check "thresholds, no levels" 2 -- "$fovbench" "${common[@]}" --adaptive-thresholds 1 -o "$dir/x"
+check "levels, no thresholds" 2 -- "$fovbench" "${common[@]}" --levels 1.0,2.0 -o "$dir/x"
+check "levels decreasing" 2 -- "$fovbench" "${common[@]}" --levels 2.0,1.0 --adaptive-thresholds 1 -o "$dir/x"
+check "threshold negative" 2 -- "$fovbench" "${common[@]}" --levels 1.0,2.0 --adaptive-thresholds -1 -o "$dir/x"
+check "threshold nan"   2 -- "$fovbench" "${common[@]}" --levels 1.0,2.0 --adaptive-thresholds nan -o "$dir/x"
+check "levels, grid"    2 -- "$fovbench" "${common[@]}" --levels 1.0,2.0 --adaptive-thresholds 1 --fovea grid -o "$dir/x"
+[[ -e "$dir/x" ]] && fail "a refused adaptive sweep wrote $dir/x"
+check "adaptive rows"   0 -- "$fovbench" --display 128x96@10 --points-dir "$dir/sets" --frames 1 --scene builtin \
+  --scales 2.0,4.0 --levels 2.0,4.0 --adaptive-thresholds 0,1000 --methods nn,shepard --k 4 --spp 2 --baselines full \
+  --reference-spp 8 --no-flip -o "$dir/adaptive"
+[[ -s "$dir/sets/128x96-v10-n2.00-4.00.fovset" ]] || fail "no nested set in --points-dir: $(ls "$dir/sets")"
+python3 - "$dir/adaptive/results.csv" "$dir/adaptive/report.md" <<'PY' || fail "adaptive rows"
+import csv, sys
+rows = [r for r in csv.DictReader(open(sys.argv[1])) if r["kind"] == "foveated"]
+fixed = {(r["method"], r["scale"]): r for r in rows if r["density"] == "fixed"}
+adaptive = {(r["method"], r["adaptive_threshold"]): r for r in rows if r["density"] == "adaptive"}
+assert sorted(fixed) == sorted((m, s) for m in ("nn", "shepard") for s in ("2.00", "4.00")), sorted(fixed)
+assert sorted(adaptive) == sorted((m, t) for m in ("nn", "shepard") for t in ("0", "1000")), sorted(adaptive)
+for m in ("nn", "shepard"):
+    for t in ("0", "1000"):
+        r = adaptive[(m, t)]
+        per = [int(v) for v in r["level_rays"].split(";")]
+        assert r["levels"] == "2.00;4.00" and r["scale"] == "" and len(per) == 2 and sum(per) == int(r["rays"]), r
+        assert float(r["jod"]) <= 10 and float(r["speedup"]) > 0, r
+    none, every = adaptive[(m, "1000")], adaptive[(m, "0")]
+    # Nothing refined at 1000: the coarsest level's rays, as its fixed set's at k = 4 (at k = 1
+    # the fixed path traces points no pixel's nearest neighbour is, the adaptive one not);
+    # refined at 0.
+    coarsest = fixed[(m, "4.00")]
+    assert none["level_rays"].split(";")[1] == "0", none
+    assert none["rays"] == coarsest["rays"] if m == "shepard" else int(none["rays"]) <= int(coarsest["rays"]), (none, coarsest)
+    assert int(every["level_rays"].split(";")[1]) > 0 and int(every["rays"]) > int(none["rays"]), every
+report = open(sys.argv[2]).read()
+assert "| adaptive |" in report and "adaptive T0 " in report, "the report names no adaptive scheme"
+PY
 check "farther eye"     0 -- "$fovbench" "${common[@]}" --viewing-distance 2 --scene builtin --scales 1.0 --methods nn --spp 1 \
   --baselines full --reference-spp 4 -o "$dir/far"
 [[ -s "$dir/sets/64x72-v2-s1.00.fovset" ]] || fail "v = 2 did not write 64x72-v2-s1.00.fovset: $(ls "$dir/sets")"

@@ -41,6 +41,8 @@ result_row sample_row(const std::string& method, const std::string& spp) {
   r.cells["flicker"] = "";
   r.cells["error_profile"] = "0.1;0.2;0.05";
   r.cells["taa_frames"] = r.cells["taa_pattern"] = "";  // a single frame
+  r.cells["density"] = "fixed";
+  r.cells["adaptive_threshold"] = r.cells["levels"] = r.cells["level_rays"] = "";
   return r;
 }
 
@@ -173,6 +175,36 @@ TEST(ResultsCsv, CorruptRowsAreRefusedAndCrlfIsRead) {
     r.cells["taa_frames"] = frames, r.cells["taa_pattern"] = pattern;
     EXPECT_EQ(result_row_problem(r), why) << frames << " " << pattern;
   }
+  // Density (issue 26): a foveated row's fixed or adaptive; an adaptive row names its
+  // threshold and levels (increasing scales) and no scale, its rays per level counts.
+  result_row adaptive = sample_row("nn", "1");
+  adaptive.cells["density"] = "adaptive", adaptive.cells["adaptive_threshold"] = "0.5";
+  adaptive.cells["levels"] = "1.00;2.00", adaptive.cells["level_rays"] = "4607;0", adaptive.cells["scale"] = "";
+  EXPECT_EQ(result_row_problem(adaptive), "");
+  result_row other = adaptive;
+  other.cells["adaptive_threshold"] = "1";
+  EXPECT_NE(other.key(), adaptive.key());
+  EXPECT_NE(adaptive.key(), sample_row("nn", "1").key());
+  const std::string pairing = "an adaptive row names its threshold and levels and no scale; no other row does";
+  for (const auto& [column, bad, why] : std::vector<std::tuple<std::string, std::string, std::string>>{
+           {"density", "sparse", "density 'sparse' is not fixed or adaptive"},
+           {"kind", "uniform", "density 'adaptive' on a uniform row (only foveated rows have one)"},
+           {"scale", "1.00", pairing},
+           {"adaptive_threshold", "", pairing},
+           {"levels", "", pairing},
+           {"adaptive_threshold", "2000", "adaptive_threshold 2000 lies outside [0, 1000]"},
+           {"levels", "2.00;1.00", "levels '2.00;1.00' is not 2..8 increasing positive scales"},
+           {"levels", "1.00", "levels '1.00' is not 2..8 increasing positive scales"},
+           {"levels", "1.00;x", "levels '1.00;x' is not scales joined by ';'"},
+           {"level_rays", "5;-1", "level_rays '5;-1' is not numbers >= 0 joined by ';'"}}) {
+    result_row r = adaptive;
+    r.cells[column] = bad;
+    if (column == "kind") r.cells["method"] = "nn";
+    EXPECT_EQ(result_row_problem(r), why) << column << " " << bad;
+  }
+  result_row fixed_with_threshold = sample_row("nn", "1");
+  fixed_with_threshold.cells["adaptive_threshold"] = "0.5";
+  EXPECT_EQ(result_row_problem(fixed_with_threshold), pairing);
   write(lines, "\r\n");
   EXPECT_EQ(read_results(path).size(), 2u);
 }
@@ -299,6 +331,28 @@ TEST(BenchOptions, AreCheckedBeforeAnythingRuns) {
   bad = o;
   bad.scenes = {"/nonexistent.gltf"};
   EXPECT_THROW(check_bench_options(bad), std::runtime_error);
+  // Adaptive rows (issue 26): thresholds and levels come together, levels increasing within
+  // 0.5..10, thresholds within 0..max_adaptive_threshold, a darts fovea.
+  bad = o;
+  bad.adaptive_thresholds = {0.5};
+  EXPECT_THROW(check_bench_options(bad), usage_error);
+  bad.levels = {1.0, 2.0};
+  EXPECT_NO_THROW(check_bench_options(bad));
+  bad.adaptive_thresholds.clear();
+  EXPECT_THROW(check_bench_options(bad), usage_error);
+  for (const std::vector<double>& levels : std::vector<std::vector<double>>{{2.0, 1.0}, {1.0}, {0.4, 1.0}, {1.0, 11.0}}) {
+    bad = o;
+    bad.adaptive_thresholds = {0.5}, bad.levels = levels;
+    EXPECT_THROW(check_bench_options(bad), usage_error) << levels[0];
+  }
+  for (double t : {-1.0, 1001.0, std::numeric_limits<double>::quiet_NaN()}) {
+    bad = o;
+    bad.levels = {1.0, 2.0}, bad.adaptive_thresholds = {t};
+    EXPECT_THROW(check_bench_options(bad), usage_error) << t;
+  }
+  bad = o;
+  bad.levels = {1.0, 2.0}, bad.adaptive_thresholds = {1}, bad.fovea = fovea_layout::grid;
+  EXPECT_THROW(check_bench_options(bad), usage_error);
   render_params renka = o.render;
   renka.reconstruct.renka = true;
   EXPECT_NE(render_settings_label(o.render), render_settings_label(renka));  // --resume tells them apart
@@ -365,6 +419,7 @@ result_row study_row(const std::string& kind, const std::string& scale, const st
   r.cells["kind"] = kind, r.cells["fovea"] = fovea, r.cells["k"] = "5", r.cells["ray_floor"] = "";
   r.cells["scale"] = kind == "foveated" || kind == "falloff" ? scale : "";
   r.cells["pixel_fraction"] = kind == "uniform" ? scale : "";
+  r.cells["density"] = kind == "foveated" ? "fixed" : "";
   if (kind == "full") r.cells["method"] = "full", r.cells["k"] = "";
   if (kind == "falloff") r.cells["method"] = "falloff", r.cells["k"] = "", r.cells["ray_floor"] = "1";
   r.cells["jod"] = fmt::format("{}", jod), r.cells["noise_floor_jod"] = "9.99";
@@ -488,23 +543,37 @@ TEST(Summary, JoinsRunsAndRefusesOnesThatDisagree) {
 
 // A results.csv from before the steady-state columns reads for a summary (single frames),
 // never for --resume.
+// Files of older fovbenches: before the density columns, and before the steady-state ones
+// too; a header missing only the steady-state columns never existed and is refused.
 TEST(ResultsCsv, TheColumnsBeforeSteadyStateReadOnlyWhenAsked) {
   const std::string path = ::testing::TempDir() + "/results-before-steady-state.csv";
-  std::vector<std::string> columns = result_columns();
-  columns.erase(std::remove_if(columns.begin(), columns.end(), [](const std::string& c) { return c == "taa_frames" || c == "taa_pattern"; }),
-                columns.end());
-  const result_row row = sample_row("nn", "1");
-  {
-    std::ofstream out(path);
-    for (size_t i = 0; i < columns.size(); ++i) out << (i ? "," : "") << columns[i];
-    out << "\n";
-    for (size_t i = 0; i < columns.size(); ++i) out << (i ? "," : "") << csv_cell(row.text(columns[i]));
-    out << "\n";
+  const std::set<std::string> density = {"density", "adaptive_threshold", "levels", "level_rays"};
+  const std::set<std::string> steady = {"taa_frames", "taa_pattern"};
+  for (const auto& [dropped, readable] : std::vector<std::pair<std::set<std::string>, bool>>{
+           {density, true}, {[&] { auto both = density; both.insert(steady.begin(), steady.end()); return both; }(), true},
+           {steady, false}}) {
+    std::vector<std::string> columns = result_columns();
+    columns.erase(std::remove_if(columns.begin(), columns.end(), [&](const std::string& c) { return dropped.count(c) > 0; }),
+                  columns.end());
+    result_row row = sample_row("nn", "1");
+    for (const std::string& c : dropped) row.cells[c] = "";  // what the reader gives a column the file lacks
+    row.cells["density"] = "fixed";                           // (an older foveated row's set is fixed)
+    {
+      std::ofstream out(path);
+      for (size_t i = 0; i < columns.size(); ++i) out << (i ? "," : "") << columns[i];
+      out << "\n";
+      for (size_t i = 0; i < columns.size(); ++i) out << (i ? "," : "") << csv_cell(row.text(columns[i]));
+      out << "\n";
+    }
+    EXPECT_THROW(read_results(path), std::runtime_error);
+    if (!readable) {
+      EXPECT_THROW(read_results(path, true), std::runtime_error);
+      continue;
+    }
+    const std::vector<result_row> rows = read_results(path, true);
+    ASSERT_EQ(rows.size(), 1u);
+    EXPECT_EQ(rows[0].cells, row.cells);
   }
-  EXPECT_THROW(read_results(path), std::runtime_error);
-  const std::vector<result_row> rows = read_results(path, true);
-  ASSERT_EQ(rows.size(), 1u);
-  EXPECT_EQ(rows[0].cells, row.cells);
   std::filesystem::remove(path);
 }
 

@@ -29,10 +29,11 @@ SCHEME_COLOURS = {
     "falloff": "#44AA99",
     "lower-resolution": "#CC79A7",
     "goal": "#999933",
+    "adaptive": "#AA4499",
 }
 OTHER_COLOURS = ["#56B4E9", "#882255", "#44AA99", "#999933", "#AA4499", "#F0E442"]
 STYLES = {"solid": "-", "dashed": "--", "dotted": ":", "dashdot": "-."}
-MARKERS = {"nn": "o", "shepard": "s", "rbf": "^", "uniform": "D", "full": "P"}
+MARKERS = {"nn": "o", "shepard": "s", "rbf": "^", "uniform": "D", "full": "P", "adaptive": "*"}
 
 
 def colour_of(scheme, others):

@@ -18,6 +18,7 @@
 
 #include "../common/cli.h"
 #include "../common/image_io.h"
+#include "fov/dart_throwing.h"
 #include "fov/files.h"
 #include "fov/flicker.h"
 #include "fov/comparison.h"
@@ -49,16 +50,24 @@ std::string slug(const std::string& scene) {
 struct config {
   size_t scene;
   row_kind kind;
-  size_t set;        // foveated and falloff: the scale's index; uniform: the fraction's; full: unused
+  size_t set;        // foveated and falloff: the scale's index (adaptive: the threshold's); uniform: the fraction's; full: unused
   size_t gaze;
   method how;
   uint32_t k, spp;
   uint32_t floor;  // falloff, and foveated under --point-ray-floors: the ray floor (0: spp everywhere)
   uint32_t taa;    // 0: a single frame; N: the steady state after N frames of TAA (--taa-frames)
+  bool adaptive;   // foveated: the nested set refined per frame at threshold `set` (--adaptive-thresholds)
   std::string key;
 };
 
 std::string fraction_text(double f) { return fmt::format("{:.4f}", f); }
+
+// A nested set's level scales as results.csv's levels column says them.
+std::string levels_text(const std::vector<double>& scales) {
+  std::string out;
+  for (double s : scales) out += (out.empty() ? "" : ";") + fmt::format("{:.2f}", s);
+  return out;
+}
 
 // The cells that say which row a configuration is (its key), written the same way for
 // --resume's key and for the row itself.
@@ -74,8 +83,14 @@ result_row identity_row(const bench_options& o, const std::vector<named_gaze>& g
   } else {
     r.cells["method"] = method_name(c.how), r.cells["k"] = std::to_string(c.k);
     if (c.floor > 0) r.cells["ray_floor"] = std::to_string(c.floor);
-    if (c.kind == row_kind::foveated) r.cells["scale"] = fmt::format("{:.2f}", o.scales[c.set]);
-    else r.cells["pixel_fraction"] = fraction_text(o.uniform_fractions[c.set]);
+    if (c.kind == row_kind::foveated && c.adaptive) {
+      r.cells["density"] = "adaptive", r.cells["adaptive_threshold"] = fmt::format("{:g}", o.adaptive_thresholds[c.set]);
+      r.cells["levels"] = levels_text(o.levels);
+    } else if (c.kind == row_kind::foveated) {
+      r.cells["scale"] = fmt::format("{:.2f}", o.scales[c.set]), r.cells["density"] = "fixed";
+    } else {
+      r.cells["pixel_fraction"] = fraction_text(o.uniform_fractions[c.set]);
+    }
   }
   return r;
 }
@@ -95,9 +110,10 @@ std::vector<config> all_configs(const bench_options& o, const std::vector<named_
   // Each configuration as a single frame, then in steady state after each --taa-frames N.
   std::vector<uint32_t> taas{0};
   taas.insert(taas.end(), o.taa_frames.begin(), o.taa_frames.end());
-  auto add = [&](size_t sc, row_kind kind, size_t set, size_t g, method how, uint32_t k, uint32_t spp, uint32_t floor) {
+  auto add = [&](size_t sc, row_kind kind, size_t set, size_t g, method how, uint32_t k, uint32_t spp, uint32_t floor,
+                 bool adaptive = false) {
     for (uint32_t taa : taas) {
-      config c{sc, kind, set, g, how, k, spp, floor, taa, ""};
+      config c{sc, kind, set, g, how, k, spp, floor, taa, adaptive, ""};
       c.key = identity_row(o, gazes, c).key();
       if (std::none_of(all.begin(), all.end(), [&](const config& d) { return d.key == c.key; })) all.push_back(c);
     }
@@ -113,6 +129,12 @@ std::vector<config> all_configs(const bench_options& o, const std::vector<named_
             for (uint32_t floor : point_floors(o, kind, spp))
               for (method how : o.methods)
                 for (uint32_t k : how == method::nn ? std::vector<uint32_t>{1} : o.ks) add(sc, kind, si, g, how, k, spp, floor);
+    for (size_t ti = 0; ti < o.adaptive_thresholds.size(); ++ti)
+      for (size_t g = 0; g < gazes.size(); ++g)
+        for (uint32_t spp : o.spps)
+          for (method how : o.methods)
+            for (uint32_t k : how == method::nn ? std::vector<uint32_t>{1} : o.ks)
+              add(sc, row_kind::foveated, ti, g, how, k, spp, 0, true);
     for (size_t si = 0; si < o.scales.size(); ++si)
       for (size_t g = 0; g < gazes.size(); ++g)
         for (uint32_t spp : o.spps)
@@ -139,6 +161,13 @@ std::string bench_pointset_path(const bench_options& o, const display_geometry& 
   dart_params darts;
   darts.fovea = o.fovea, darts.grid_spacing = o.grid_spacing;
   return (fs::path(o.points_dir) / pointset_file_name(model, darts)).string();
+}
+
+// Where the nested set of --levels lives in --points-dir.
+std::string bench_nested_path(const bench_options& o, const display_geometry& display) {
+  spacing_model model;
+  model.display = display, model.scale = o.levels.front();
+  return (fs::path(o.points_dir) / pointset_file_name(model, dart_params{}, {o.levels.rbegin(), o.levels.rend()})).string();
 }
 
 }  // namespace
@@ -300,6 +329,35 @@ std::string render_settings_label(const render_params& p) {
                      p.reconstruct.shape, p.view.hfov_deg, point(p.view.eye), point(p.view.target), point(p.view.up));
 }
 
+std::shared_ptr<const pointset> bench_nested_pointset(const bench_options& o, const display_geometry& display,
+                                                      const std::function<void(const std::string&)>& say) {
+  const std::string path = bench_nested_path(o, display);
+  uint32_t k = knn_params{}.k;
+  for (uint32_t ok : o.ks) k = std::max(k, ok);
+  if (!fs::exists(path)) {
+    say(fmt::format("generating {}", path));
+    spacing_model model;
+    model.display = display;
+    knn_params kp;
+    kp.k = k;
+    make_output_dir(o.points_dir);
+    const knn_storage storage = bench_storage(o, display, kp.k);
+    save_pointset(path, generate_nested_pointset(model, o.levels, dart_params{}, kp, storage));
+  }
+  auto set = std::make_shared<const pointset>(load_pointset(path));
+  std::vector<double> finest_first(set->level_scales.rbegin(), set->level_scales.rend());
+  if (display_name(set->model.display) != display_name(display) || finest_first != o.levels)
+    throw std::runtime_error(fmt::format("{}: made for {} with levels {}, not {} with levels {}", path,
+                                         display_name(set->model.display), levels_text(finest_first), display_name(display),
+                                         levels_text(o.levels)));
+  if (set->storage() != bench_storage(o, display, stored_k(*set)))
+    throw std::runtime_error(fmt::format("{}: keeps its neighbours as {}, not as --neighbours asks", path,
+                                         label_of(knn_storage_labels, set->storage())));
+  for (uint32_t ok : o.ks)
+    if (ok > stored_k(*set)) throw usage_error(fmt::format("--k {} exceeds the k = {} of {}", ok, stored_k(*set), path));
+  return set;
+}
+
 display_geometry check_bench_options(const bench_options& o) {
   for (double s : o.scales)
     if (!(s >= 0.5 && s <= 10)) throw usage_error(fmt::format("--scales: {} is outside 0.5..10", s));
@@ -355,12 +413,25 @@ display_geometry check_bench_options(const bench_options& o) {
         !why.empty())
       throw usage_error("--temporal-frames: " + why + " (fewer frames, or --no-jod)");
   if (o.no_sparse && o.ray_floors.empty()) throw usage_error("--no-sparse leaves no foveated scheme: add --ray-floors");
+  if (!o.levels.empty() || !o.adaptive_thresholds.empty()) {
+    if (o.levels.empty()) throw usage_error("--adaptive-thresholds needs --levels (the nested set's scales)");
+    if (o.adaptive_thresholds.empty()) throw usage_error("--levels needs --adaptive-thresholds (the adaptive rows' thresholds)");
+    if (const std::string why = levels_problem(o.levels); !why.empty()) throw usage_error(why);
+    for (double s : o.levels)
+      if (!(s >= 0.5 && s <= 10)) throw usage_error(fmt::format("--levels: {} is outside 0.5..10", s));
+    for (double t : o.adaptive_thresholds)
+      if (!(t >= 0 && t <= max_adaptive_threshold))
+        throw usage_error(fmt::format("--adaptive-thresholds: {} is outside 0..{:g}", t, max_adaptive_threshold));
+    if (o.fovea == fovea_layout::grid) throw usage_error("--levels: a nested set's fovea is darts; drop --fovea grid");
+    if (o.no_sparse) throw usage_error("--levels: --no-sparse leaves no point set to trace");
+  }
   // Sets that will be generated need a --points-dir this process can write in: known now,
   // not after the references are traced.
   for (double s : o.scales)
     if (!o.no_sparse && !fs::exists(bench_pointset_path(o, display, s))) {
       require_output_dir("--points-dir", o.points_dir);
     }
+  if (!o.levels.empty() && !fs::exists(bench_nested_path(o, display))) require_output_dir("--points-dir", o.points_dir);
   // -o/references must be (or become) a directory.
   if (const fs::path refs = fs::path(o.out) / "references"; fs::exists(refs) && !fs::is_directory(refs))
     throw usage_error(fmt::format("-o {}: {} is not a directory", o.out, refs.string()));
@@ -531,13 +602,21 @@ class scene_sweep {
   void measure_sets(row_kind kind) {
     const size_t sets = kind == row_kind::foveated ? o_.scales.size() : o_.uniform_fractions.size();
     for (size_t si = 0; si < sets; ++si) {
-      if (!st_.needed([&](const config& c) { return c.scene == sc_ && c.kind == kind && c.set == si; })) continue;
+      if (!st_.needed([&](const config& c) { return c.scene == sc_ && c.kind == kind && c.set == si && !c.adaptive; }))
+        continue;
       use_set(kind, si);
       for (size_t g = 0; g < st_.gazes.size(); ++g)
         for (uint32_t spp : o_.spps)
           for (uint32_t floor : point_floors(o_, kind, spp))
-            measure_group(kind, si, g, spp, floor);
+            measure_group(kind, si, g, spp, floor, false);
     }
+    // The nested set, refined per frame at each threshold.
+    if (kind != row_kind::foveated || !st_.needed([&](const config& c) { return c.scene == sc_ && c.adaptive; })) return;
+    r_.use_pointset(bench_nested_pointset(o_, st_.display, st_.sayer()));
+    if (const std::string warning = r_.device_warning(); !warning.empty()) st_.report.line(warning);
+    for (size_t ti = 0; ti < o_.adaptive_thresholds.size(); ++ti)
+      for (size_t g = 0; g < st_.gazes.size(); ++g)
+        for (uint32_t spp : o_.spps) measure_group(kind, ti, g, spp, 0, true);
   }
 
   // The full-resolution baseline: every timing of its frames gathered while the sets were
@@ -727,21 +806,27 @@ class scene_sweep {
   // interleaved with the full-resolution frame, then each measured and written. A method's
   // single-frame and steady-state (TAA) rows share its timings: with TAA rows each
   // repetition reconstructs with TAA, the single frame's time leaving TAA's out.
-  void measure_group(row_kind kind, size_t si, size_t g, uint32_t spp, uint32_t floor) {
+  //
+  // An adaptive group (the nested set in use, si the threshold's index) traces and refines
+  // once per k (the refinement reads the coarser levels' k neighbours) and reconstructs each
+  // method from its k's trace. The view is still, so every repetition after the first keeps
+  // the first one's refinement (as a still view does) and times tracing the levels it chose.
+  void measure_group(row_kind kind, size_t si, size_t g, uint32_t spp, uint32_t floor, bool adaptive) {
     std::vector<const config*> here;
     for (const config& c : st_.all)
       if (c.scene == sc_ && c.kind == kind && c.set == si && c.gaze == g && c.spp == spp && c.floor == floor &&
-          !st_.done.count(c.key))
+          c.adaptive == adaptive && !st_.done.count(c.key))
         here.push_back(&c);
     if (here.empty()) return;
-    const std::string what = kind == row_kind::foveated
-                                 ? fmt::format("s={:.2f}{}", o_.scales[si], floor ? fmt::format(" floor={}", floor) : "")
-                                 : fmt::format("uniform {}", fraction_text(o_.uniform_fractions[si]));
+    const std::string what = adaptive                    ? fmt::format("adaptive T={:g}", o_.adaptive_thresholds[si])
+                             : kind == row_kind::foveated ? fmt::format("s={:.2f}{}", o_.scales[si], floor ? fmt::format(" floor={}", floor) : "")
+                                                          : fmt::format("uniform {}", fraction_text(o_.uniform_fractions[si]));
     const std::string scene = slug(o_.scenes[sc_]);
     const named_gaze& gp = st_.gazes[g];
     render_params p = o_.render;
     p.spp = spp;
     p.ray_floor = floor;
+    if (adaptive) p.adaptive.enabled = true, p.adaptive.threshold = o_.adaptive_thresholds[si];
     const bool with_taa = std::any_of(here.begin(), here.end(), [](const config* c) { return c->taa > 0; });
     // The reconstructions to time: each method and k once, whatever rows it has.
     using recon = std::pair<method, uint32_t>;
@@ -758,15 +843,32 @@ class scene_sweep {
     st_.say(fmt::format("tracing {} {} {} spp={}", scene, what, gp.name, spp));
     p.reconstruct.k = widest;
     frame_timing untimed;
-    const point_samples samples = r_.trace(gp.at, p, untimed).samples;
-    for (const recon& m : recons) {
-      p.reconstruct.how = m.first, p.reconstruct.k = m.second;
-      r_.prepare(samples, p);
+    point_samples samples;
+    std::map<uint32_t, adaptive_trace> refined;  // adaptive: each k's
+    if (adaptive) {
+      for (uint32_t k : ks) {
+        p.reconstruct.k = k;
+        refined[k] = r_.trace_refined(gp.at, p, untimed);
+      }
+      for (const recon& m : recons) {  // each method's first launch, untimed
+        p.reconstruct.how = m.first, p.reconstruct.k = m.second;
+        r_.reconstruct_refined(refined[m.second], gp.at, p, untimed);
+      }
+    } else {
+      samples = r_.trace(gp.at, p, untimed).samples;
+      for (const recon& m : recons) {
+        p.reconstruct.how = m.first, p.reconstruct.k = m.second;
+        r_.prepare(samples, p);
+      }
     }
+    // One rebuild of a set's frame: a fixed set's samples, or the refined levels at k.
+    auto rebuild = [&](const render_params& q, frame_timing& t) -> const frame& {
+      return adaptive ? r_.reconstruct_refined(refined[q.reconstruct.k], gp.at, q, t) : r_.reconstruct(samples, gp.at, q, t);
+    };
     if (with_taa) {  // a TAA history to blend with: the first resolve only passes the frame through
       frame_timing t;
       p.taa = true;
-      r_.reconstruct(samples, gp.at, p, t);
+      rebuild(p, t);
     }
     // Interleaved: each repetition times the full-resolution frame, every k's trace and
     // every method's reconstruction once, so slow phases of a shared machine hit all of
@@ -775,6 +877,7 @@ class scene_sweep {
     std::map<uint32_t, std::vector<double>> trace_ms, trace_cpu;
     std::map<recon, std::vector<double>> reconstruct_ms, taa_ms, reconstruct_cpu;
     std::map<uint32_t, uint64_t> rays, points;
+    std::map<uint32_t, std::vector<uint64_t>> level_rays;  // adaptive: each k's rays per level
     for (uint32_t f = 0; f < o_.frames; ++f) {
       st_.say(fmt::format("timing {} {} {} spp={} ({}/{})", scene, what, gp.name, spp, f + 1, o_.frames));
       full_ms.push_back(time_full(spp));
@@ -784,17 +887,19 @@ class scene_sweep {
         p.reconstruct.k = k;
         frame_timing t;
         const double cpu = process_cpu_ms();
-        r_.trace(gp.at, p, t);
+        if (adaptive) refined[k] = r_.trace_refined(gp.at, p, t);
+        else r_.trace(gp.at, p, t);
         trace_cpu[k].push_back(process_cpu_ms() - cpu);
         trace_ms[k].push_back(t.trace_ms);
         rays[k] = t.rays, points[k] = t.points_traced;
+        if (adaptive) level_rays[k] = t.refinement.rays_per_level;
       }
       for (const recon& m : recons) {
         p.reconstruct.how = m.first, p.reconstruct.k = m.second;
         p.taa = with_taa;
         frame_timing t;
         const double cpu = process_cpu_ms();
-        r_.reconstruct(samples, gp.at, p, t);
+        rebuild(p, t);
         reconstruct_cpu[m].push_back(process_cpu_ms() - cpu);
         reconstruct_ms[m].push_back(t.reconstruct_ms);
         taa_ms[m].push_back(t.taa_ms);
@@ -806,8 +911,13 @@ class scene_sweep {
       const recon m{c->how, c->k};
       p.reconstruct.how = c->how, p.reconstruct.k = c->k;
       frame_timing t;
-      const frame image = c->taa ? r_.steady_state(gp.at, p, c->taa) : r_.reconstruct(samples, gp.at, p, t);
+      const frame image = c->taa ? r_.steady_state(gp.at, p, c->taa) : rebuild(p, t);
       result_row row = row_for(*c);
+      if (adaptive) {
+        std::string text;
+        for (uint64_t n : level_rays[c->k]) text += (text.empty() ? "" : ";") + std::to_string(n);
+        row.cells["level_rays"] = text;
+      }
       const std::vector<double>& traces = trace_ms[c->k];
       row.cells["points_traced"] = std::to_string(points[c->k]), row.cells["rays"] = std::to_string(rays[c->k]);
       row.cells["trace_ms"] = number(summarise(traces).median);

@@ -88,6 +88,14 @@ int main(int argc, char** argv) {
                  "Falloff rows: the full pixel grid, rays falling from each --spp at the gaze to each floor below it as "
                  "the acuity model at each --scales value says (fov::ray_falloff; docs/speed-accuracy.md), e.g. 1,2")
       ->delimiter(',');
+  app.add_option("--levels", o.levels,
+                 "Adaptive rows (column density = adaptive): a nested set of these level scales, increasing "
+                 "(DISPLAY-nS1-S2-....fovset in --points-dir, made when missing), e.g. 0.7,1.0,1.5,2.25,3.0")
+      ->delimiter(',');
+  app.add_option("--adaptive-thresholds", o.adaptive_thresholds,
+                 "With --levels: a row per threshold, the nested set refined per frame where contrast reaches it times "
+                 "the model's threshold (fovrender --adaptive-threshold; docs/adaptive.md), e.g. 1,0.5")
+      ->delimiter(',');
   app.add_option("--point-ray-floors", o.point_ray_floors,
                  "Foveated rows also with each point's rays falling from each --spp at the gaze to each floor below it "
                  "(fov::point_ray_rule: the set's own model; with --fovea grid the hybrid), e.g. 1")

@@ -57,6 +57,7 @@ namespace {
 struct knob_mean {
   row_kind kind{};
   std::string method, k, scale, fraction, spp, floor;
+  std::string threshold;  // an adaptive configuration's (density adaptive); "" for a fixed set
   double frame_ms = 0, frame_lo = 0, frame_hi = 0, full_ms = 0, speedup = 0, speedup_lo = 0, speedup_hi = 0;
   double psnr = 0, psnr_fovea = 0, foveated_error = 0;
   double flip = 0, flip_fovea = 0, flip_p99 = 0, foveated_flip = 0, foveated_flip_p99 = 0, foveated_flip_worst_band = 0;
@@ -70,6 +71,7 @@ struct knob_mean {
     if (kind == row_kind::falloff) return fmt::format("fall s{} {}-{}spp", scale, spp, floor);
     const std::string k_text = method == "nn" ? "" : " k" + k;
     if (kind == row_kind::uniform) return fmt::format("u{} {} {}spp{}", fraction.substr(0, 4), method, spp, k_text);
+    if (!threshold.empty()) return fmt::format("adaptive T{} {} {}spp{}", threshold, method, spp, k_text);
     if (!floor.empty()) return fmt::format("s{} {} {}-{}spp{}", scale, method, spp, floor, k_text);
     return fmt::format("s{} {} {}spp{}", scale, method, spp, k_text);
   }
@@ -93,9 +95,10 @@ std::vector<knob_mean> knob_means(const std::vector<const result_row*>& rows) {
     knob_mean id;
     id.kind = r->kind(), id.method = r->text("method"), id.k = r->text("k"), id.scale = r->text("scale");
     id.fraction = r->text("pixel_fraction"), id.spp = r->text("spp"), id.floor = r->text("ray_floor");
+    id.threshold = r->text("adaptive_threshold");
     auto it = std::find_if(out.begin(), out.end(), [&](const knob_mean& m) {
       return m.kind == id.kind && m.method == id.method && m.k == id.k && m.scale == id.scale && m.fraction == id.fraction &&
-             m.spp == id.spp && m.floor == id.floor;
+             m.spp == id.spp && m.floor == id.floor && m.threshold == id.threshold;
     });
     if (it == out.end()) it = out.insert(out.end(), id);
     it->frame_ms += r->number("frame_ms"), it->frame_lo += r->number("frame_ms_lo"), it->frame_hi += r->number("frame_ms_hi");
@@ -192,10 +195,12 @@ plot_panel pareto_panel(const sweep_part& scene, const std::vector<knob_mean>& m
     std::string name;
     row_kind kind;
     std::string method, scheme;
+    bool adaptive = false;
   };
   const group groups[] = {{"foveated nn", row_kind::foveated, "nn", "nn"},
                           {"foveated shepard", row_kind::foveated, "shepard", "shepard"},
                           {"foveated rbf", row_kind::foveated, "rbf", "rbf"},
+                          {"adaptive (nested set refined per frame)", row_kind::foveated, "", "adaptive", true},
                           {"falloff (full grid, rays by eccentricity)", row_kind::falloff, "", "falloff"},
                           {"uniform", row_kind::uniform, "", "uniform"},
                           {"full resolution", row_kind::full, "", "full"}};
@@ -203,7 +208,9 @@ plot_panel pareto_panel(const sweep_part& scene, const std::vector<knob_mean>& m
     plot_series s;
     s.name = g.name, s.scheme = g.scheme, s.lines = false;
     for (size_t i = 0; i < means.size(); ++i) {
-      if (means[i].kind != g.kind || (!g.method.empty() && means[i].method != g.method)) continue;
+      if (means[i].kind != g.kind || (!g.method.empty() && means[i].method != g.method) ||
+          means[i].threshold.empty() == g.adaptive)
+        continue;
       s.x.push_back(means[i].frame_ms), s.y.push_back(value(i));
       s.x_lo.push_back(means[i].frame_lo), s.x_hi.push_back(means[i].frame_hi);
       const bool front = on(fov_front, i) || on(base_front, i);
@@ -243,7 +250,7 @@ std::vector<std::string> write_bench_figures(const std::vector<result_row>& rows
     const std::string gaze = mine.empty() ? "" : mine[0]->text("gaze");
     double lo_scale = 1e9, hi_scale = 0, top_spp = 0;
     for (const result_row* r : mine) {
-      if (r->kind() == row_kind::foveated)
+      if (r->kind() == row_kind::foveated && r->text("density") != "adaptive")
         lo_scale = std::min(lo_scale, r->number("scale")), hi_scale = std::max(hi_scale, r->number("scale"));
       top_spp = std::max(top_spp, r->number("spp"));
     }
@@ -255,7 +262,8 @@ std::vector<std::string> write_bench_figures(const std::vector<result_row>& rows
       const double s = r->number("scale");
       const bool full = r->kind() == row_kind::full;
       if (r->text("gaze") != gaze || r->number("spp") != top_spp) continue;
-      if (!full && (r->kind() != row_kind::foveated || (s != lo_scale && s != hi_scale) || !r->text("ray_floor").empty()))
+      if (!full && (r->kind() != row_kind::foveated || (s != lo_scale && s != hi_scale) || !r->text("ray_floor").empty() ||
+                    r->text("density") == "adaptive"))
         continue;
       const std::string id = r->text("kind") + "|" + r->text("method") + "|" + r->text("scale");
       if (drawn.count(id) || (!full && r->text("method") != "nn" && r->text("k") != std::to_string(o.ks.empty() ? 5 : o.ks[0])))
@@ -284,7 +292,8 @@ std::vector<std::string> write_bench_figures(const std::vector<result_row>& rows
     // One colour per method; the spp sets the line style.
     std::map<std::pair<std::string, double>, std::map<double, const knob_mean*>> curves;
     for (const knob_mean& m : means) {
-      if (m.kind != row_kind::foveated || (m.method != "nn" && m.k != first_k) || !m.floor.empty()) continue;
+      if (m.kind != row_kind::foveated || (m.method != "nn" && m.k != first_k) || !m.floor.empty() || !m.threshold.empty())
+        continue;
       curves[{m.method, to_number(m.spp)}][to_number(m.scale)] = &m;
     }
     std::vector<double> spps;
@@ -462,9 +471,9 @@ std::string verdict_sentence(const jod_verdict& v) {
 }
 
 // The scheme a configuration belongs to; full resolution belongs to none.
-std::optional<scheme> scheme_of(row_kind kind, bool grid_fovea) {
+std::optional<scheme> scheme_of(row_kind kind, bool grid_fovea, bool adaptive) {
   switch (kind) {
-    case row_kind::foveated: return grid_fovea ? scheme::hybrid : scheme::sparse;
+    case row_kind::foveated: return adaptive ? scheme::adaptive : grid_fovea ? scheme::hybrid : scheme::sparse;
     case row_kind::falloff: return scheme::falloff;
     case row_kind::uniform: return scheme::lower_resolution;
     case row_kind::full: break;
@@ -496,7 +505,7 @@ std::vector<scheme_answer> scheme_answers_by_level(const std::vector<result_row>
     for (const auto& [name, which] : scheme_labels) {
       std::vector<const knob_mean*> candidates;
       for (const knob_mean& m : means)
-        if (scheme_of(m.kind, grid) == which && !std::isnan(m.jod)) candidates.push_back(&m);
+        if (scheme_of(m.kind, grid, !m.threshold.empty()) == which && !std::isnan(m.jod)) candidates.push_back(&m);
       for (const knob_mean* yard : fulls) {
         const reaching r = fastest_reaching(*yard, candidates, fulls);
         const knob_mean* shown = r.best ? r.best : r.closest;
@@ -701,7 +710,8 @@ void write_bench_report(const std::vector<result_row>& rows, const bench_options
     md += "\n### Against the thesis's claims (same-spp speedups)\n\n| scale | method | k | spp | rays / full-resolution rays | "
           "measured speedup (min-max) | PSNR |\n|---:|---|---:|---:|---:|---:|---:|\n";
     for (const result_row* r : mine) {
-      if (r->kind() != row_kind::foveated || r->text("gaze") != mine[0]->text("gaze")) continue;
+      if (r->kind() != row_kind::foveated || r->text("gaze") != mine[0]->text("gaze") || r->text("density") == "adaptive")
+        continue;
       const double s = r->number("scale");
       if (std::fabs(s - 1.0) > 1e-6 && std::fabs(s - 1.75) > 1e-6) continue;
       md += fmt::format("| {} | {} | {} | {} | {:.3f} | {:.2f} ({:.2f}-{:.2f}) | {} |\n", r->text("scale"), r->text("method"),

@@ -58,6 +58,11 @@ struct bench_options {
   // the rows where every point casts spp. Empty: none.
   std::vector<uint32_t> point_ray_floors;
   bool no_sparse = false;  // no sparse sets (foveated rows): falloff rows and baselines only
+  // Adaptive rows (issue 26; docs/adaptive.md): a nested set of these level scales
+  // (increasing, finest first; DISPLAY-nS1-S2-....fovset in points_dir) refined per frame at
+  // each threshold (render_params::adaptive), beside the fixed sets. Empty: none.
+  std::vector<double> levels;
+  std::vector<double> adaptive_thresholds;
   // Every configuration also in steady state under TAA (issue 24): its errors after each of
   // these many frames of a still view (renderer::steady_state, full_steady_state; the
   // pattern is render.pattern), its time a frame's plus TAA's, against full-resolution
@@ -113,15 +118,17 @@ size_t merge_results(const merge_options& m, int argc, char** argv);
 // ladder's, 95 % bootstrap interval), or, when none does, the scheme's best JOD. Means over
 // the gazes; per sweep part (scene, single frames or one steady state), yardstick and scheme.
 enum class scheme {
-  sparse,            // foveated rows with the thesis's darts fovea (any rays per point)
+  sparse,            // foveated rows of fixed density with the thesis's darts fovea (any rays per point)
   hybrid,            // foveated rows with a pixel-grid fovea (--fovea grid)
   falloff,           // the full pixel grid at a foveated sampling rate
   lower_resolution,  // uniform sets: what a user would do instead, judged the same way
+  adaptive,          // foveated rows of density adaptive: a nested set refined per frame
 };
 inline constexpr std::pair<const char*, scheme> scheme_labels[] = {{"sparse", scheme::sparse},
                                                                    {"hybrid", scheme::hybrid},
                                                                    {"falloff", scheme::falloff},
-                                                                   {"lower-resolution", scheme::lower_resolution}};
+                                                                   {"lower-resolution", scheme::lower_resolution},
+                                                                   {"adaptive", scheme::adaptive}};
 struct scheme_answer {
   std::string scene, taa_frames, taa_pattern, display;  // where: the sweep part and its display
   double ppd = 0, pixels = 0;                           // the display's pixels per degree and pixel count

@@ -12,6 +12,7 @@
 
 #include <fmt/format.h>
 
+#include "fov/dart_throwing.h"
 #include "fov/files.h"
 #include "fov/reconstruct_params.h"
 #include "fov/renderer.h"
@@ -26,6 +27,10 @@ const std::vector<std::string>& result_columns() {
       // Empty for a single frame; else the steady state after this many frames of TAA with a
       // still view, the rays in this pattern (--taa-frames, --pattern).
       "taa_frames", "taa_pattern",
+      // A foveated row's density (issue 26): fixed (one set at `scale`) or adaptive (a nested
+      // set of these level scales, refined per frame at this threshold; `scale` empty), and
+      // an adaptive frame's rays per level, coarsest first.
+      "density", "adaptive_threshold", "levels", "level_rays",
       // What it cost, timed interleaved with a full-resolution frame at the same spp.
       "points_traced", "rays", "full_rays", "trace_ms", "reconstruct_ms", "frame_ms", "frame_ms_lo", "frame_ms_hi",
       "full_ms", "full_ms_lo", "full_ms_hi", "speedup", "speedup_lo", "speedup_hi", "timing_flag",
@@ -53,9 +58,9 @@ const std::vector<std::string>& result_columns() {
 }
 
 std::string result_row::key() const {
-  return fmt::format("{}|{}|{}|{}|{}|{}|{}|{}|{}|{}|{}", text("scene"), text("gaze"), text("kind"), text("scale"),
+  return fmt::format("{}|{}|{}|{}|{}|{}|{}|{}|{}|{}|{}|{}|{}|{}", text("scene"), text("gaze"), text("kind"), text("scale"),
                      text("pixel_fraction"), text("method"), text("k"), text("ray_floor"), text("spp"), text("taa_frames"),
-                     text("taa_pattern"));
+                     text("taa_pattern"), text("density"), text("adaptive_threshold"), text("levels"));
 }
 
 const std::string& result_row::text(const std::string& column) const {
@@ -131,10 +136,33 @@ std::string result_row_problem(const result_row& row) {
   } else if (!pattern.empty()) {
     return fmt::format("taa_pattern '{}' without taa_frames", printable(pattern));
   }
-  for (const char* list : {"error_profile", "speedup_samples", "ladder_samples"}) {
+  // Density: a foveated row's fixed or adaptive; an adaptive one names its threshold and
+  // levels (increasing scales joined by ';') and has no single scale.
+  const std::string& density = row.text("density");
+  if (!density.empty() && density != "fixed" && density != "adaptive")
+    return fmt::format("density '{}' is not fixed or adaptive", printable(density));
+  if (!density.empty() && kind != row_kind::foveated)
+    return fmt::format("density '{}' on a {} row (only foveated rows have one)", density, row_kind_name(kind));
+  const bool adaptive = density == "adaptive";
+  if (adaptive != !row.text("adaptive_threshold").empty() || adaptive != !row.text("levels").empty() ||
+      (adaptive && !row.text("scale").empty()))
+    return "an adaptive row names its threshold and levels and no scale; no other row does";
+  if (adaptive) {
+    std::vector<double> scales;
+    std::stringstream in(row.text("levels"));
+    std::string v;
+    while (std::getline(in, v, ';')) {
+      char* end = nullptr;
+      scales.push_back(std::strtod(v.c_str(), &end));
+      if (v.empty() || *end) return fmt::format("levels '{}' is not scales joined by ';'", printable(row.text("levels")));
+    }
+    if (!levels_problem(scales).empty())
+      return fmt::format("levels '{}' is not 2..{} increasing positive scales", printable(row.text("levels")), max_levels);
+  }
+  for (const char* list : {"error_profile", "speedup_samples", "ladder_samples", "level_rays"}) {
     std::stringstream profile(row.text(list));
     std::string v;
-    const bool positive = std::string(list) != "error_profile";
+    const bool positive = std::string(list) != "error_profile" && std::string(list) != "level_rays";
     while (std::getline(profile, v, ';')) {
       char* end = nullptr;
       const double x = std::strtod(v.c_str(), &end);
@@ -146,7 +174,8 @@ std::string result_row_problem(const result_row& row) {
   struct range { double lo, hi; bool lo_open, inf_ok; };
   auto rule = [](const std::string& c) -> std::optional<range> {
     auto starts = [&](const char* p) { return c.rfind(p, 0) == 0; };
-    if (c == "speedup_samples" || c == "ladder_samples" || c == "taa_frames") return std::nullopt;  // checked above
+    if (c == "speedup_samples" || c == "ladder_samples" || c == "level_rays" || c == "taa_frames")
+      return std::nullopt;  // checked above
     constexpr double inf = std::numeric_limits<double>::infinity(), big = std::numeric_limits<double>::max();
     if (starts("psnr") || starts("noise_floor_psnr") || c == "foveated_psnr") return range{0, inf, false, true};
     if (starts("ssim")) return range{-1, 1, false, false};
@@ -156,6 +185,7 @@ std::string result_row_problem(const result_row& row) {
         c == "reference_spp")
       return range{0, big, true, false};
     if (c == "scale") return range{0, 10, true, false};
+    if (c == "adaptive_threshold") return range{0, max_adaptive_threshold, false, false};
     if (starts("jod") || starts("noise_floor_jod") || starts("video_jod") || starts("noise_floor_video_jod"))
       return range{-big, 10, false, false};
     if (c == "k") return range{1, 32, false, false};
@@ -176,7 +206,7 @@ std::string result_row_problem(const result_row& row) {
   return "";
 }
 
-std::vector<result_row> read_results(const std::string& path, bool before_steady_state_ok) {
+std::vector<result_row> read_results(const std::string& path, bool older_ok) {
   std::istringstream in(read_input_file(path, max_results_bytes, "results.csv"));
   auto chomp = [](std::string& s) {  // a file saved with CRLF line ends reads the same
     if (!s.empty() && s.back() == '\r') s.pop_back();
@@ -185,15 +215,21 @@ std::vector<result_row> read_results(const std::string& path, bool before_steady
   if (!std::getline(in, line) || in.eof()) throw std::runtime_error(fmt::format("{}: no header", path));
   chomp(line);
   const std::vector<std::string> header = split_csv(line);
-  std::vector<std::string> before_steady_state = result_columns();
-  before_steady_state.erase(std::remove_if(before_steady_state.begin(), before_steady_state.end(),
-                                           [](const std::string& c) { return c == "taa_frames" || c == "taa_pattern"; }),
-                            before_steady_state.end());
-  const bool older = before_steady_state_ok && header == before_steady_state;
+  // An older fovbench's header: without the density columns, and before that without the
+  // steady-state ones too.
+  auto without = [](std::set<std::string> later) {
+    std::vector<std::string> columns = result_columns();
+    columns.erase(std::remove_if(columns.begin(), columns.end(), [&](const std::string& c) { return later.count(c) > 0; }),
+                  columns.end());
+    return columns;
+  };
+  const bool older = older_ok && (header == without({"density", "adaptive_threshold", "levels", "level_rays"}) ||
+                                  header == without({"density", "adaptive_threshold", "levels", "level_rays", "taa_frames",
+                                                     "taa_pattern"}));
   if (header != result_columns() && !older)
     throw std::runtime_error(fmt::format("{}:1: not a results.csv of this fovbench (columns differ); use another -o", path));
   static const std::set<std::string> text_columns = {"scene",  "gaze",         "kind",   "method",         "texture_footprint", "taa_pattern",
-                                                     "fovea",  "display", "timing_flag",  "device", "neighbours", "render_settings", "error_profile",
+                                                     "fovea",  "display", "timing_flag", "density", "levels", "level_rays",  "device", "neighbours", "render_settings", "error_profile",
                                                      "speedup_samples", "ladder_samples"};
   std::vector<result_row> rows;
   std::map<std::string, int> first_line;  // by key
@@ -206,6 +242,7 @@ std::vector<result_row> read_results(const std::string& path, bool before_steady
       throw std::runtime_error(fmt::format("{}:{}: {} cells, expected {}", path, number, cells.size(), header.size()));
     result_row r;
     if (older) r.cells["taa_frames"] = r.cells["taa_pattern"] = "";  // single frames
+    if (older) r.cells["adaptive_threshold"] = r.cells["levels"] = r.cells["level_rays"] = "";  // fixed sets
     for (size_t i = 0; i < cells.size(); ++i) {
       const std::string& c = cells[i];
       // A number as fovbench writes it: finite, or inf (a PSNR of identical images); empty
@@ -219,6 +256,7 @@ std::vector<result_row> read_results(const std::string& path, bool before_steady
       }
       r.cells[header[i]] = c;
     }
+    if (older && !r.cells.count("density")) r.cells["density"] = r.text("kind") == "foveated" ? "fixed" : "";
     if (const std::string why = result_row_problem(r); !why.empty())
       throw std::runtime_error(fmt::format("{}:{}: {} (not a row fovbench writes)", path, number, why));
     if (const auto [it, added] = first_line.emplace(r.key(), number); !added)

@@ -55,10 +55,11 @@ constexpr uintmax_t max_results_bytes = uintmax_t(256) << 20;
 // the wrong number of cells, a numeric cell is not a number fovbench writes (finite, inf,
 // or empty; never nan), a row fails result_row_problem, or a row repeats an earlier row's
 // configuration (key()). A torn last line (no newline: an interrupted write) is ignored;
-// CRLF line ends read as LF. With before_steady_state_ok (for reading only: fovbench summary),
-// a results.csv from before the steady-state columns (taa_frames, taa_pattern) reads too, its
-// rows single frames; --resume refuses one, since its new rows would have more columns.
-std::vector<result_row> read_results(const std::string& path, bool before_steady_state_ok = false);
+// CRLF line ends read as LF. With older_ok (for reading only: fovbench summary), a results.csv
+// from before the density columns (density, adaptive_threshold, levels, level_rays), or also
+// before the steady-state ones (taa_frames, taa_pattern), reads too, its rows single frames of
+// fixed density; --resume refuses one, since its new rows would have more columns.
+std::vector<result_row> read_results(const std::string& path, bool older_ok = false);
 
 // Appends rows to results.csv, creating it with the header when missing. Each row is
 // flushed and fsync'ed before the call returns, so an interrupted sweep loses at most

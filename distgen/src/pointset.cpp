@@ -78,7 +78,7 @@ std::string fovea_label(const dart_params& params) {
 
 std::string pointset_file_name(const spacing_model& model, const dart_params& darts,
                                const std::vector<double>& level_scales) {
-  if (!level_scales.empty()) {  // finest first, as --levels lists them
+  if (!level_scales.empty()) {  // given coarsest first, named finest first as --levels lists them
     std::string name = display_name(model.display) + "-n";
     for (size_t l = level_scales.size(); l-- > 0;) {
       char scale[64];
@@ -506,6 +506,25 @@ pointset generate_pointset(const spacing_model& model, const dart_params& darts,
   set.model = model;
   set.darts = darts;
   set.points = throw_darts(model, darts, &set.stats);
+  const auto start = std::chrono::steady_clock::now();
+  build_neighbours(set, knn, storage);
+  set.knn_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return set;
+}
+
+pointset generate_nested_pointset(const spacing_model& model, const std::vector<double>& scales, const dart_params& darts,
+                                  const knn_params& knn, knn_storage storage) {
+  if (const std::string why = levels_problem(scales); !why.empty()) throw std::invalid_argument(why);
+  pointset set;
+  set.model = model;
+  set.model.scale = scales.front();
+  set.darts = darts;
+  nested_points nested = throw_nested_darts(model, scales, darts, &set.stats);
+  set.points = std::move(nested.points);
+  set.level = std::move(nested.level);
+  set.level_scales.assign(scales.rbegin(), scales.rend());  // coarsest first
+  if (const auto coarsest = uint64_t(std::count(set.level.begin(), set.level.end(), uint8_t(0))); coarsest < knn.k)
+    throw std::invalid_argument(fmt::format("k = {} exceeds the {} points of the coarsest level", knn.k, coarsest));
   const auto start = std::chrono::steady_clock::now();
   build_neighbours(set, knn, storage);
   set.knn_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

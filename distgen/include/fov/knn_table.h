@@ -61,6 +61,12 @@ void build_neighbours(pointset& set, const knn_params& knn, knn_storage storage)
 pointset generate_pointset(const spacing_model& model, const dart_params& darts, const knn_params& knn,
                            knn_storage storage = knn_storage::table);
 
+// The same for a nested set (fovgen --levels; dart_throwing.h): its levels thrown at these
+// scales (increasing, finest first: levels_problem), its model at the finest scale.
+// std::invalid_argument when the scales are refused or knn.k exceeds the coarsest level's points.
+pointset generate_nested_pointset(const spacing_model& model, const std::vector<double>& scales, const dart_params& darts,
+                                  const knn_params& knn, knn_storage storage = knn_storage::table);
+
 // The non-foveated baseline: a set of uniform density `fraction` of the display's pixels
 // (1/2, 1/4, 1/8, ...: 1 / 2^m), built and traced like a foveated one. For fraction 4^-j
 // the points are the centres of the 2^j x 2^j pixel blocks (a lower-resolution image's
