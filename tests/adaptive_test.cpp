@@ -37,17 +37,10 @@ std::shared_ptr<const pointset> nested_set(uint32_t k = 6) {
   static std::shared_ptr<const pointset> cached;
   static uint32_t cached_k = 0;
   if (cached && cached_k == k) return cached;
-  auto set = std::make_shared<pointset>();
-  set->model = fove_density_model();
-  set->darts = quick_darts(11, 1500);
-  nested_points n = throw_nested_darts(set->model, test_scales, set->darts, &set->stats);
-  set->points = std::move(n.points);
-  set->level = std::move(n.level);
-  set->level_scales = {3.0, 2.0, 1.0};
-  set->model.scale = 1.0;
   knn_params kp;
   kp.k = k;
-  build_neighbours(*set, kp, knn_storage::table);
+  auto set = std::make_shared<pointset>(
+      generate_nested_pointset(fove_density_model(), test_scales, quick_darts(11, 1500), kp, knn_storage::table));
   cached = set, cached_k = k;
   return cached;
 }
@@ -60,6 +53,27 @@ TEST(nested_sets, ScalesMustIncreaseFinestFirst) {
   EXPECT_NE(levels_problem({0.0, 1.0}), "");          // not positive
   EXPECT_NE(levels_problem({1.0, NAN}), "");
   EXPECT_NE(levels_problem(std::vector<double>(max_levels + 1, 1.0)), "");
+}
+
+// generate_nested_pointset (what fovbench makes): levels coarsest first, the model at the
+// finest scale; scales and k it cannot honour refused.
+TEST(nested_sets, GeneratedSetsNameTheirLevelsAndRefuseWhatTheyCannotMake) {
+  const std::shared_ptr<const pointset> set = nested_set();
+  EXPECT_EQ(set->level_scales, (std::vector<double>{3.0, 2.0, 1.0}));
+  EXPECT_EQ(set->model.scale, 1.0);
+  EXPECT_EQ(set->level.size(), set->points.size());
+  EXPECT_EQ(stored_k(*set), 6u);
+  knn_params kp;
+  EXPECT_THROW(generate_nested_pointset(small_model(96, 64), {2.0, 1.0}, quick_darts(5, 1000), kp), std::invalid_argument);
+  spacing_model tiny = small_model(4, 4);
+  tiny.scale = 9.0;
+  kp.k = uint32_t(throw_darts(tiny, quick_darts(5, 1000)).size()) + 1;  // one more than the coarsest level holds
+  try {
+    generate_nested_pointset(tiny, {1.0, 9.0}, quick_darts(5, 1000), kp);
+    ADD_FAILURE() << "k above the coarsest level's points accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("points of the coarsest level"), std::string::npos) << e.what();
+  }
 }
 
 TEST(nested_sets, TheCoarsestLevelIsTheFixedSetOfItsScale) {
