@@ -3,7 +3,8 @@
 # load time of a FOVE nested set beside single-scale sets, then, per scene at a centred gaze,
 # every level of the nested set rendered as a fixed set (--level) and adaptive frames at
 # several thresholds, each against one converged reference, with the reference's noise floor
-# (a second reference, another seed). Prints markdown tables.
+# (a second reference, another seed). Prints markdown tables (scripts/adaptive_tables.py: the
+# frames, then each adaptive frame against the fixed sets at equal rays and equal quality).
 # Usage: scripts/adaptive-study.sh [OUT] [SPP] [REFERENCE_SPP]   (after scripts/build.sh)
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -68,41 +69,7 @@ for scene in ${SCENES:-builtin helmet env}; do
       "$render" $flags --points "$nested" --adaptive --adaptive-threshold $t --spp "$spp" "${timing[@]}" -o "$g/adaptive$t.png" \
         --debug-view refinement --compare "$d/ref-a.exr" --json > "$g/adaptive$t.json"
     done
-    echo "### $scene, gaze $gaze (FOVE, $spp rays per sample, against a $ref_spp-spp reference)"
-    echo
-    python3 - "$g" "$spp" <<'PY'
-import json, sys, glob, os
-d = sys.argv[1]
-floor = json.load(open(f"{d}/floor.json"))
-def band(j, name):
-    return next(b for b in j["bands"] if b["band"] == name)
-names = [b["band"] for b in floor["bands"]]
-print("| frame | rays | frame ms (min-max) | speedup over full res. (95 % interval) | flicker raw / TAA | JOD | FLIP | foveated FLIP | " + " | ".join(f"FLIP {n}" for n in names) + " |")
-print("|---|---:|---:|---:|---:|---:|---:|---:|" + "---:|" * len(names))
-def row(label, j, m):
-    timed = j and "speedup" in j
-    cells = [label, f"{j['rays']:,}" if j else "",
-             f"{j['frame_ms']:.0f} ({j['frame_ms_lo']:.0f}-{j['frame_ms_hi']:.0f})" if timed else (f"{j['total_ms']:.0f}" if j else ""),
-             f"{j['speedup']:.2f} ({j['speedup_interval'][0]:.2f}-{j['speedup_interval'][1]:.2f})" if timed else "",
-             (f"{j['flicker']['raw']:.4f}" + (f" / {j['flicker']['taa']:.4f}" if j['flicker']['taa'] == j['flicker']['taa'] else ""))
-             if j and "flicker" in j else "",
-             f"{m['jod']:.3f}", f"{m['flip']:.4f}", f"{m['foveated_flip']:.4f}"]
-    cells += [f"{band(m, n)['flip']:.4f}" if band(m, n)['flip'] is not None else "" for n in names]
-    print("| " + " | ".join(cells) + " |")
-row("noise floor (second reference)", None, floor)
-full = json.load(open(f"{d}/full.json"))
-# Full resolution's flicker along the same turn, measured beside each foveated frame's.
-full["flicker"] = {"raw": json.load(open(f"{d}/level0.json"))["flicker"]["full_resolution"], "taa": float("nan")}
-row("full resolution", full, full["metrics"])
-for l in range(5):
-    j = json.load(open(f"{d}/level{l}.json")); row(f"fixed, level {l} (s = {j['scale']:.2f})", j, j["metrics"])
-for t in ["1", "0.5", "0.25"]:
-    j = json.load(open(f"{d}/adaptive{t}.json"))
-    a = j["adaptive"]
-    per = ", ".join(f"{l['blocks']}" for l in a["levels"])
-    row(f"adaptive, threshold {t} (blocks per level {per})", j, j["metrics"])
-PY
-    echo
   done
 done
-
+# The tables of every scene and gaze (docs/adaptive.md), from the JSON files above.
+python3 scripts/adaptive_tables.py "$out" "$spp" "$ref_spp" ${SCENES:-builtin helmet env}
