@@ -204,6 +204,12 @@ struct adaptive : ::testing::Test {
     params.adaptive.enabled = true;
   }
   const gaze_point centre{320, 180};
+  // A renderer of the built-in scene with the nested set in use (the params as they are now).
+  std::unique_ptr<renderer> builtin_nested() {
+    auto r = std::make_unique<renderer>(load_scene("builtin"), params);
+    r->use_pointset(nested_set());
+    return r;
+  }
 };
 
 TEST_F(adaptive, AConstantSceneRefinesNothing) {
@@ -261,9 +267,8 @@ TEST_F(adaptive, AnEdgeRefinesOnlyAlongItAndMoreNearTheFovea) {
 }
 
 TEST_F(adaptive, RefiningEverywhereGivesTheFinestLevelsFrame) {
-  const std::shared_ptr<const scene> scn = load_scene("builtin");
-  renderer r(scn, params);
-  r.use_pointset(nested_set());
+  const std::unique_ptr<renderer> made = builtin_nested();
+  renderer& r = *made;
   params.adaptive.threshold = 0;
   const frame refined = r.foveated({300, 200}, params);
   render_params fixed = params;
@@ -278,9 +283,8 @@ TEST_F(adaptive, RefiningEverywhereGivesTheFinestLevelsFrame) {
 }
 
 TEST_F(adaptive, TheBudgetIsHonoured) {
-  const std::shared_ptr<const scene> scn = load_scene("builtin");
-  renderer r(scn, params);
-  r.use_pointset(nested_set());
+  const std::unique_ptr<renderer> made = builtin_nested();
+  renderer& r = *made;
   params.adaptive.threshold = 0.05;
   frame_timing free_run;
   r.foveated(centre, params, &free_run);
@@ -352,9 +356,8 @@ TEST_F(adaptive, TheDeviceRebuildsWhatTheCppPathDoes) {
 }
 
 TEST_F(adaptive, FlickerIsMeasuredAndAStillViewDoesNotFlicker) {
-  const std::shared_ptr<const scene> scn = load_scene("builtin");
-  renderer r(scn, params);
-  r.use_pointset(nested_set());
+  const std::unique_ptr<renderer> made = builtin_nested();
+  renderer& r = *made;
   params.adaptive.threshold = 0.2;
   flicker_params still;
   still.frames = 4, still.yaw_deg_per_frame = 0, still.gaze_px_per_frame = 0, still.full_resolution = false;
