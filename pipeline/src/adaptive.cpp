@@ -151,7 +151,7 @@ adaptive_trace trace_adaptive(const scene& sc, const camera& cam, const nested_l
   out.report.rays_per_level.assign(level_count, 0);
   out.report.points_per_level.assign(level_count, 0);
   std::vector<uint8_t> scheduled(finest.points.size(), 0);  // traced or about to be
-  std::vector<uint32_t> seen(finest.points.size(), 0);      // counted for the candidate numbered seen - 1
+  std::vector<uint32_t> seen(p.budget > 0 ? finest.points.size() : 0, 0);  // (budgets) counted for the candidate numbered seen - 1
   point_samples& all = out.traced.samples;
   auto trace_new = [&](std::vector<uint32_t> list, uint32_t l) {
     std::sort(list.begin(), list.end());
@@ -215,20 +215,22 @@ adaptive_trace trace_adaptive(const scene& sc, const camera& cam, const nested_l
       if (ratio >= 1 || (c.depth_edge && fc < fd)) wanted.push_back({c.depth_edge ? std::max(ratio, 1.0) : ratio, b});
     }
     std::stable_sort(wanted.begin(), wanted.end(), [](const candidate& a, const candidate& b) { return a.priority > b.priority; });
-    std::fill(seen.begin(), seen.end(), 0u);
+    if (p.budget > 0) std::fill(seen.begin(), seen.end(), 0u);
     std::vector<std::vector<uint32_t>> next(wanted.size());
     tbb::parallel_for(size_t(0), wanted.size(),
                       [&](size_t j) { next[j] = block_points(levels, l + 1, blocks[wanted[j].block], k); });
     std::vector<uint32_t> list;
     for (size_t j = 0; j < wanted.size(); ++j) {
-      uint64_t cost = 0;
-      for (uint32_t i : next[j])  // each new point once (a list may repeat one)
-        if (!scheduled[i] && seen[i] != j + 1) seen[i] = uint32_t(j + 1), cost += rays_of(i);
-      if (p.budget > 0 && used + cost > p.budget) {
-        ++out.report.refinements_left_out;
-        continue;
+      if (p.budget > 0) {  // what the block would cost: each new point once (a list may repeat one)
+        uint64_t cost = 0;
+        for (uint32_t i : next[j])
+          if (!scheduled[i] && seen[i] != j + 1) seen[i] = uint32_t(j + 1), cost += rays_of(i);
+        if (used + cost > p.budget) {
+          ++out.report.refinements_left_out;
+          continue;
+        }
+        used += cost;
       }
-      used += cost;
       for (uint32_t i : next[j])
         if (!scheduled[i]) scheduled[i] = 1, list.push_back(i);
       const uint32_t b = wanted[j].block;
