@@ -189,22 +189,20 @@ void read_timings(json& j, const std::string& set_path) {
 
 // Generates one set and writes it; the table goes to disk band by band.
 pointset generate_file(const spacing_model& model, const generate_options& o, const std::string& path) {
+  dart_params darts;
+  darts.seed = o.seed;
+  darts.saturation_rejections = o.saturation;
+  darts.fovea = o.fovea;
+  darts.grid_spacing = o.grid_spacing;
   pointset set;
-  set.model = model;
-  set.darts.seed = o.seed;
-  set.darts.saturation_rejections = o.saturation;
-  set.darts.fovea = o.fovea;
-  set.darts.grid_spacing = o.grid_spacing;
   if (!o.levels.empty()) {
-    nested_points nested = throw_nested_darts(model, o.levels, set.darts, &set.stats);
-    set.points = std::move(nested.points);
-    set.level = std::move(nested.level);
-    set.level_scales.assign(o.levels.rbegin(), o.levels.rend());  // coarsest first
-    set.model.scale = o.levels.front();
-    if (uint64_t coarsest = std::count(set.level.begin(), set.level.end(), uint8_t(0)); coarsest < o.k)
+    set = throw_nested_pointset(model, o.levels, darts);  // (--levels checked by parse)
+    if (const uint64_t coarsest = coarsest_level_points(set); coarsest < o.k)
       throw usage_error(fmt::format("--k {} exceeds the {} points of the coarsest level; use --k {} or less", o.k,
                                     coarsest, coarsest));
   } else {
+    set.model = model;
+    set.darts = darts;
     set.points = throw_darts(model, set.darts, &set.stats);
   }
   if (set.points.size() < o.k)

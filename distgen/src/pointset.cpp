@@ -512,8 +512,7 @@ pointset generate_pointset(const spacing_model& model, const dart_params& darts,
   return set;
 }
 
-pointset generate_nested_pointset(const spacing_model& model, const std::vector<double>& scales, const dart_params& darts,
-                                  const knn_params& knn, knn_storage storage) {
+pointset throw_nested_pointset(const spacing_model& model, const std::vector<double>& scales, const dart_params& darts) {
   if (const std::string why = levels_problem(scales); !why.empty()) throw std::invalid_argument(why);
   pointset set;
   set.model = model;
@@ -523,7 +522,17 @@ pointset generate_nested_pointset(const spacing_model& model, const std::vector<
   set.points = std::move(nested.points);
   set.level = std::move(nested.level);
   set.level_scales.assign(scales.rbegin(), scales.rend());  // coarsest first
-  if (const auto coarsest = uint64_t(std::count(set.level.begin(), set.level.end(), uint8_t(0))); coarsest < knn.k)
+  return set;
+}
+
+uint64_t coarsest_level_points(const pointset& set) {
+  return set.level.empty() ? set.points.size() : uint64_t(std::count(set.level.begin(), set.level.end(), uint8_t(0)));
+}
+
+pointset generate_nested_pointset(const spacing_model& model, const std::vector<double>& scales, const dart_params& darts,
+                                  const knn_params& knn, knn_storage storage) {
+  pointset set = throw_nested_pointset(model, scales, darts);
+  if (const uint64_t coarsest = coarsest_level_points(set); coarsest < knn.k)
     throw std::invalid_argument(fmt::format("k = {} exceeds the {} points of the coarsest level", knn.k, coarsest));
   const auto start = std::chrono::steady_clock::now();
   build_neighbours(set, knn, storage);

@@ -61,9 +61,15 @@ void build_neighbours(pointset& set, const knn_params& knn, knn_storage storage)
 pointset generate_pointset(const spacing_model& model, const dart_params& darts, const knn_params& knn,
                            knn_storage storage = knn_storage::table);
 
-// The same for a nested set (fovgen --levels; dart_throwing.h): its levels thrown at these
-// scales (increasing, finest first: levels_problem), its model at the finest scale.
-// std::invalid_argument when the scales are refused or knn.k exceeds the coarsest level's points.
+// A nested set (fovgen --levels; dart_throwing.h) without neighbours: its levels thrown at
+// these scales (increasing, finest first: levels_problem; std::invalid_argument otherwise),
+// level_scales coarsest first, its model at the finest scale.
+pointset throw_nested_pointset(const spacing_model& model, const std::vector<double>& scales, const dart_params& darts);
+// The number of points of a nested set's coarsest level (all points of a fixed set).
+uint64_t coarsest_level_points(const pointset& set);
+
+// throw_nested_pointset with its neighbours built; std::invalid_argument also when knn.k
+// exceeds the coarsest level's points.
 pointset generate_nested_pointset(const spacing_model& model, const std::vector<double>& scales, const dart_params& darts,
                                   const knn_params& knn, knn_storage storage = knn_storage::table);
 
