@@ -181,6 +181,12 @@ knn_storage bench_storage(const bench_options& o, const display_geometry& displa
   return knn_table_memory_problem(display, k).empty() ? knn_storage::table : knn_storage::cells;
 }
 
+// Every --k the sweep reads must be within the set's stored k.
+void require_ks(const bench_options& o, const pointset& set, const std::string& path) {
+  for (uint32_t k : o.ks)
+    if (k > stored_k(set)) throw usage_error(fmt::format("--k {} exceeds the k = {} of {}", k, stored_k(set), path));
+}
+
 }  // namespace
 
 std::shared_ptr<const pointset> bench_pointset(const bench_options& o, const display_geometry& display, double scale,
@@ -218,8 +224,7 @@ std::shared_ptr<const pointset> bench_pointset(const bench_options& o, const dis
   if (display_name(set->model.display) != display_name(display) || set->model.scale != scale)
     throw std::runtime_error(fmt::format("{}: made for {} at s = {}, not {} at s = {}", path, display_name(set->model.display),
                                          set->model.scale, display_name(display), scale));
-  for (uint32_t k : o.ks)
-    if (k > stored_k(*set)) throw usage_error(fmt::format("--k {} exceeds the k = {} of {}", k, stored_k(*set), path));
+  require_ks(o, *set, path);
   return set;
 }
 
@@ -353,14 +358,14 @@ std::shared_ptr<const pointset> bench_nested_pointset(const bench_options& o, co
   if (set->storage() != bench_storage(o, display, stored_k(*set)))
     throw std::runtime_error(fmt::format("{}: keeps its neighbours as {}, not as --neighbours asks", path,
                                          label_of(knn_storage_labels, set->storage())));
-  for (uint32_t ok : o.ks)
-    if (ok > stored_k(*set)) throw usage_error(fmt::format("--k {} exceeds the k = {} of {}", ok, stored_k(*set), path));
+  require_ks(o, *set, path);
   return set;
 }
 
 display_geometry check_bench_options(const bench_options& o) {
-  for (double s : o.scales)
-    if (!(s >= 0.5 && s <= 10)) throw usage_error(fmt::format("--scales: {} is outside 0.5..10", s));
+  for (const auto& [flag, scales] : {std::pair<const char*, const std::vector<double>&>{"--scales", o.scales}, {"--levels", o.levels}})
+    for (double s : scales)
+      if (!(s >= 0.5 && s <= 10)) throw usage_error(fmt::format("{}: {} is outside 0.5..10", flag, s));
   for (uint32_t k : o.ks)
     if (k < 1 || k > max_knn) throw usage_error(fmt::format("--k: {} is outside 1..{}", k, max_knn));
   for (uint32_t s : o.spps)
@@ -417,8 +422,6 @@ display_geometry check_bench_options(const bench_options& o) {
     if (o.levels.empty()) throw usage_error("--adaptive-thresholds needs --levels (the nested set's scales)");
     if (o.adaptive_thresholds.empty()) throw usage_error("--levels needs --adaptive-thresholds (the adaptive rows' thresholds)");
     if (const std::string why = levels_problem(o.levels); !why.empty()) throw usage_error(why);
-    for (double s : o.levels)
-      if (!(s >= 0.5 && s <= 10)) throw usage_error(fmt::format("--levels: {} is outside 0.5..10", s));
     for (double t : o.adaptive_thresholds)
       if (!(t >= 0 && t <= max_adaptive_threshold))
         throw usage_error(fmt::format("--adaptive-thresholds: {} is outside 0..{:g}", t, max_adaptive_threshold));
