@@ -4,6 +4,7 @@
 #include <CL/cl.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cstddef>
 #include <cmath>
 #include <stdexcept>
@@ -215,7 +216,8 @@ reconstruct_result cl_reconstructor::run(const point_samples& samples, const rec
     return result;
   }
   cl_event done = launch(samples, params, result, only);
-  read_back(impl_->out_rgb, out);
+  check(clWaitForEvents(1, &done), "kernel wait");
+  result.read_back_ms = read_back(impl_->out_rgb, out);
   result.kernel_ms = event_ms(done);
   clReleaseEvent(done);
   return result;
@@ -264,6 +266,7 @@ cl_event cl_reconstructor::launch(const point_samples& samples, const reconstruc
 
   // Colours are written straight into the mapped device buffer (on a CPU device a
   // mapping is the buffer itself: no staging copy).
+  const auto upload_start = std::chrono::steady_clock::now();
   cl_int status = 0;
   auto* colours = static_cast<cl_float4*>(clEnqueueMapBuffer(d.queue, d.colour, CL_TRUE, CL_MAP_WRITE_INVALIDATE_REGION, 0,
                                                              samples.colour.size() * sizeof(cl_float4), 0, nullptr,
@@ -276,6 +279,7 @@ cl_event cl_reconstructor::launch(const point_samples& samples, const reconstruc
   check(clEnqueueUnmapMemObject(d.queue, d.colour, colours, 0, nullptr, nullptr), "colour unmap");
   check(clEnqueueWriteBuffer(d.queue, d.depth, CL_FALSE, 0, samples.depth.size() * sizeof(float), samples.depth.data(),
                              0, nullptr, nullptr), "depth upload");
+  result.upload_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - upload_start).count();
 
   const cl_uint cells = t.k == 0 ? 1 : 0, cell_tiles_x = set_.cells.tiles_x();
   const cl_uint canvas_width = set_.canvas_width(), k_stored = stored_k(set_), group = t.group;
@@ -313,7 +317,8 @@ cl_event cl_reconstructor::launch(const point_samples& samples, const reconstruc
   return done;
 }
 
-void cl_reconstructor::read_back(cl_mem rgb, frame& out) {
+double cl_reconstructor::read_back(cl_mem rgb, frame& out) {
+  const auto start = std::chrono::steady_clock::now();
   impl& d = *impl_;
   out.width = set_.model.display.width;
   out.height = set_.model.display.height;
@@ -334,6 +339,7 @@ void cl_reconstructor::read_back(cl_mem rgb, frame& out) {
   });
   check(clEnqueueUnmapMemObject(d.queue, rgb, const_cast<cl_float4*>(image), 0, nullptr, nullptr), "image unmap");
   check(clFinish(d.queue), "read-back");
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }
 
 namespace {
@@ -433,7 +439,9 @@ reconstruct_result cl_reconstructor::run_taa(const point_samples& samples, const
     check(clEnqueueCopyBuffer(d.queue, d.out_rgb, d.history, 0, 0, pixels * sizeof(cl_float4), 0, nullptr, nullptr),
           "history copy");
   }
-  read_back(d.history, out);
+  check(clWaitForEvents(1, &done), "kernel wait");
+  check(clFinish(d.queue), "history copy");
+  result.read_back_ms = read_back(d.history, out);
   result.kernel_ms = event_ms(done);
   result.taa_kernel_ms = taa_ms;
   clReleaseEvent(done);

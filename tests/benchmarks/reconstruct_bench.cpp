@@ -1,10 +1,14 @@
 // Reconstruction cost per frame (docs/reconstruction.md; thesis Table 2 remade): NN,
 // Shepard and RBF at k = 5, 10, 15, 20 on the FOVE s = 1.0 set (precomputed/, generated
-// in memory when missing), centred gaze, on the OpenCL device (PoCL here) and on the C++
-// path. Colours are synthetic: the cost does not depend on them. Device setup (kernel
-// build, table upload) and RBF's one-time weight solve (rbf_cache.h) happen outside the
-// timed loop; the solve's time is reported as the counter weights_s.
+// in memory when missing; FOV_BENCH_SET names another .fovset, table or cells), centred
+// gaze, on the OpenCL device (the first platform's first device: PoCL here) and on the C++
+// path; then the device's reconstruction followed by TAA, as a live loop runs them.
+// Colours are synthetic: the cost does not depend on them. Device setup (kernel build,
+// table upload) and RBF's one-time weight solve (rbf_cache.h) happen outside the timed
+// loop; the solve's time is reported as the counter weights_s.
 #include <algorithm>
+#include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <memory>
 
@@ -17,10 +21,14 @@
 
 namespace {
 
+std::string set_path() {
+  const char* env = std::getenv("FOV_BENCH_SET");
+  return env ? env : FOV_SOURCE_DIR "/precomputed/fove-s1.00.fovset";
+}
+
 const fov::pointset& bench_set() {
   static const fov::pointset set = [] {
-    const std::string file = FOV_SOURCE_DIR "/precomputed/fove-s1.00.fovset";
-    if (std::filesystem::exists(file)) return fov::load_pointset(file);
+    if (std::getenv("FOV_BENCH_SET") || std::filesystem::exists(set_path())) return fov::load_pointset(set_path());
     return fov::generate_pointset(fov::spacing_model{}, {}, {});
   }();
   return set;
@@ -63,13 +71,14 @@ void BM_Reconstruct(benchmark::State& state) {
     if (rp.how == fov::method::rbf) state.counters["weights_s"] = device().rbf_cache()->seconds();
   }
   bool ran_on_device = false;
-  double kernel_ms = 1e30;
+  double kernel_ms = 1e30, upload_ms = 0, read_back_ms = 0;
   fov::frame f;  // on the device, reused frame to frame as a live loop does
   for (auto _ : state) {
     if (on_device) {
       const fov::reconstruct_result r = device().run(bench_samples(), rp, f);
       ran_on_device = r.on_device;
       if (ran_on_device) kernel_ms = std::min(kernel_ms, r.kernel_ms);
+      upload_ms += r.upload_ms, read_back_ms += r.read_back_ms;
     } else {
       f = fov::reconstruct(bench_set(), bench_samples(), rp, nullptr, cache.get());
     }
@@ -77,6 +86,8 @@ void BM_Reconstruct(benchmark::State& state) {
   }
   state.counters["on_device"] = ran_on_device ? 1 : 0;
   if (!ran_on_device) return;
+  state.counters["upload_ms"] = upload_ms / double(state.iterations());
+  state.counters["read_back_ms"] = read_back_ms / double(state.iterations());
   // The least a kernel must move per pixel: k table entries (4 B) and, per neighbour,
   // its colour (16 B), depth (4 B), for Shepard and RBF its position (8 B) and for RBF
   // its weight (4 B); writes 16 + 4 B.
@@ -96,6 +107,70 @@ BENCHMARK(BM_Reconstruct)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 
+// Reconstruction and TAA on the device, the frame kept there between them (run_taa), as
+// fovview's loop runs them: a still camera, the gaze still (moving 0) or stepping 16 px
+// each frame (moving 1, which exercises the kernel's focus-lag path). kernel_ms and
+// taa_kernel_ms are the two kernels' best device times; the wall time adds the colour
+// upload and the frame's read-back (upload_ms, read_back_ms: their means) and the host's
+// copy of the frame as the next history.
+// args: method (0 nn, 1 shepard, 2 rbf), k, moving gaze (0, 1)
+void BM_ReconstructTaa(benchmark::State& state) {
+  fov::reconstruct_params rp;
+  rp.how = fov::method(state.range(0));
+  rp.k = uint32_t(state.range(1));
+  if (!device().available()) return state.SkipWithError(device().reason().c_str());
+  const fov::display_geometry& d = bench_set().model.display;
+  const fov::camera cam;
+  fov::taa_state history;
+  fov::frame f;
+  int step = 0;
+  auto gaze = [&] {
+    const double dx = state.range(2) ? 16.0 * (step % 2) : 0.0;
+    return fov::gaze_point{0.5 * d.width + dx, 0.5 * d.height};
+  };
+  device().run_taa(bench_samples(), rp, history, cam, gaze(), {}, f);  // warm-up, makes the history
+  double kernel_ms = 1e30, taa_ms = 1e30, upload_ms = 0, read_back_ms = 0;
+  bool ran_on_device = true;
+  for (auto _ : state) {
+    ++step;
+    const fov::reconstruct_result r = device().run_taa(bench_samples(), rp, history, cam, gaze(), {}, f);
+    ran_on_device = ran_on_device && r.on_device;
+    kernel_ms = std::min(kernel_ms, r.kernel_ms);
+    taa_ms = std::min(taa_ms, r.taa_kernel_ms);
+    upload_ms += r.upload_ms, read_back_ms += r.read_back_ms;
+    benchmark::DoNotOptimize(f.rgb.data());
+  }
+  state.counters["on_device"] = ran_on_device ? 1 : 0;
+  state.counters["kernel_ms"] = kernel_ms;
+  state.counters["taa_kernel_ms"] = taa_ms;
+  state.counters["upload_ms"] = upload_ms / double(state.iterations());
+  state.counters["read_back_ms"] = read_back_ms / double(state.iterations());
+}
+BENCHMARK(BM_ReconstructTaa)
+    ->ArgNames({"method", "k", "moving"})
+    ->ArgsProduct({{0, 1, 2}, {5}, {0, 1}})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+
 }  // namespace
 
-BENCHMARK_MAIN();
+// The set and the device go into the report's context, so a run on another machine says
+// what it measured.
+int main(int argc, char** argv) {
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  try {
+    bench_set();
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "reconstruct_bench: %s: %s\n", set_path().c_str(), e.what());
+    return 2;
+  }
+  const fov::pointset& set = bench_set();
+  benchmark::AddCustomContext("set", set_path() + (std::filesystem::exists(set_path()) ? "" : " (generated in memory)"));
+  benchmark::AddCustomContext("display", std::to_string(set.model.display.width) + "x" + std::to_string(set.model.display.height));
+  benchmark::AddCustomContext("points", std::to_string(set.points.size()));
+  benchmark::AddCustomContext("opencl_device", device().available() ? device().device() : "none: " + device().reason());
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}

@@ -29,6 +29,11 @@ struct reconstruct_result {
   rbf_stats rbf;             // RBF only: the weight solves' fallbacks and conditioning
   double kernel_ms = 0;      // device time of the reconstruction kernel (profiling events)
   double taa_kernel_ms = 0;  // run_taa on the device: the TAA kernel's time (0 without history)
+  // On the device, host wall times: the samples' upload (colours converted into a mapped
+  // buffer, depths enqueued) and the frame's read-back (depth download, image map, conversion
+  // to the frame's layout), which starts once the kernels are done.
+  double upload_ms = 0;
+  double read_back_ms = 0;
 };
 
 class cl_reconstructor {
@@ -86,7 +91,7 @@ class cl_reconstructor {
   rbf_weight_cache* prepare_rbf(const reconstruct_params& params);  // null unless RBF
   ::_cl_event* launch(const point_samples& samples, const reconstruct_params& params, reconstruct_result& result,
                       const level_mask* only = nullptr);
-  void read_back(::_cl_mem* rgb, frame& out);
+  double read_back(::_cl_mem* rgb, frame& out);  // milliseconds it took
   const pointset& set_;
 };
 
