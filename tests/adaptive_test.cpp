@@ -212,6 +212,40 @@ struct adaptive : ::testing::Test {
   }
 };
 
+// Finer levels trace into the coarsest level's arrays (trace_more_points): the same samples as
+// tracing every point in one call, and a trace placed elsewhere or a point twice is refused.
+TEST(trace_more_points, TracingInTwoListsEqualsTracingThemTogether) {
+  const std::unique_ptr<scene> loaded = load_scene("builtin");
+  const scene& sc = *loaded;
+  const camera cam = setup_camera(sc);
+  const std::shared_ptr<const pointset> set = nested_set();
+  trace_params tp;
+  tp.spp = 2;
+  tp.seed = 3;
+  const gaze_point gaze{300, 200};
+  std::vector<uint32_t> every, a, b;
+  for (uint32_t i = 0; i < set->points.size(); i += 3) every.push_back(i);
+  for (size_t j = 0; j < every.size(); ++j) (j % 2 ? b : a).push_back(every[j]);
+  ASSERT_GT(b.size(), 100u);
+  const points_trace whole = trace_listed_points(sc, cam, *set, every, gaze, tp);
+  points_trace parts = trace_listed_points(sc, cam, *set, a, gaze, tp);
+  EXPECT_EQ(trace_more_points(sc, cam, *set, b, gaze, tp, parts), uint64_t(b.size()) * tp.spp);
+  EXPECT_EQ(parts.samples.traced, whole.samples.traced);
+  EXPECT_EQ(parts.samples.rays, whole.samples.rays);
+  EXPECT_EQ(parts.samples.colour, whole.samples.colour);
+  EXPECT_EQ(parts.samples.depth, whole.samples.depth);
+  EXPECT_EQ(parts.samples.hits, whole.samples.hits);
+  uint32_t hit = 0;
+  for (uint32_t i : every) hit += whole.samples.hits[i] > 0;
+  EXPECT_GT(hit, 0u) << "the points see the scene";
+  EXPECT_EQ(trace_more_points(sc, cam, *set, {}, gaze, tp, parts), 0u);
+  EXPECT_THROW(trace_more_points(sc, cam, *set, {a[1]}, gaze, tp, parts), std::invalid_argument);  // traced already
+  EXPECT_THROW(trace_more_points(sc, cam, *set, {1, 0}, gaze, tp, parts), std::invalid_argument);  // not ascending
+  EXPECT_THROW(trace_more_points(sc, cam, *set, {uint32_t(set->points.size())}, gaze, tp, parts), std::invalid_argument);
+  points_trace elsewhere = trace_listed_points(sc, cam, *set, a, {100, 100}, tp);
+  EXPECT_THROW(trace_more_points(sc, cam, *set, b, gaze, tp, elsewhere), std::invalid_argument);  // placed for another gaze
+}
+
 TEST_F(adaptive, AConstantSceneRefinesNothing) {
   renderer r(load_scene(edge_envmap(0.4f, 0.4f, "fovray-flat.exr")), params);
   r.use_pointset(nested_set());

@@ -153,25 +153,16 @@ adaptive_trace trace_adaptive(const scene& sc, const camera& cam, const nested_l
   std::vector<uint8_t> scheduled(finest.points.size(), 0);  // traced or about to be
   std::vector<uint32_t> seen(p.budget > 0 ? finest.points.size() : 0, 0);  // (budgets) counted for the candidate numbered seen - 1
   point_samples& all = out.traced.samples;
+  // The coarsest level's trace makes the set-sized arrays; finer levels trace into them.
   auto trace_new = [&](std::vector<uint32_t> list, uint32_t l) {
     std::sort(list.begin(), list.end());
     out.report.points_per_level[l] = list.size();
-    if (list.empty()) return;
-    points_trace t = trace_listed_points(sc, cam, finest, std::move(list), gaze, tp);
-    out.report.rays_per_level[l] = t.samples.rays;
     if (all.colour.empty()) {
-      out.traced = std::move(t);
+      out.traced = trace_listed_points(sc, cam, finest, std::move(list), gaze, tp);
+      out.report.rays_per_level[l] = all.rays;
       return;
     }
-    for (uint32_t i : t.samples.traced)
-      all.colour[i] = t.samples.colour[i], all.depth[i] = t.samples.depth[i], all.hits[i] = t.samples.hits[i];
-    std::vector<uint32_t> merged;
-    merged.reserve(all.traced.size() + t.samples.traced.size());
-    std::merge(all.traced.begin(), all.traced.end(), t.samples.traced.begin(), t.samples.traced.end(),
-               std::back_inserter(merged));
-    all.traced.swap(merged);
-    all.rays += t.samples.rays;
-    out.traced.stats.timing.setup += t.stats.timing.setup;  // (timing only when asked)
+    out.report.rays_per_level[l] = trace_more_points(sc, cam, finest, list, gaze, tp, out.traced);
   };
 
   // Level 0: every block.

@@ -1,6 +1,7 @@
 #include "fov/trace.h"
 
 #include <algorithm>
+#include <iterator>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -370,21 +371,62 @@ glm::vec2 owen_sobol_2d(uint32_t s, uint32_t sx, uint32_t sy) {
 
 namespace {
 
-// Each traced point's rays (indexed like samples.traced): spp, or point_ray_rule's n(d) at the
-// point's screen position (placed and mirrored as samples says).
-std::vector<uint16_t> traced_point_rays(const pointset& set, const point_samples& samples, gaze_point gaze,
-                                        const trace_params& params) {
-  std::vector<uint16_t> n(samples.traced.size(), uint16_t(params.spp));
+// The rays of each of `points` (indexed like it): spp, or point_ray_rule's n(d) at the
+// point's screen position (placed and mirrored as `placement` says).
+std::vector<uint16_t> listed_point_rays(const pointset& set, const std::vector<uint32_t>& points,
+                                        const point_samples& placement, gaze_point gaze, const trace_params& params) {
+  std::vector<uint16_t> n(points.size(), uint16_t(params.spp));
   if (params.ray_floor == 0) return n;
   const falloff_rule rule = point_ray_rule(set, gaze, params.spp, params.ray_floor);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, n.size(), 4096), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t k = r.begin(); k < r.end(); ++k) {
-      const glm::vec2 at = placed_position(set.model.display, set.points[samples.traced[k]], samples.offset,
-                                           samples.mirror_x, samples.mirror_y);
+      const glm::vec2 at = placed_position(set.model.display, set.points[points[k]], placement.offset,
+                                           placement.mirror_x, placement.mirror_y);
       n[k] = uint16_t(rule.rays_at(std::hypot(double(at.x) - gaze.x, double(at.y) - gaze.y)));
     }
   });
   return n;
+}
+std::vector<uint16_t> traced_point_rays(const pointset& set, const point_samples& samples, gaze_point gaze,
+                                        const trace_params& params) {
+  return listed_point_rays(set, samples.traced, samples, gaze, params);
+}
+
+// Casts the rays of `points` (placed as `out` says) and writes their samples into `out`'s
+// per-point arrays, which hold the whole set; returns the rays cast.
+uint64_t cast_points(const scene::impl& d, const camera_frame& f, const pointset& set, const std::vector<uint32_t>& points,
+                     gaze_point gaze, const trace_params& params, point_samples& out, trace_timing* timing_total) {
+  const uint32_t spp = params.spp;
+  // Rays per point; a ray's owner is its point's place in `points`.
+  const std::vector<uint16_t> rays_of = listed_point_rays(set, points, out, gaze, params);
+  const bool pixel_footprint = params.footprint == texture_footprint::pixel;
+  const grid_test on_grid(set);
+  const size_t chunk = std::max<size_t>(1, 256 / spp);  // points per task: about 256 rays at the gaze
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, points.size(), chunk), [&](const tbb::blocked_range<size_t>& r) {
+    task_timing timing(timing_total);
+    std::vector<sample_ray> rays;
+    rays.reserve((r.end() - r.begin()) * spp);
+    for (size_t k = r.begin(); k < r.end(); ++k) {
+      const uint32_t i = points[k];
+      const uint32_t rays_here = rays_of[k];
+      // A grid point's rays are a pixel's: they filter textures as a full-resolution pixel's do.
+      const bool grid_point = on_grid(set.points[i]);
+      const float radius = (pixel_footprint || grid_point ? 0.5f : set.points[i].spacing) * (1.0f / std::sqrt(float(rays_here)));
+      point_rays(set, grid_point, i, out.offset, params, rays_here,
+                 [&](float x, float y) { rays.push_back({x, y, radius, uint32_t(k)}); });
+    }
+    trace_rays(d, params.sun ? *params.sun : d.desc.sun, f, rays.data(), rays.size(), params.shadows, timing,
+               per_owner_mean_by([&](uint32_t k) { return uint32_t(rays_of[k]); }, exposure_factor(params),
+                                 [&](uint32_t k, glm::vec3 c, float depth, uint32_t hits) {
+                                   const uint32_t i = points[k];
+                                   out.colour[i] = c;
+                                   out.depth[i] = depth;
+                                   out.hits[i] = uint16_t(hits);
+                                 }));
+  });
+  uint64_t cast = 0;
+  for (uint16_t r : rays_of) cast += r;
+  return cast;
 }
 
 // trace_points, its traced points found with `index` where there is one, or given (`listed`).
@@ -416,36 +458,7 @@ points_trace trace_selected(const scene& sc, const camera& cam, const pointset& 
         out.hits.assign(n, 0);
       });
   if (timing_total) choose.mark(timing_total->setup);
-  const uint32_t spp = params.spp;
-  // Rays per traced point; a ray's owner is its point's place in out.traced.
-  const std::vector<uint16_t> rays_of_traced = traced_point_rays(set, out, gaze, params);
-  const bool pixel_footprint = params.footprint == texture_footprint::pixel;
-  const grid_test on_grid(set);
-  const size_t chunk = std::max<size_t>(1, 256 / spp);  // points per task: about 256 rays at the gaze
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, out.traced.size(), chunk), [&](const tbb::blocked_range<size_t>& r) {
-    task_timing timing(timing_total);
-    std::vector<sample_ray> rays;
-    rays.reserve((r.end() - r.begin()) * spp);
-    for (size_t k = r.begin(); k < r.end(); ++k) {
-      const uint32_t i = out.traced[k];
-      const uint32_t rays_here = rays_of_traced[k];
-      // A grid point's rays are a pixel's: they filter textures as a full-resolution pixel's do.
-      const bool grid_point = on_grid(set.points[i]);
-      const float radius = (pixel_footprint || grid_point ? 0.5f : set.points[i].spacing) * (1.0f / std::sqrt(float(rays_here)));
-      point_rays(set, grid_point, i, out.offset, params, rays_here,
-                 [&](float x, float y) { rays.push_back({x, y, radius, uint32_t(k)}); });
-    }
-    trace_rays(d, params.sun ? *params.sun : d.desc.sun, f, rays.data(), rays.size(), params.shadows, timing,
-               per_owner_mean_by([&](uint32_t k) { return uint32_t(rays_of_traced[k]); }, exposure_factor(params),
-                                 [&](uint32_t k, glm::vec3 c, float depth, uint32_t hits) {
-                                   const uint32_t i = out.traced[k];
-                                   out.colour[i] = c;
-                                   out.depth[i] = depth;
-                                   out.hits[i] = uint16_t(hits);
-                                 }));
-  });
-  out.rays = 0;
-  for (uint16_t r : rays_of_traced) out.rays += r;
+  out.rays = cast_points(d, f, set, out.traced, gaze, params, out, timing_total);
   return result;
 }
 
@@ -462,6 +475,38 @@ points_trace trace_listed_points(const scene& sc, const camera& cam, const point
     if (points[j] >= set.points.size() || (j > 0 && points[j] <= points[j - 1]))
       throw std::invalid_argument("trace_listed_points: indices must ascend and name points of the set");
   return trace_selected(sc, cam, set, nullptr, gaze, params, &points);
+}
+
+uint64_t trace_more_points(const scene& sc, const camera& cam, const pointset& set, const std::vector<uint32_t>& points,
+                           gaze_point gaze, const trace_params& params, points_trace& into) {
+  const display_geometry& disp = set.model.display;
+  check(params, disp.width, disp.height);
+  point_samples& out = into.samples;
+  const size_t n = set.points.size();
+  const bool mx = params.mirror_x, my = params.mirror_y;
+  const gaze_point placed{mx ? disp.width - gaze.x : gaze.x, my ? disp.height - gaze.y : gaze.y};
+  const canvas_offset o = offset_for_gaze(disp, placed);
+  if (out.colour.size() != n || out.depth.size() != n || out.hits.size() != n || out.offset.x != o.x ||
+      out.offset.y != o.y || out.mirror_x != mx || out.mirror_y != my)
+    throw std::invalid_argument("trace_more_points: `into` was not traced from this set at this gaze and pattern");
+  for (size_t j = 0; j < points.size(); ++j)
+    if (points[j] >= n || (j > 0 && points[j] <= points[j - 1]))
+      throw std::invalid_argument("trace_more_points: indices must ascend and name points of the set");
+  // None of them may be traced already (both lists ascend).
+  for (size_t a = 0, b = 0; a < points.size() && b < out.traced.size();) {
+    if (points[a] == out.traced[b]) throw std::invalid_argument("trace_more_points: a point is already traced");
+    points[a] < out.traced[b] ? ++a : ++b;
+  }
+  if (points.empty()) return 0;
+  trace_timing* timing_total = params.time_stages ? &into.stats.timing : nullptr;
+  const uint64_t cast = cast_points(sc.internals(), make_frame(cam, disp.width, disp.height), set, points, gaze, params,
+                                    out, timing_total);
+  std::vector<uint32_t> merged;
+  merged.reserve(out.traced.size() + points.size());
+  std::merge(out.traced.begin(), out.traced.end(), points.begin(), points.end(), std::back_inserter(merged));
+  out.traced.swap(merged);
+  out.rays += cast;
+  return cast;
 }
 
 points_trace trace_points(const scene& sc, const camera& cam, const pointset& set, const traced_index& index,

@@ -160,6 +160,13 @@ points_trace trace_points(const scene& s, const camera& cam, const pointset& set
 // frames that choose their points themselves (adaptive refinement, pipeline/adaptive.h).
 points_trace trace_listed_points(const scene& s, const camera& cam, const pointset& set, std::vector<uint32_t> points,
                                  gaze_point gaze, const trace_params& params);
+// Traces `points` (ascending, none of them in into.samples.traced) as trace_listed_points
+// would, into a trace of the same set, gaze and params made earlier (by trace_listed_points
+// or trace_points): their samples are written in place and merged into its traced list and
+// rays, without clearing the set-sized arrays again. Returns the rays cast. Throws
+// std::invalid_argument when `into` was placed otherwise or a point is listed twice.
+uint64_t trace_more_points(const scene& s, const camera& cam, const pointset& set, const std::vector<uint32_t>& points,
+                           gaze_point gaze, const trace_params& params, points_trace& into);
 
 // The screen positions (pixels) of the rays trace_points cast for `samples` (its traced
 // points, placement and mirroring, at `gaze`), in the order it cast them: params.spp per
