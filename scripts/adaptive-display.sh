@@ -16,8 +16,8 @@ out=${2:-out/adaptive-display}/$display
 spp=${3:-1}
 pairs=${PAIRS:-3}
 gen=build/apps/fovgen render=build/apps/fovrender
-mkdir -p "$out"
 "$gen" displays --display "$display" > /dev/null  # a wrong display: fovgen's one line, exit 2
+mkdir -p "$out"
 levels=0.7,1.0,1.5,2.25,3.0
 timed() {  # timed LABEL COMMAND...: wall seconds and peak kB to LABEL.time, stdout to LABEL.json
   local label=$1
