@@ -7,9 +7,11 @@
 // Constants shared with C++ come from the host at build time (cl_reconstructor::
 // kernel_build_options): FOV_MAX_K = max_knn (knn_table.h), FOV_RBF_TILE =
 // rbf_weight_cache::tile (rbf_cache.h), FOV_CELL_TILE = knn_cells::tile (pointset.h),
-// FOV_BLOCK = refinement_block (frame.h).
-#if !defined(FOV_MAX_K) || !defined(FOV_RBF_TILE) || !defined(FOV_CELL_TILE) || !defined(FOV_BLOCK)
-#error "build with -DFOV_MAX_K=... -DFOV_RBF_TILE=... -DFOV_CELL_TILE=... -DFOV_BLOCK=... (cl_reconstructor::kernel_build_options)"
+// FOV_BLOCK = refinement_block (frame.h), FOV_ON_POINT = on_point_px and FOV_SHEPARD_TIE =
+// shepard_tie (reconstruct.h).
+#if !defined(FOV_MAX_K) || !defined(FOV_RBF_TILE) || !defined(FOV_CELL_TILE) || !defined(FOV_BLOCK) || \
+    !defined(FOV_ON_POINT) || !defined(FOV_SHEPARD_TIE)
+#error "build with -DFOV_MAX_K=... -DFOV_RBF_TILE=... -DFOV_CELL_TILE=... -DFOV_BLOCK=... -DFOV_ON_POINT=... -DFOV_SHEPARD_TIE=... (cl_reconstructor::kernel_build_options)"
 #endif
 
 // Distances are ranked exactly as the C++ path ranks them (distgen/src/knn_cells.cpp): in
@@ -99,6 +101,10 @@ __kernel void reconstruct_nn(FOV_NEIGHBOUR_ARGS, __global const float4* colour, 
   out_depth[sy * width + sx] = depth[i];
 }
 
+// Modified Shepard's v of a neighbour at distance h within radius r: 0 at the radius, within
+// the relative tie FOV_SHEPARD_TIE (the C++ path's rule, reconstruct.h shepard_tie).
+inline float shepard_v(float h, float r) { return h >= r * (1.0f - FOV_SHEPARD_TIE) ? 0.0f : (r - h) / (r * h); }
+
 // Depth by Shepard over the neighbours that hit something (finite depth), with their own R;
 // +inf when none did. A pixel on a point (a grid point) takes its depth, a miss included.
 inline float shepard_depth(const float* h, const uint* idx, uint k, uint renka, __global const float* depth) {
@@ -113,7 +119,7 @@ inline float shepard_depth(const float* h, const uint* idx, uint k, uint renka, 
   for (uint j = 0; j < k; ++j) {
     const float d = depth[idx[j]];
     if (!isfinite(d)) continue;
-    float w = (r_hit - h[j]) / (r_hit * h[j]);
+    float w = shepard_v(h[j], r_hit);
     if (renka) w *= w;
     dacc += w * d;
     dw += w;
@@ -143,7 +149,7 @@ __kernel void reconstruct_shepard(FOV_NEIGHBOUR_ARGS, uint k, uint renka, __glob
   const float r = h[k - 1];
   for (uint j = 0; j < k && exact < 0; ++j) {
     if (h[j] < FOV_ON_POINT) { exact = (int)j; break; }
-    float w = (r - h[j]) / (r * h[j]);
+    float w = shepard_v(h[j], r);
     if (renka) w *= w;
     if (w != 0.0f) acc += w * colour[idx[j]];  // no weight, no term: a NaN there adds nothing (as in C++)
     wsum += w;

@@ -399,6 +399,92 @@ TEST(Rbf, NearDuplicateNeighboursFallBackAndKeepAConstantField) {
   }
 }
 
+// Past rbf_max_weight_sum a pixel's RBF weights fall back to Shepard (issue 27): two
+// neighbours 2.1e-3 spacings apart (just past the near-duplicate rule) at k = 2, and a
+// Gaussian kernel at shape 10 with k = 32 on a grid set. No pixel then leaves the data's range
+// by more than (rbf_max_weight_sum - 1) / 2 of it, on the direct solve and the cache alike,
+// and the rule is counted apart from the others.
+TEST(Rbf, WeightsWhoseAbsoluteSumPassesTheBoundFallBack) {
+  std::mt19937 random(5);
+  std::uniform_real_distribution<float> u(0, 1);
+  const double slack = (rbf_max_weight_sum - 1) / 2;
+  auto bounded = [&](const frame& f, const std::string& what) {
+    for (size_t i = 0; i < f.rgb.size(); ++i)
+      for (int ch = 0; ch < 3; ++ch) {
+        ASSERT_GE(f.rgb[i][ch], -slack - 1e-5) << what << " pixel " << i;
+        ASSERT_LE(f.rgb[i][ch], 1 + slack + 1e-5) << what << " pixel " << i;
+      }
+  };
+  {  // near-duplicate pairs, k = 2
+    fixture fx(48, 40, {24, 20}, [&](float, float) { return glm::vec3(u(random), u(random), u(random)); });
+    knn_table& t = fx.set.table;
+    double largest = 0;
+    for (uint32_t y = 8; y < t.height; y += 16)
+      for (uint32_t x = 8; x < t.width; x += 16) {
+        const point& a = fx.set.points[t.at(x, y, 0)];
+        point& b = fx.set.points[t.at(x, y, 1)];
+        const float apart = 2.1e-3f * std::max(a.spacing, b.spacing);
+        b.x = a.x + apart, b.y = a.y;
+        // What the solve alone gives the pixel: weights far past the bound.
+        const double xs[2] = {a.x, b.x}, ys[2] = {a.y, b.y};
+        double w[2];
+        const double spacing = (a.spacing + b.spacing) / 2;
+        if (rbf_weights(xs, ys, 2, x + 0.5, y + 0.5, spacing / 2, rbf_kernel::multiquadric, w))
+          largest = std::max(largest, std::fabs(w[0]) + std::fabs(w[1]));
+      }
+    EXPECT_GT(largest, 10 * rbf_max_weight_sum) << "the stress is not one";
+    reconstruct_params rp;
+    rp.how = method::rbf;
+    rp.k = 2;
+    rbf_stats stats;
+    rbf_weight_cache cache(fx.set, rp);
+    bounded(reconstruct(fx.set, fx.samples, rp, &stats), "k = 2, direct");
+    bounded(reconstruct(fx.set, fx.samples, rp, nullptr, &cache), "k = 2, cached");
+    EXPECT_GT(stats.weight_sum, 0u);
+    EXPECT_EQ(stats.fallbacks, stats.weight_sum + stats.near_duplicates + stats.singular);
+    EXPECT_LE(stats.worst_weight_sum, rbf_max_weight_sum);
+    EXPECT_NE(rbf_fallback_warning(stats).find(std::to_string(stats.fallbacks) + " of"), std::string::npos)
+        << rbf_fallback_warning(stats);
+  }
+  {  // Gaussian, shape 10, k = 32, on a grid set
+    knn_params kp;
+    kp.k = 32;
+    pointset set = generate_pointset(testing::partial_grid_model(), testing::grid_darts(), kp);
+    point_samples s;
+    s.offset = offset_for_gaze(set.model.display, {64, 48});
+    s.colour.resize(set.points.size());
+    s.depth.assign(set.points.size(), 2.0f);
+    for (glm::vec3& c : s.colour) c = {u(random), u(random), u(random)};
+    reconstruct_params rp;
+    rp.how = method::rbf;
+    rp.k = 32;
+    rp.kernel = rbf_kernel::gaussian;
+    rp.shape = 10;
+    rbf_stats stats;
+    bounded(reconstruct(set, s, rp, &stats), "gaussian k = 32");
+    EXPECT_GT(stats.weight_sum + stats.singular, 0u);
+    EXPECT_LE(stats.worst_weight_sum, rbf_max_weight_sum);
+  }
+  EXPECT_EQ(rbf_fallback_warning({}), "");
+}
+
+// Neighbours at the radius within shepard_tie weigh nothing (issue 27): two neighbours tied at
+// R but for rounding give their mean, not the nearer one's value.
+TEST(Shepard, NeighboursAtTheRadiusWithinTheTieWeighNothing) {
+  double w[3];
+  const double near_tie[3] = {0.5, 1.0 - 1e-9, 1.0};
+  shepard_weights(near_tie, 3, false, w);
+  EXPECT_EQ(w[0], 1.0);
+  EXPECT_EQ(w[1], 0.0);
+  const double tied[2] = {1.0 - 1e-9, 1.0};
+  shepard_weights(tied, 2, false, w);
+  EXPECT_EQ(w[0], 0.5);
+  EXPECT_EQ(w[1], 0.5);
+  const double apart[2] = {1.0 - 1e-4, 1.0};  // beyond the tie: the nearer takes all
+  shepard_weights(apart, 2, false, w);
+  EXPECT_EQ(w[0], 1.0);
+}
+
 // A neighbour whose weight is zero adds nothing, NaN included (the k-th neighbour under
 // modified Shepard always weighs zero): the pixel keeps its value; the OpenCL kernels follow
 // the same rule (cl_reconstruct_test).

@@ -271,10 +271,15 @@ int main(int argc, char** argv) {
         j["flicker"] = {{"frames", o.flicker}, {"raw", fl.raw}, {"taa", fl.taa}, {"full_resolution", fl.reference}};
       }
       j["device"] = r.device();
-      if (p.reconstruct.how == fov::method::rbf)
+      if (p.reconstruct.how == fov::method::rbf) {
         j["rbf"] = {{"kernel", fov::label_of(fov::rbf_kernel_labels, p.reconstruct.kernel)}, {"shape", p.reconstruct.shape},
-                    {"fallbacks", t.rbf.fallbacks}, {"worst_condition", t.rbf.worst_condition},
+                    {"pixels", t.rbf.pixels}, {"fallbacks", t.rbf.fallbacks},
+                    {"fallback_near_duplicates", t.rbf.near_duplicates}, {"fallback_singular", t.rbf.singular},
+                    {"fallback_weight_sum", t.rbf.weight_sum}, {"max_weight_sum", fov::rbf_max_weight_sum},
+                    {"worst_weight_sum", t.rbf.worst_weight_sum}, {"worst_condition", t.rbf.worst_condition},
                     {"condition_sampled_pixels", t.rbf.sampled}};
+        if (const std::string w = fov::rbf_fallback_warning(t.rbf); !w.empty()) std::cerr << "fovrender: " << w << "\n";
+      }
       if (p.taa) j["taa_frames"] = o.taa_frames, j["pattern"] = fov::label_of(fov::ray_pattern_labels, p.pattern);
       j["k"] = p.reconstruct.k;
       if (t.adaptive) {

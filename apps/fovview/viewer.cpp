@@ -187,6 +187,7 @@ int run_viewer(const viewer_options& o, render_params settings) {
   std::vector<std::string> views = {"", "points", "density", "eccentricity", "error"};
   if (settings.adaptive.enabled) views.push_back("refinement");
   size_t view = 0;
+  uint64_t rbf_fallbacks_said = 0;  // RBF pixels that fell back to Shepard, as last said
   bool budget_warned = false;  // --adaptive-budget below the coarsest level: said once
   fov::frame error_reference;  // the full-resolution frame the error view compares with
   fov::camera error_reference_cam;
@@ -404,6 +405,11 @@ int run_viewer(const viewer_options& o, render_params settings) {
     history.push_back({frame_ms, timing.trace_ms, timing.reconstruct_ms, timing.taa_ms, display_ms, latency_ms, gaze_age_ms,
                        settings.spp, double(timing.rays), double(timing.refinement.points_refined),
                        timing.adaptive && timing.refinement.budget_short});
+    // RBF fallbacks: said when their count changes (newly solved weights, another k or shape).
+    if (timing.rbf.fallbacks != rbf_fallbacks_said) {
+      if (timing.rbf.fallbacks > 0) std::cerr << "fovview: " << fov::rbf_fallback_warning(timing.rbf) << "\n";
+      rbf_fallbacks_said = timing.rbf.fallbacks;
+    }
     if (timing.adaptive && timing.refinement.budget_short && !budget_warned) {
       std::cerr << "fovview: " << fov::refinement_warning(timing, settings) << "\n";
       budget_warned = true;

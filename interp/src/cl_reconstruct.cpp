@@ -195,8 +195,10 @@ const std::string& cl_reconstructor::device() const {
 const std::string& cl_reconstructor::reason() const { return impl_->reason; }
 
 std::string cl_reconstructor::kernel_build_options() {
-  return fmt::format("-cl-std=CL1.2 -DFOV_MAX_K={} -DFOV_RBF_TILE={} -DFOV_CELL_TILE={} -DFOV_ON_POINT={:.9g}f -DFOV_BLOCK={}",
-                     max_knn, rbf_weight_cache::tile, knn_cells::tile, on_point_px, refinement_block);
+  return fmt::format(
+      "-cl-std=CL1.2 -DFOV_MAX_K={} -DFOV_RBF_TILE={} -DFOV_CELL_TILE={} -DFOV_ON_POINT={:.9g}f -DFOV_BLOCK={} "
+      "-DFOV_SHEPARD_TIE={:.9g}f",
+      max_knn, rbf_weight_cache::tile, knn_cells::tile, on_point_px, refinement_block, shepard_tie);
 }
 
 frame cl_reconstructor::run(const point_samples& samples, const reconstruct_params& params) {

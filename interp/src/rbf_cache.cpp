@@ -57,8 +57,7 @@ std::vector<uint32_t> rbf_weight_cache::prepare(canvas_offset o) {
         for (uint32_t j = 0; j < k_; ++j) dst[j] = float(weight[j]);
       }
     std::lock_guard<std::mutex> guard(lock);
-    stats_.pixels += local.pixels, stats_.fallbacks += local.fallbacks, stats_.sampled += local.sampled;
-    stats_.worst_condition = std::max(stats_.worst_condition, local.worst_condition);
+    stats_ += local;
   });
   for (uint32_t index : todo) ready_[index] = 1;
   seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

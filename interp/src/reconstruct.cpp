@@ -104,6 +104,22 @@ bool rbf_weights(const double* px, const double* py, uint32_t k, double x, doubl
   return true;
 }
 
+rbf_stats& rbf_stats::operator+=(const rbf_stats& o) {
+  pixels += o.pixels, fallbacks += o.fallbacks, sampled += o.sampled;
+  near_duplicates += o.near_duplicates, singular += o.singular, weight_sum += o.weight_sum;
+  worst_condition = std::max(worst_condition, o.worst_condition);
+  worst_weight_sum = std::max(worst_weight_sum, o.worst_weight_sum);
+  return *this;
+}
+
+std::string rbf_fallback_warning(const rbf_stats& s) {
+  if (s.fallbacks == 0) return "";
+  return fmt::format(
+      "RBF fell back to Shepard at {} of {} pixels ({} with near-duplicate neighbours, {} singular systems, {} with "
+      "weights whose absolute sum passed {})",
+      s.fallbacks, s.pixels, s.near_duplicates, s.singular, s.weight_sum, rbf_max_weight_sum);
+}
+
 void shepard_weights(const double* h, uint32_t k, bool renka, double* w) {
   const double r = h[k - 1];
   double wsum = 0;
@@ -112,7 +128,7 @@ void shepard_weights(const double* h, uint32_t k, bool renka, double* w) {
       for (uint32_t j = 0; j < k; ++j) w[j] = j == i ? 1 : 0;
       return;
     }
-    w[i] = (r - h[i]) / (r * h[i]);
+    w[i] = h[i] >= r * (1 - shepard_tie) ? 0.0 : (r - h[i]) / (r * h[i]);
     if (renka) w[i] *= w[i];
     wsum += w[i];
   }
@@ -125,7 +141,7 @@ void pixel_weights(const pointset& set, const reconstruct_params& params, uint32
   uint32_t idx[max_knn];
   pixel_neighbours(set, cx, cy, k, idx);
   const double x = cx + 0.5, y = cy + 0.5;
-  double xs[max_knn], ys[max_knn], dist[max_knn];
+  double xs[max_knn] = {}, ys[max_knn] = {}, dist[max_knn];
   double spacing = 0;  // RBF's c scales with the neighbours' mean spacing
   for (uint32_t j = 0; j < k; ++j) {
     const point& p = set.points[idx[j]];
@@ -150,11 +166,23 @@ void pixel_weights(const pointset& set, const reconstruct_params& params, uint32
         const double a = set.points[idx[i]].spacing, b = set.points[idx[j]].spacing;
         duplicates = std::hypot(xs[i] - xs[j], ys[i] - ys[j]) < rbf_duplicate_fraction * std::min(a, b);
       }
-    if (!duplicates && rbf_weights(xs, ys, k, x, y, params.shape * spacing / k, params.kernel, w, sample ? &condition : nullptr)) {
-      if (sample) ++stats->sampled, stats->worst_condition = std::max(stats->worst_condition, condition);
-      return;
+    if (duplicates) {
+      if (stats) ++stats->fallbacks, ++stats->near_duplicates;
+    } else if (!rbf_weights(xs, ys, k, x, y, params.shape * spacing / k, params.kernel, w, sample ? &condition : nullptr)) {
+      if (stats) ++stats->fallbacks, ++stats->singular;
+    } else {
+      // The weights sum to 1, so the value lies within (sum |w| - 1) / 2 data ranges of the
+      // data: past rbf_max_weight_sum the system amplifies rounding and noise, whatever its
+      // pivots said.
+      double absolute = 0;
+      for (uint32_t j = 0; j < k; ++j) absolute += std::fabs(w[j]);
+      if (absolute <= rbf_max_weight_sum) {
+        if (stats) stats->worst_weight_sum = std::max(stats->worst_weight_sum, absolute);
+        if (sample) ++stats->sampled, stats->worst_condition = std::max(stats->worst_condition, condition);
+        return;
+      }
+      if (stats) ++stats->fallbacks, ++stats->weight_sum;
     }
-    if (stats) ++stats->fallbacks;
   }
   shepard_weights(dist, k, params.renka, w);
 }
@@ -259,8 +287,7 @@ void reconstruct_into(const pointset& set, const point_samples& samples, const r
     }
     if (stats && rbf && !cache) {
       std::lock_guard<std::mutex> guard(stats_lock);
-      stats->pixels += local.pixels, stats->fallbacks += local.fallbacks, stats->sampled += local.sampled;
-      stats->worst_condition = std::max(stats->worst_condition, local.worst_condition);
+      *stats += local;
     }
   });
 }

@@ -247,8 +247,7 @@ const frame& renderer::reconstruct_refined(const adaptive_trace& a, gaze_point g
     const reconstruct_result rl = finest ? dev.run(all, p.reconstruct, into, &only)
                                          : dev.run(level_samples(*levels_, l, all), p.reconstruct, into, &only);
     r.on_device = rl.on_device;
-    r.rbf.pixels += rl.rbf.pixels, r.rbf.fallbacks += rl.rbf.fallbacks, r.rbf.sampled += rl.rbf.sampled;
-    r.rbf.worst_condition = std::max(r.rbf.worst_condition, rl.rbf.worst_condition);
+    r.rbf += rl.rbf;
     if (first) {
       first = false;
       continue;

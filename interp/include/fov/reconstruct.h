@@ -26,10 +26,18 @@ bool rbf_weights(const double* px, const double* py, uint32_t k, double x, doubl
 // pixel centres (distance 0). The kernels get it as FOV_ON_POINT.
 inline constexpr double on_point_px = 1e-4;
 
+// Neighbours this close to the radius R, relatively (h >= R (1 - shepard_tie)), are at it: they
+// weigh nothing under modified Shepard, on both paths. Neighbours tied at R in exact arithmetic
+// differ there by rounding, in double on the C++ path and in float in the kernels (relative
+// errors about 1e-16 and 1e-7), and when they were a pixel's only hits its depth was their
+// mean on one path and one of them on the other (issue 27: 2.804 against 2.884).
+inline constexpr double shepard_tie = 1e-5;
+
 // Modified Shepard as linear weights, from a pixel's neighbours' distances h[0..k)
 // (ascending, k <= max_knn): F = sum w[i] f[i], w[i] = v[i] / sum(v), v = (R - h) / (R h)
 // (squared with renka), R = h[k-1], the farthest;
 //  - h[i] < on_point_px (a pixel on a point): one-hot on the first such;
+//  - h[i] >= R (1 - shepard_tie): v = 0 (at the radius);
 //  - every v zero (all neighbours at distance R, including k = 1): 1/k each.
 void shepard_weights(const double* h, uint32_t k, bool renka, double* w);
 
@@ -46,13 +54,20 @@ T shepard_weighted(const double* h, const T* f, uint32_t k, bool renka) {
 
 // The weights of canvas pixel (cx, cy) under `params` (shepard or rbf): the pixel's value is
 // sum w[j] f[j] over its k neighbours, nearest first, with terms of zero weight left out (a
-// NaN sample there adds nothing; the OpenCL kernels follow the same rule). An RBF system too
-// close to singular, or with two neighbours closer than rbf_duplicate_fraction of their
-// spacing (near-duplicate points, which fovgen never makes but an imported set may: their
-// system passes the pivot test with condition numbers of 1e14 and more), falls back to
-// Shepard's weights (counted in stats); every 257th pixel or so has its condition number
-// sampled. Inputs are not checked (see check_reconstruct_inputs).
+// NaN sample there adds nothing; the OpenCL kernels follow the same rule). An RBF pixel falls
+// back to Shepard's weights (counted in stats by rule) where
+//  - two neighbours lie closer than rbf_duplicate_fraction of their spacing (near-duplicate
+//    points, which fovgen never makes but an imported set may),
+//  - a pivot vanishes (a singular system), or
+//  - its weights' absolute sum passes rbf_max_weight_sum: the weights sum to 1, so the value
+//    can leave the neighbours' range by (sum |w| - 1) / 2 of it. This bounds what the
+//    condition number only warns of: systems that pass the pivot test with condition numbers
+//    of 1e17 (Gaussian kernel, shape 10, k = 32 on a grid) or whose two neighbours 2.1e-3 px
+//    apart sent the value to 159x the data range (issue 27).
+// Every 257th pixel or so has its condition number sampled. Inputs are not checked (see
+// check_reconstruct_inputs).
 constexpr double rbf_duplicate_fraction = 1e-3;
+constexpr double rbf_max_weight_sum = 8;
 void pixel_weights(const pointset& set, const reconstruct_params& params, uint32_t cx, uint32_t cy, double* w,
                    rbf_stats* stats);
 
