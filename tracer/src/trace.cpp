@@ -371,6 +371,19 @@ glm::vec2 owen_sobol_2d(uint32_t s, uint32_t sx, uint32_t sy) {
 
 namespace {
 
+// Where a trace places the set for `gaze`: a mirrored pattern is the set placed for the
+// mirrored gaze, then mirrored on screen.
+gaze_point placed_gaze(const display_geometry& disp, gaze_point gaze, const trace_params& params) {
+  return {params.mirror_x ? disp.width - gaze.x : gaze.x, params.mirror_y ? disp.height - gaze.y : gaze.y};
+}
+
+// Throws unless `points` ascend and name points of a set of n (`who` names the caller).
+void check_listed(const std::vector<uint32_t>& points, size_t n, const char* who) {
+  for (size_t j = 0; j < points.size(); ++j)
+    if (points[j] >= n || (j > 0 && points[j] <= points[j - 1]))
+      throw std::invalid_argument(fmt::format("{}: indices must ascend and name points of the set", who));
+}
+
 // The rays of each of `points` (indexed like it): spp, or point_ray_rule's n(d) at the
 // point's screen position (placed and mirrored as `placement` says).
 std::vector<uint16_t> listed_point_rays(const pointset& set, const std::vector<uint32_t>& points,
@@ -440,11 +453,9 @@ points_trace trace_selected(const scene& sc, const camera& cam, const pointset& 
   point_samples& out = result.samples;
   trace_timing* timing_total = params.time_stages ? &result.stats.timing : nullptr;
   stage_timer choose(timing_total != nullptr);
-  // A mirrored pattern is the set placed for the mirrored gaze, then mirrored on screen.
-  const bool mx = params.mirror_x, my = params.mirror_y;
-  const gaze_point placed{mx ? disp.width - gaze.x : gaze.x, my ? disp.height - gaze.y : gaze.y};
+  const gaze_point placed = placed_gaze(disp, gaze, params);
   out.offset = offset_for_gaze(disp, placed);
-  out.mirror_x = mx, out.mirror_y = my;
+  out.mirror_x = params.mirror_x, out.mirror_y = params.mirror_y;
   // Choosing the points and clearing the per-point arrays, side by side: on a short frame
   // (1 spp, a sparse set) these serial steps are a visible share of its time.
   const size_t n = set.points.size();
@@ -471,9 +482,7 @@ points_trace trace_points(const scene& sc, const camera& cam, const pointset& se
 
 points_trace trace_listed_points(const scene& sc, const camera& cam, const pointset& set, std::vector<uint32_t> points,
                                  gaze_point gaze, const trace_params& params) {
-  for (size_t j = 0; j < points.size(); ++j)
-    if (points[j] >= set.points.size() || (j > 0 && points[j] <= points[j - 1]))
-      throw std::invalid_argument("trace_listed_points: indices must ascend and name points of the set");
+  check_listed(points, set.points.size(), "trace_listed_points");
   return trace_selected(sc, cam, set, nullptr, gaze, params, &points);
 }
 
@@ -483,15 +492,11 @@ uint64_t trace_more_points(const scene& sc, const camera& cam, const pointset& s
   check(params, disp.width, disp.height);
   point_samples& out = into.samples;
   const size_t n = set.points.size();
-  const bool mx = params.mirror_x, my = params.mirror_y;
-  const gaze_point placed{mx ? disp.width - gaze.x : gaze.x, my ? disp.height - gaze.y : gaze.y};
-  const canvas_offset o = offset_for_gaze(disp, placed);
+  const canvas_offset o = offset_for_gaze(disp, placed_gaze(disp, gaze, params));
   if (out.colour.size() != n || out.depth.size() != n || out.hits.size() != n || out.offset.x != o.x ||
-      out.offset.y != o.y || out.mirror_x != mx || out.mirror_y != my)
+      out.offset.y != o.y || out.mirror_x != params.mirror_x || out.mirror_y != params.mirror_y)
     throw std::invalid_argument("trace_more_points: `into` was not traced from this set at this gaze and pattern");
-  for (size_t j = 0; j < points.size(); ++j)
-    if (points[j] >= n || (j > 0 && points[j] <= points[j - 1]))
-      throw std::invalid_argument("trace_more_points: indices must ascend and name points of the set");
+  check_listed(points, n, "trace_more_points");
   // None of them may be traced already (both lists ascend).
   for (size_t a = 0, b = 0; a < points.size() && b < out.traced.size();) {
     if (points[a] == out.traced[b]) throw std::invalid_argument("trace_more_points: a point is already traced");
