@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <map>
 
 #include "fov/acuity.h"
@@ -186,6 +187,109 @@ TEST(Display, FileNamesComeFromOneFunction) {
   // Two distances that differ are two names.
   display_geometry a{640, 720, 1.0}, b{640, 720, 1.1};
   EXPECT_NE(display_name(a), display_name(b));
+}
+
+// Issue 27: Guenter's linear MAR as HVVR samples it, one sample per MAR, so the cut-off is
+// half the MAR's reciprocal: 30 cpd in the dead zone (w0 = 1/60 degree), and at 10.5 degrees
+// w = 0.022 * 10 + 1/60 degrees. Spacing then follows Eq. 4 as for the CSF.
+TEST(Acuity, LinearMarGivesGuentersCutoff) {
+  acuity_params a;
+  a.model = acuity_model::linear_mar;
+  EXPECT_NEAR(cutoff_frequency_cpd(a, 0.0), 30.0, 1e-12);
+  EXPECT_NEAR(cutoff_frequency_cpd(a, 0.5), 30.0, 1e-12);
+  EXPECT_NEAR(cutoff_frequency_cpd(a, 10.5), 1 / (2 * (0.022 * 10 + 1.0 / 60)), 1e-12);  // 2.11 cpd
+  a.mar_dead_zone_deg = 0, a.mar_slope = 0.0275, a.mar_fovea_deg = 1.0 / 48;             // Guenter's m_A, w0
+  EXPECT_NEAR(cutoff_frequency_cpd(a, 20.0), 1 / (2 * (0.0275 * 20 + 1.0 / 48)), 1e-12);
+  spacing_model m;  // FOVE, s = 1: at d = 1280 px, e = 45 degrees
+  m.acuity.model = acuity_model::linear_mar;
+  const double fd = display_nyquist_cpd(m.display), fc = 1 / (2 * (0.022 * 44.5 + 1.0 / 60));
+  EXPECT_NEAR(point_spacing_px(m, 1280.0), fd / fc - (1 - std::sqrt(1 / pi)), 1e-9);  // 22.8 px
+  EXPECT_NEAR(point_spacing_px(m, 0.0), std::sqrt(1 / pi), 1e-12);  // display-limited fovea
+}
+
+// VaFR's piecewise model: the acuities it gives at its pivots, the MAR (1/f) linear between
+// them, and past 60 degrees the last segment's line continued.
+TEST(Acuity, PiecewiseMarHitsItsPivotsAndIsLinearInMarBetween) {
+  acuity_params a;
+  a.model = acuity_model::piecewise_mar;
+  const double want[5] = {40, 10, 6, 5, 4};
+  for (int i = 0; i < 5; ++i) EXPECT_NEAR(cutoff_frequency_cpd(a, piecewise_pivots_deg[i]), want[i], 1e-9) << i;
+  EXPECT_NEAR(cutoff_frequency_cpd(a, 5.0), 1 / (0.5 * (1.0 / 40 + 1.0 / 10)), 1e-12);  // 16 cpd
+  EXPECT_NEAR(cutoff_frequency_cpd(a, 15.0), 1 / (0.5 * (1.0 / 10 + 1.0 / 6)), 1e-12);  // 7.5 cpd
+  EXPECT_NEAR(cutoff_frequency_cpd(a, 45.0), 1 / (0.5 * (1.0 / 5 + 1.0 / 4)), 1e-12);
+  EXPECT_NEAR(cutoff_frequency_cpd(a, 90.0), 1 / (0.25 + 30 * (0.25 - 0.2) / 30), 1e-12);  // extrapolated: 3.33 cpd
+  // Continuous at the pivots from both sides.
+  for (int i = 1; i < 5; ++i)
+    EXPECT_NEAR(cutoff_frequency_cpd(a, piecewise_pivots_deg[i] - 1e-9), cutoff_frequency_cpd(a, piecewise_pivots_deg[i]),
+                1e-6);
+}
+
+TEST(Acuity, EveryModelsSpacingNeverShrinksWithDistance) {
+  for (const auto& [label, model] : acuity_model_labels)
+    for (double s : {0.5, 1.0, 3.0})
+      for (double v : {0.05, 1.0, 50.0}) {
+        spacing_model m;
+        m.acuity.model = model;
+        m.scale = s;
+        m.display.viewing_distance = v;
+        double previous = 0;
+        for (int i = 0; i <= 4000; ++i) {
+          const double p = point_spacing_px(m, i);
+          ASSERT_TRUE(std::isfinite(p) && p > 0) << label;
+          ASSERT_GE(p, previous) << label << " s=" << s << " v=" << v << " d=" << i;
+          previous = p;
+        }
+      }
+}
+
+TEST(Acuity, ModelParametersOutsideTheirRangesAreNamed) {
+  auto why = [](auto&& edit) {
+    spacing_model m;
+    edit(m.acuity);
+    return validate(m);
+  };
+  auto linear = [](double m, double w0, double dz) {
+    return [=](acuity_params& a) { a.model = acuity_model::linear_mar, a.mar_slope = m, a.mar_fovea_deg = w0, a.mar_dead_zone_deg = dz; };
+  };
+  EXPECT_EQ(why(linear(0.022, 1.0 / 60, 0.5)), "");
+  EXPECT_NE(why(linear(0, 1.0 / 60, 0.5)).find("MAR slope"), std::string::npos);
+  EXPECT_NE(why(linear(1.5, 1.0 / 60, 0.5)).find("MAR slope"), std::string::npos);
+  EXPECT_NE(why(linear(NAN, 1.0 / 60, 0.5)).find("MAR slope"), std::string::npos);
+  EXPECT_NE(why(linear(0.022, 0, 0.5)).find("foveal MAR"), std::string::npos);
+  EXPECT_NE(why(linear(0.022, INFINITY, 0.5)).find("foveal MAR"), std::string::npos);
+  EXPECT_NE(why(linear(0.022, 1.0 / 60, -1)).find("dead zone"), std::string::npos);
+  EXPECT_NE(why(linear(0.022, 1.0 / 60, 31)).find("dead zone"), std::string::npos);
+  auto piecewise = [](std::array<double, 5> f) {
+    return [=](acuity_params& a) {
+      a.model = acuity_model::piecewise_mar;
+      std::copy(f.begin(), f.end(), a.pivot_cpd);
+    };
+  };
+  EXPECT_EQ(why(piecewise({40, 10, 6, 5, 4})), "");
+  EXPECT_EQ(why(piecewise({9, 9, 9, 9, 9})), "");  // constant acuity: allowed
+  EXPECT_NE(why(piecewise({40, 10, 12, 5, 4})).find("must not grow"), std::string::npos);
+  EXPECT_NE(why(piecewise({40, 10, 6, 5, 0})).find("at 60 degrees"), std::string::npos);
+  EXPECT_NE(why(piecewise({400, 10, 6, 5, 4})).find("at 0 degrees"), std::string::npos);
+  EXPECT_NE(why(piecewise({40, NAN, 6, 5, 4})).find("at 10 degrees"), std::string::npos);
+}
+
+TEST(Display, FileNamesCarryTheAcuityModelAndItsParameters) {
+  spacing_model m;
+  ASSERT_TRUE(display_preset("fove", m.display));
+  m.acuity.model = acuity_model::linear_mar;
+  EXPECT_EQ(pointset_file_name(m, dart_params{}), "fove-linear-mar-s1.00.fovset");
+  m.acuity.mar_slope = 0.0275;
+  EXPECT_EQ(pointset_file_name(m, dart_params{}), "fove-linear-mar-m0.0275-w0.01667-d0.5-s1.00.fovset");
+  m.acuity = {};
+  m.acuity.model = acuity_model::piecewise_mar;
+  EXPECT_EQ(pointset_file_name(m, dart_params{}, {3.0, 1.0}), "fove-piecewise-mar-n1.00-3.00.fovset");
+  m.acuity.pivot_cpd[1] = 12;
+  EXPECT_EQ(pointset_file_name(m, dart_params{}), "fove-piecewise-mar-f40-12-6-5-4-s1.00.fovset");
+  // Parameters of another model do not change a name (nor the spacing).
+  m.acuity = {};
+  m.acuity.mar_slope = 0.5;
+  EXPECT_EQ(pointset_file_name(m, dart_params{}), "fove-s1.00.fovset");
+  EXPECT_TRUE(same_acuity(m.acuity, acuity_params{}));
 }
 
 }  // namespace

@@ -50,6 +50,12 @@ class PointsetFile : public ::testing::Test {
     }
   }
 
+  // Makes the header checksum valid again after a test edits header fields.
+  static void seal_header(std::vector<char>& bytes) {
+    const uint32_t crc = crc32c(bytes.data(), 508);
+    std::memcpy(&bytes[508], &crc, 4);
+  }
+
   fs::path dir_;
   pointset set_;
 };
@@ -271,6 +277,68 @@ TEST_F(PointsetFile, GridSetsRoundTripAndVersionOneFilesStillLoad) {
   reseal(bytes, set_.points.size());
   write(path("v1grid.fovset"), bytes);
   EXPECT_NE(load_error(path("v1grid.fovset")).find("version 1"), std::string::npos) << load_error(path("v1grid.fovset"));
+}
+
+// Issue 27: a set of another acuity model is a version-4 file holding that model's own
+// parameters (and nothing at the others' fields); the loader gives the model back, and refuses
+// a model older versions cannot name, another model's fields set, parameters out of range.
+TEST_F(PointsetFile, AcuityModelsRoundTripAsVersionFour) {
+  for (const auto& [label, model] : acuity_model_labels) {
+    spacing_model m = testing::small_model(60, 50);
+    m.acuity.model = model;
+    m.acuity.mar_slope = 0.03;        // read by linear-mar only
+    m.acuity.pivot_cpd[2] = 7;        // read by piecewise-mar only
+    knn_params kp;
+    kp.k = 6;
+    const pointset set = generate_pointset(m, testing::quick_darts(), kp);
+    EXPECT_EQ(count_spacing_violations(set.points, set.canvas_width(), set.canvas_height()), 0u) << label;
+    const std::string file = path(std::string(label) + ".fovset");
+    save_pointset(file, set);
+    const std::vector<char> bytes = read(file);
+    uint32_t version = 0;
+    std::memcpy(&version, &bytes[8], 4);
+    EXPECT_EQ(version, model == acuity_model::wang_csf ? 2u : 4u) << label;
+    const pointset back = load_pointset(file);
+    EXPECT_EQ(back.model.acuity.model, model);
+    EXPECT_TRUE(same_acuity(back.model.acuity, set.model.acuity)) << label;
+    expect_same(set, back);
+    if (model == acuity_model::wang_csf) continue;
+    // Another model's fields set (the CSF's ct0 at offset 48), header re-sealed: refused.
+    std::vector<char> b = bytes;
+    const double ct0 = 1.0 / 64;
+    std::memcpy(&b[48], &ct0, 8);
+    seal_header(b);
+    write(path("mixed.fovset"), b);
+    EXPECT_NE(load_error(path("mixed.fovset")).find("another model's parameters"), std::string::npos)
+        << load_error(path("mixed.fovset"));
+    // The same file called version 2, which knows only the CSF: refused by name.
+    b = bytes;
+    const uint32_t v2 = 2;
+    std::memcpy(&b[8], &v2, 4);
+    seal_header(b);
+    write(path("v2.fovset"), b);
+    EXPECT_NE(load_error(path("v2.fovset")).find("version 2"), std::string::npos) << load_error(path("v2.fovset"));
+    // A parameter out of its range (linear-mar's slope at 316, piecewise's first acuity at 340).
+    b = bytes;
+    const double bad = -1;
+    std::memcpy(&b[model == acuity_model::linear_mar ? 316 : 340], &bad, 8);
+    seal_header(b);
+    write(path("range.fovset"), b);
+    EXPECT_NE(load_error(path("range.fovset")).find("invalid model"), std::string::npos) << load_error(path("range.fovset"));
+  }
+  // An unknown model number in a version-4 file.
+  spacing_model m = testing::small_model(60, 50);
+  m.acuity.model = acuity_model::linear_mar;
+  knn_params kp;
+  kp.k = 6;
+  save_pointset(path("l.fovset"), generate_pointset(m, testing::quick_darts(), kp));
+  std::vector<char> b = read(path("l.fovset"));
+  const uint32_t unknown = 9;
+  std::memcpy(&b[40], &unknown, 4);
+  seal_header(b);
+  write(path("unknown.fovset"), b);
+  EXPECT_NE(load_error(path("unknown.fovset")).find("unknown acuity model 9"), std::string::npos)
+      << load_error(path("unknown.fovset"));
 }
 
 // Hostile headers: sizes are checked against the file (without sums that wrap) and the

@@ -78,8 +78,13 @@ std::string fovea_label(const dart_params& params) {
 
 std::string pointset_file_name(const spacing_model& model, const dart_params& darts,
                                const std::vector<double>& level_scales) {
+  // The display, then the acuity model where it is not the thesis's CSF (with its parameters
+  // where they are not the defaults).
+  std::string name = display_name(model.display);
+  if (model.acuity.model != acuity_model::wang_csf || !same_acuity(model.acuity, acuity_params{}))
+    name += "-" + acuity_label(model.acuity);
   if (!level_scales.empty()) {  // given coarsest first, named finest first as --levels lists them
-    std::string name = display_name(model.display) + "-n";
+    name += "-n";
     for (size_t l = level_scales.size(); l-- > 0;) {
       char scale[64];
       std::snprintf(scale, sizeof scale, "%.2f", level_scales[l]);
@@ -89,8 +94,8 @@ std::string pointset_file_name(const spacing_model& model, const dart_params& da
   }
   char scale[64];
   std::snprintf(scale, sizeof scale, "%.2f", model.scale);
-  return display_name(model.display) + "-s" + scale +
-         (darts.fovea == fovea_layout::grid ? "-" + fovea_label(darts) : std::string()) + ".fovset";
+  return name + "-s" + scale + (darts.fovea == fovea_layout::grid ? "-" + fovea_label(darts) : std::string()) +
+         ".fovset";
 }
 
 double grid_radius(const spacing_model& model, const dart_params& params) {

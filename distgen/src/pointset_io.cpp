@@ -54,6 +54,10 @@ struct header {
   double level_scales[max_levels];
   uint64_t levels_offset, levels_bytes;
   uint32_t levels_crc;
+  // Version 4 (acuity models other than the thesis's CSF; 0 elsewhere): the model's own
+  // parameters, the other models' fields 0 (the CSF's ct0, alpha and e2 too).
+  double mar_slope, mar_fovea_deg, mar_dead_zone_deg;  // linear_mar
+  double pivot_cpd[5];                                 // piecewise_mar
   uint32_t header_crc;  // CRC-32C of bytes [0, 508) with this field excluded
 };
 
@@ -75,6 +79,8 @@ void visit_fields(H& h, F&& f) {
   f(h.level_count); f(h.reserved);
   for (auto& v : h.level_scales) f(v);
   f(h.levels_offset); f(h.levels_bytes); f(h.levels_crc);
+  f(h.mar_slope); f(h.mar_fovea_deg); f(h.mar_dead_zone_deg);
+  for (auto& v : h.pivot_cpd) f(v);
 }
 constexpr size_t header_crc_offset = pointset_header_bytes - 4;
 
@@ -96,6 +102,7 @@ std::vector<uint8_t> encode_header(const header& h) {
   std::vector<uint8_t> bytes(pointset_header_bytes, 0);
   size_t at = 0;
   visit_fields(h, [&](const auto& v) {
+    if (at + sizeof(v) > header_crc_offset) throw std::logic_error("point-set header fields overflow 508 bytes");
     std::memcpy(&bytes[at], &v, sizeof(v));
     at += sizeof(v);
   });
@@ -113,6 +120,40 @@ header decode_header(const uint8_t* bytes) {
   });
   std::memcpy(&h.header_crc, &bytes[header_crc_offset], 4);
   return h;
+}
+
+// The acuity model and its own parameters as the header stores them (the other models'
+// fields keep their defaults); the loader checks that those fields are 0.
+acuity_params acuity_from_header(const header& h) {
+  acuity_params a;
+  a.model = acuity_model(h.acuity_model);
+  switch (a.model) {
+    case acuity_model::wang_csf: a.ct0 = h.ct0, a.alpha = h.alpha, a.e2 = h.e2; break;
+    case acuity_model::linear_mar:
+      a.mar_slope = h.mar_slope, a.mar_fovea_deg = h.mar_fovea_deg, a.mar_dead_zone_deg = h.mar_dead_zone_deg;
+      break;
+    case acuity_model::piecewise_mar: std::copy(std::begin(h.pivot_cpd), std::end(h.pivot_cpd), a.pivot_cpd); break;
+  }
+  return a;
+}
+
+// "" when the header's acuity fields fit its version and model: versions before 4 know only
+// the CSF and have no version-4 fields; every model leaves the others' fields 0.
+std::string acuity_fields_problem(const header& h) {
+  const bool csf_fields = h.ct0 != 0 || h.alpha != 0 || h.e2 != 0;
+  const bool linear_fields = h.mar_slope != 0 || h.mar_fovea_deg != 0 || h.mar_dead_zone_deg != 0;
+  const bool piecewise_fields = std::any_of(std::begin(h.pivot_cpd), std::end(h.pivot_cpd), [](double v) { return v != 0; });
+  if (h.version < 4 && (linear_fields || piecewise_fields))
+    return fmt::format("version {} file with fields of version 4 set (file corrupted)", h.version);
+  if (h.version < 4 && h.acuity_model != uint32_t(acuity_model::wang_csf))
+    return fmt::format("version {} file naming acuity model {} (only version 4 has models other than csf)", h.version,
+                       h.acuity_model);
+  const auto model = acuity_model(h.acuity_model);
+  if (std::string(acuity_model_name(model)) == "unknown") return fmt::format("unknown acuity model {}", h.acuity_model);
+  if ((model != acuity_model::wang_csf && csf_fields) || (model != acuity_model::linear_mar && linear_fields) ||
+      (model != acuity_model::piecewise_mar && piecewise_fields))
+    return fmt::format("acuity model {} with another model's parameters set (file corrupted)", acuity_model_name(model));
+  return {};
 }
 
 uint64_t align_up(uint64_t v) { return (v + section_alignment - 1) / section_alignment * section_alignment; }
@@ -197,8 +238,10 @@ static_assert(sizeof(chunk_entry) == 32);
 header make_header(const pointset& set, uint32_t k, uint32_t group, const save_params& params) {
   header h{};
   std::memcpy(h.magic, magic, 8);
-  // A set of one level is written as version 2 (byte for byte as before nested sets).
-  h.version = set.nested() ? pointset_format_version : 2;
+  // A set of the thesis's CSF is written as before acuity models (version 3 when nested,
+  // else 2, byte for byte), any other model as version 4.
+  const acuity_params& a = set.model.acuity;
+  h.version = a.model != acuity_model::wang_csf ? 4 : set.nested() ? 3 : 2;
   h.header_bytes = pointset_header_bytes;
   h.width = uint32_t(set.model.display.width);
   h.height = uint32_t(set.model.display.height);
@@ -208,9 +251,13 @@ header make_header(const pointset& set, uint32_t k, uint32_t group, const save_p
   h.fovea = uint32_t(set.darts.fovea);
   h.grid_spacing = set.darts.fovea == fovea_layout::grid ? set.darts.grid_spacing : 0.0;
   h.grid_points = set.stats.grid_points;
-  h.ct0 = set.model.acuity.ct0;
-  h.alpha = set.model.acuity.alpha;
-  h.e2 = set.model.acuity.e2;
+  switch (a.model) {
+    case acuity_model::wang_csf: h.ct0 = a.ct0, h.alpha = a.alpha, h.e2 = a.e2; break;
+    case acuity_model::linear_mar:
+      h.mar_slope = a.mar_slope, h.mar_fovea_deg = a.mar_fovea_deg, h.mar_dead_zone_deg = a.mar_dead_zone_deg;
+      break;
+    case acuity_model::piecewise_mar: std::copy(std::begin(a.pivot_cpd), std::end(a.pivot_cpd), h.pivot_cpd); break;
+  }
   h.seed = set.darts.seed;
   h.saturation_rejections = set.darts.saturation_rejections;
   h.free_area_probes = set.darts.free_area_probes;
@@ -375,7 +422,8 @@ pointset load_checked(const std::string& path, const load_params& params) {
   pointset set;
   set.model.display = {int(h.width), int(h.height), h.viewing_distance};
   set.model.scale = h.scale;
-  set.model.acuity = {acuity_model(h.acuity_model), h.ct0, h.alpha, h.e2};
+  if (const std::string why = acuity_fields_problem(h); !why.empty()) throw fail(why);
+  set.model.acuity = acuity_from_header(h);
   if (h.width > 65536 || h.height > 65536) throw fail("screen size out of range");
   if (const std::string why = validate(set.model); !why.empty()) throw fail("invalid model: " + why);
   if (h.canvas_width != 2 * h.width || h.canvas_height != 2 * h.height) throw fail("canvas is not twice the screen");
@@ -406,7 +454,8 @@ pointset load_checked(const std::string& path, const load_params& params) {
                        h.levels_crc != 0;
   for (double v : h.level_scales) nested_fields = nested_fields || v != 0;
   if (h.version < 3 && nested_fields) throw fail(fmt::format("version {} file with fields of version 3 set (file corrupted)", h.version));
-  if (h.version >= 3) {
+  // Version 3 is a nested set; version 4 may be (its level count says).
+  if (h.version == 3 || (h.version >= 4 && nested_fields)) {
     if (h.level_count < 2 || h.level_count > max_levels || h.reserved != 0)
       throw fail(fmt::format("a nested set with {} levels (2..{})", h.level_count, max_levels));
     if (h.fovea != uint32_t(fovea_layout::darts)) throw fail("a nested set with a grid fovea");

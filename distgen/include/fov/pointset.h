@@ -224,12 +224,14 @@ bool is_grid_point(const pointset& set, const point& p);
 // grid spacing) or "grid-S" for another spacing S (e.g. "grid-1.10").
 std::string fovea_label(const dart_params& params);
 
-// The one file name of a set, from what fixes it: DISPLAY-sS[-FOVEA].fovset, where DISPLAY is
-// display_name(model.display), S the scale to 2 decimals and FOVEA fovea_label(darts) for a
-// grid fovea (e.g. fove-s1.00.fovset, 640x720-v1-s1.75-grid.fovset); a nested set (level
-// scales given, coarsest first) is DISPLAY-nS1-S2-...fovset, finest first as --levels lists
-// them (fove-n0.70-1.00-3.00.fovset). Every tool that writes or looks for a set in a
-// directory names it so.
+// The one file name of a set, from what fixes it: DISPLAY[-ACUITY]-sS[-FOVEA].fovset, where
+// DISPLAY is display_name(model.display), ACUITY acuity_label(model.acuity) for any model but
+// the thesis's CSF with its constants, S the scale to 2 decimals and FOVEA fovea_label(darts)
+// for a grid fovea (e.g. fove-s1.00.fovset, 640x720-v1-s1.75-grid.fovset,
+// fove-linear-mar-s1.00.fovset); a nested set (level scales given, coarsest first) is
+// DISPLAY[-ACUITY]-nS1-S2-...fovset, finest first as --levels lists them
+// (fove-n0.70-1.00-3.00.fovset). Every tool that writes or looks for a set in a directory
+// names it so.
 std::string pointset_file_name(const spacing_model& model, const dart_params& darts,
                                const std::vector<double>& level_scales = {});
 

@@ -10,9 +10,10 @@
 
 namespace fov {
 
-// 2 adds the fovea layout (a pixel grid in the fovea), 3 nested sets (levels); version 1
-// and 2 files still load. Sets of one level are written as version 2.
-inline constexpr uint32_t pointset_format_version = 3;
+// 2 adds the fovea layout (a pixel grid in the fovea), 3 nested sets (levels), 4 acuity
+// models other than the thesis's CSF; every earlier version still loads. Sets of the CSF are
+// written as version 2 (one level) or 3 (nested), byte for byte as before.
+inline constexpr uint32_t pointset_format_version = 4;
 inline constexpr uint32_t pointset_header_bytes = 512;
 
 // How the k-NN table is stored on disk.
