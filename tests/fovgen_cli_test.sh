@@ -179,5 +179,37 @@ assert levels[-1]["points"] == j["points_total"] and j["scale"] == 1.0, j
 assert all(a["points"] < b["points"] for a, b in zip(levels, levels[1:])), levels
 PY
 
+# Issue 27: acuity models. Bad models and parameters are flags (exit 2), nothing written;
+# a model's set is named by it and info --json reports the model, its parameters, the sampler.
+check "unknown acuity"    2 -- "$fovgen" "${small[@]}" --acuity cortical -o "$dir/m.fovset"
+check "mar slope zero"    2 -- "$fovgen" "${small[@]}" --acuity linear-mar --mar-slope 0 -o "$dir/m.fovset"
+check "mar slope nan"     2 -- "$fovgen" "${small[@]}" --acuity linear-mar --mar-slope nan -o "$dir/m.fovset"
+check "mar fovea big"     2 -- "$fovgen" "${small[@]}" --acuity linear-mar --mar-fovea 2 -o "$dir/m.fovset"
+check "mar dead zone"     2 -- "$fovgen" "${small[@]}" --acuity linear-mar --mar-dead-zone -1 -o "$dir/m.fovset"
+check "mar, csf"          2 -- "$fovgen" "${small[@]}" --mar-slope 0.03 -o "$dir/m.fovset"
+check "pivots, linear"    2 -- "$fovgen" "${small[@]}" --acuity linear-mar --acuity-pivots 40,10,6,5,4 -o "$dir/m.fovset"
+check "pivots four"       2 -- "$fovgen" "${small[@]}" --acuity piecewise-mar --acuity-pivots 40,10,6,5 -o "$dir/m.fovset"
+check "pivots growing"    2 -- "$fovgen" "${small[@]}" --acuity piecewise-mar --acuity-pivots 40,10,12,5,4 -o "$dir/m.fovset"
+check "pivots zero"       2 -- "$fovgen" "${small[@]}" --acuity piecewise-mar --acuity-pivots 40,10,6,5,0 -o "$dir/m.fovset"
+[[ ! -e "$dir/m.fovset" ]] || fail "a refused acuity model left a file"
+for model in linear-mar piecewise-mar; do
+  check "sweep $model"    0 -- "$fovgen" sweep "${small[@]}" --k 4 --scales 1.0 --acuity $model -o "$dir/models"
+  [[ -s "$dir/models/48x40-v1-$model-s1.00.fovset" ]] || fail "a $model set is not named 48x40-v1-$model-s1.00.fovset: $(ls "$dir/models")"
+done
+"$fovgen" info "$dir/models/48x40-v1-piecewise-mar-s1.00.fovset" --json > "$dir/m.json" || fail "info on a piecewise-mar set"
+python3 - "$dir/m.json" <<'PY' || fail "info --json of a piecewise-mar set"
+import json, sys
+j = json.load(open(sys.argv[1]))
+assert j["acuity"] == "piecewise-mar" and j["sampler"] == "poisson", j
+assert [p["cpd"] for p in j["acuity_params"]["pivots"]] == [40, 10, 6, 5, 4], j["acuity_params"]
+assert j["spacing_violations"] == 0, j
+PY
+"$fovgen" info "$dir/a.fovset" --json | grep -q '"acuity": "csf",' || fail "a default set's acuity is not csf"
+check "acuity table"      0 -- "$fovgen" acuity --display 48x40 -o "$dir/acuity"
+[[ -s "$dir/acuity.png" && -s "$dir/acuity.svg" ]] || fail "fovgen acuity -o wrote no figure"
+[[ $("$fovgen" acuity --display fove | grep -c '^linear-mar,') -eq 401 ]] || fail "fovgen acuity: not 401 linear-mar rows"
+check "acuity bad display" 2 -- "$fovgen" acuity --display oculus
+check "acuity bad scale"  2 -- "$fovgen" acuity --scale -1
+
 echo "fovgen CLI: $passes passed, $failures failed"
 [[ $failures -eq 0 ]]

@@ -47,15 +47,59 @@ void add_generate_flags(CLI::App& app, generate_options& o) {
                         "where the model's spacing is at most --grid-spacing, darts outside");
   app.add_option("--grid-spacing", o.grid_spacing,
                  "With --fovea grid: the largest model spacing (pixels, 0.5..4) that still gets grid points");
+  add_label_option(app, "--acuity", o.acuity.model, acuity_model_labels,
+                   "Acuity model behind the spacing (docs/schemes.md): csf, the thesis's contrast-sensitivity "
+                   "cut-off; linear-mar, Guenter's linear MAR sampled as HVVR does; piecewise-mar, VaFR's");
+  app.add_option("--mar-slope", o.acuity.mar_slope,
+                 fmt::format("linear-mar: slope m of the MAR, degrees per degree, (0, {}] (default {}, HVVR's; "
+                             "Guenter's m_A is 0.0275)", max_mar_slope, acuity_params{}.mar_slope));
+  app.add_option("--mar-fovea", o.acuity.mar_fovea_deg,
+                 fmt::format("linear-mar: foveal MAR w0 in degrees, {:.4g}..{} (default 1/60, HVVR's; Guenter's 1/48)",
+                             min_mar_fovea_deg, max_mar_fovea_deg));
+  app.add_option("--mar-dead-zone", o.acuity.mar_dead_zone_deg,
+                 fmt::format("linear-mar: eccentricity in degrees held at w0 for eye-tracking error, 0..{} (default "
+                             "{}, HVVR's)", max_mar_dead_zone_deg, acuity_params{}.mar_dead_zone_deg));
+  app.add_option("--acuity-pivots", o.pivots,
+                 fmt::format("piecewise-mar: the acuity in cycles per degree at 0,10,20,30,60 degrees, each {}..{} "
+                             "and none above the one before (default 40,10,6,5,4, VaFR's)", min_pivot_cpd, max_pivot_cpd))
+      ->delimiter(',')
+      ->expected(5);
   app.add_flag("--json", o.json, "Print a JSON summary on stdout");
 }
 
 void note_given_flags(const CLI::App& app, generate_options& o) {
   o.width_given = app.count("--width") > 0, o.height_given = app.count("--height") > 0;
   o.distance_given = app.count("--viewing-distance") > 0, o.grid_spacing_given = app.count("--grid-spacing") > 0;
+  o.mar_given = app.count("--mar-slope") + app.count("--mar-fovea") + app.count("--mar-dead-zone") > 0;
 }
 
 namespace {
+
+// The acuity model with its parameters; flags of another model's parameters, or values out
+// of their documented ranges, are usage errors naming the flag.
+acuity_params acuity_from_flags(const generate_options& o) {
+  acuity_params a = o.acuity;
+  const bool linear = a.model == acuity_model::linear_mar, piecewise = a.model == acuity_model::piecewise_mar;
+  if (o.mar_given && !linear) throw usage_error("--mar-slope, --mar-fovea and --mar-dead-zone need --acuity linear-mar");
+  if (!o.pivots.empty() && !piecewise) throw usage_error("--acuity-pivots needs --acuity piecewise-mar");
+  if (!(a.mar_slope > 0 && a.mar_slope <= max_mar_slope))
+    throw usage_error(fmt::format("--mar-slope must lie in (0, {}] (got {})", max_mar_slope, a.mar_slope));
+  if (!(a.mar_fovea_deg >= min_mar_fovea_deg && a.mar_fovea_deg <= max_mar_fovea_deg))
+    throw usage_error(fmt::format("--mar-fovea must lie in {:.4g}..{} degrees (got {})", min_mar_fovea_deg,
+                                  max_mar_fovea_deg, a.mar_fovea_deg));
+  if (!(a.mar_dead_zone_deg >= 0 && a.mar_dead_zone_deg <= max_mar_dead_zone_deg))
+    throw usage_error(fmt::format("--mar-dead-zone must lie in 0..{} degrees (got {})", max_mar_dead_zone_deg,
+                                  a.mar_dead_zone_deg));
+  if (!o.pivots.empty()) {
+    if (o.pivots.size() != std::size(a.pivot_cpd)) throw usage_error("--acuity-pivots takes 5 values");
+    std::copy(o.pivots.begin(), o.pivots.end(), a.pivot_cpd);
+  }
+  spacing_model check;
+  check.acuity = a;
+  if (const std::string why = validate(check); !why.empty())
+    throw usage_error(std::string(piecewise ? "--acuity-pivots: " : "--acuity: ") + why);
+  return a;
+}
 
 spacing_model model_from(const generate_options& o) {
   spacing_model m;
@@ -64,6 +108,7 @@ spacing_model model_from(const generate_options& o) {
   if (o.display.empty() || o.height_given) m.display.height = o.height;
   if (o.display.empty() || o.distance_given) m.display.viewing_distance = o.viewing_distance;
   m.scale = o.scale;
+  m.acuity = acuity_from_flags(o);
   if (o.width <= 0 && o.width_given) throw usage_error(fmt::format("--width must be positive (got {})", o.width));
   if (o.height <= 0 && o.height_given) throw usage_error(fmt::format("--height must be positive (got {})", o.height));
   if (const std::string why = viewing_distance_problem(m.display.viewing_distance); !why.empty())
@@ -98,6 +143,22 @@ spacing_model model_from(const generate_options& o) {
   return m;
 }
 
+// The model's own parameters, named as its flags are.
+json acuity_json(const acuity_params& a) {
+  switch (a.model) {
+    case acuity_model::wang_csf: return {{"ct0", a.ct0}, {"alpha", a.alpha}, {"e2", a.e2}};
+    case acuity_model::linear_mar:
+      return {{"mar_slope", a.mar_slope}, {"mar_fovea_deg", a.mar_fovea_deg}, {"mar_dead_zone_deg", a.mar_dead_zone_deg}};
+    case acuity_model::piecewise_mar: {
+      json pivots = json::array();
+      for (size_t i = 0; i < std::size(a.pivot_cpd); ++i)
+        pivots.push_back({{"eccentricity_deg", piecewise_pivots_deg[i]}, {"cpd", a.pivot_cpd[i]}});
+      return {{"pivots", pivots}};
+    }
+  }
+  return json::object();
+}
+
 json summary(const pointset& set, const std::string& path) {
   json j;
   j["file"] = path;
@@ -120,8 +181,9 @@ json summary(const pointset& set, const std::string& path) {
     }
     j["levels"] = levels;
   }
-  j["acuity_model"] = acuity_model_name(set.model.acuity.model);
-  j["csf"] = {{"ct0", set.model.acuity.ct0}, {"alpha", set.model.acuity.alpha}, {"e2", set.model.acuity.e2}};
+  j["acuity"] = acuity_model_name(set.model.acuity.model);
+  j["acuity_params"] = acuity_json(set.model.acuity);
+  j["sampler"] = "poisson";  // the only sampler so far: Poisson-disc darts
   j["k"] = stored_k(set);
   j["neighbours"] = label_of(knn_storage_labels, set.storage());
   if (set.table.k != 0) j["table_group"] = set.table.group;
@@ -443,6 +505,55 @@ int run_displays(const std::string& spec, bool as_json) {
                          d.viewing_distance, pixels_per_degree(d), horizontal_fov_deg(d), vertical_fov_deg(d), what);
   }
   std::cout << (as_json ? all.dump(2) + "\n" : table);
+  return 0;
+}
+
+int run_acuity(const acuity_options& o) {
+  spacing_model base;
+  base.display = require_display("--display", o.display);
+  if (!(o.scale > 0) || !std::isfinite(o.scale))
+    throw usage_error(fmt::format("--scale must be positive (got {})", o.scale));
+  base.scale = o.scale;
+  if (const std::string why = validate(base); !why.empty()) throw usage_error(why);
+  // From the gaze to the canvas corner, the farthest any point lies.
+  const double corner = std::hypot(double(base.display.width), double(base.display.height));
+  constexpr int steps = 400;
+  const double fd = display_nyquist_cpd(base.display);
+  plot_panel spacing, cutoff;
+  spacing.title = "Point spacing against eccentricity (" + display_name(base.display) + ")";
+  spacing.x_label = cutoff.x_label = "eccentricity (deg)";
+  spacing.y_label = "minimum spacing p (px)";
+  cutoff.title = "Cut-off frequency against eccentricity", cutoff.y_label = "cycles per degree";
+  cutoff.log_y = true;
+  std::string csv = "acuity,distance_px,eccentricity_deg,cutoff_cpd,spacing_px\n";
+  json rows = json::array();
+  for (const auto& [label, model] : acuity_model_labels) {
+    spacing_model m = base;
+    m.acuity.model = model;
+    if (const std::string why = validate(m); !why.empty()) throw usage_error(fmt::format("--acuity {}: {}", label, why));
+    plot_series ps;
+    ps.name = ps.scheme = label;
+    ps.markers = false;
+    plot_series pc = ps;
+    for (int i = 0; i <= steps; ++i) {
+      const double d = corner * i / steps, e = eccentricity_deg(m, d);
+      const double fc = cutoff_frequency_cpd(m.acuity, e), p = point_spacing_px(m, d);
+      ps.x.push_back(e), ps.y.push_back(p), pc.x.push_back(e), pc.y.push_back(fc);
+      csv += fmt::format("{},{:.6g},{:.6g},{:.6g},{:.6g}\n", label, d, e, fc, p);
+      rows.push_back({{"acuity", label}, {"distance_px", d}, {"eccentricity_deg", e}, {"cutoff_cpd", fc}, {"spacing_px", p}});
+    }
+    spacing.series.push_back(ps), cutoff.series.push_back(pc);
+  }
+  plot_series nyquist;
+  nyquist.name = "display Nyquist", nyquist.scheme = "full", nyquist.style = "dashed";
+  nyquist.markers = false;
+  nyquist.x = {0, spacing.series[0].x.back()}, nyquist.y = {fd, fd};
+  cutoff.series.push_back(nyquist);
+  if (!o.output.empty())
+    if (const std::string why = write_plot({spacing, cutoff}, o.output); !why.empty())
+      std::cerr << "fovgen: no figure: " << why << "\n";
+  std::cout << (o.json ? json{{"display", display_name(base.display)}, {"scale", o.scale}, {"nyquist_cpd", fd}, {"rows", rows}}.dump(2) + "\n"
+                       : csv);
   return 0;
 }
 

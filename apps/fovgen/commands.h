@@ -25,6 +25,9 @@ struct generate_options {
   std::string encoding = "ref-left-zstd";
   fovea_layout fovea = dart_params{}.fovea;
   double grid_spacing = dart_params{}.grid_spacing;
+  // The acuity model and its parameters (docs/schemes.md); pivots: piecewise-mar's five acuities.
+  acuity_params acuity;
+  std::vector<double> pivots;
   bool json = false;
   std::string output;  // the set's file (generate only)
   // Nested set (generate only): the levels' scales, finest first (e.g. 0.7,1.0,1.5,2.25,3.0);
@@ -33,6 +36,7 @@ struct generate_options {
   bool scale_given = false;
   // Which flags were given (with --display, only given ones replace the preset's).
   bool width_given = false, height_given = false, distance_given = false, grid_spacing_given = false;
+  bool mar_given = false;  // --mar-slope, --mar-fovea or --mar-dead-zone
 };
 // Binds the flags every generating command takes (not --scale and -o, which differ).
 void add_generate_flags(CLI::App& app, generate_options& o);
@@ -59,6 +63,14 @@ int run_generate(const generate_options& o);
 int run_info(const info_options& o);
 int run_plot(const plot_options& o);
 int run_sweep(const sweep_options& o);
+// The spacing every acuity model gives against eccentricity on one display (docs/schemes.md):
+// a CSV table on stdout (or JSON), and with a stem a figure STEM.png and STEM.svg.
+struct acuity_options {
+  std::string display = "fove", output;
+  double scale = 1.0;
+  bool json = false;
+};
+int run_acuity(const acuity_options& o);
 // The presets (or one display spec): size, viewing distance, pixels per degree, fields of view
 // and the name its sets carry; a Markdown table, or JSON.
 int run_displays(const std::string& spec, bool json);

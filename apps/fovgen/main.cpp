@@ -44,7 +44,15 @@ int main(int argc, char** argv) {
   displays->add_option("--display", display_spec, "Describe this display instead: " + fov::display_help());
   displays->add_flag("--json", displays_json, "Print JSON");
 
+  CLI::App* acuity = app.add_subcommand("acuity", "Tabulate (and plot) every acuity model's spacing against eccentricity");
+  fov::acuity_options ao;
+  acuity->add_option("--display", ao.display, "Display: " + fov::display_help());
+  acuity->add_option("--scale,-s", ao.scale, "Eccentricity scale s");
+  acuity->add_option("-o,--output", ao.output, "Figure stem: writes STEM.png and STEM.svg");
+  acuity->add_flag("--json", ao.json, "Print JSON instead of CSV");
+
   return fov::run_tool("fovgen", app, argc, argv, [&] {
+    if (*acuity) return fov::run_acuity(ao);
     if (*info) return fov::run_info(io);
     if (*displays) return fov::run_displays(display_spec, displays_json);
     if (*plot) return fov::run_plot(po);
