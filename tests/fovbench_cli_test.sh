@@ -17,6 +17,7 @@ check "two budgets"     2 -- "$fovbench" "${common[@]}" --budget-psnr 20 --budge
 check "missing scene"   1 -- "$fovbench" "${common[@]}" --scene "$dir/none.gltf" -o "$dir/x"
 check "bad footprint"   2 -- "$fovbench" "${common[@]}" --texture-footprint wide -o "$dir/x"
 check "bad fovea"       2 -- "$fovbench" "${common[@]}" --fovea hex -o "$dir/x"
+check "bad acuity"      2 -- "$fovbench" "${common[@]}" --acuity wang_csf -o "$dir/x"
 check "bad grid spacing" 2 -- "$fovbench" "${common[@]}" --fovea grid --grid-spacing nan -o "$dir/x"
 check "spacing, darts"  2 -- "$fovbench" "${common[@]}" --grid-spacing 1.1 -o "$dir/x"
 check "bad eye"         2 -- "$fovbench" "${common[@]}" --eye 1,2 -o "$dir/x"

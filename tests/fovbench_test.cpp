@@ -42,6 +42,7 @@ result_row sample_row(const std::string& method, const std::string& spp) {
   r.cells["error_profile"] = "0.1;0.2;0.05";
   r.cells["taa_frames"] = r.cells["taa_pattern"] = "";  // a single frame
   r.cells["density"] = "fixed";
+  r.cells["acuity"] = "csf";
   r.cells["adaptive_threshold"] = r.cells["levels"] = r.cells["level_rays"] = "";
   return r;
 }
@@ -144,6 +145,7 @@ TEST(ResultsCsv, CorruptRowsAreRefusedAndCrlfIsRead) {
            {"frame_ms", "0", "frame_ms 0 lies outside (0"},
            {"frame_ms", "-3", "frame_ms -3 lies outside (0"},
            {"kind", "bogus", "kind 'bogus' is not foveated, uniform, full or falloff"},
+           {"acuity", "wang_csf", "acuity 'wang_csf' is not csf, linear-mar or piecewise-mar"},
            {"scale", "1e308", "scale 1e308 lies outside (0, 10]"},
            {"ssim", "1.5", "ssim 1.5 lies outside [-1, 1]"},
            {"method", "full", "method 'full' is not one a foveated row has"},
@@ -543,21 +545,27 @@ TEST(Summary, JoinsRunsAndRefusesOnesThatDisagree) {
 
 // A results.csv from before the steady-state columns reads for a summary (single frames),
 // never for --resume.
-// Files of older fovbenches: before the density columns, and before the steady-state ones
-// too; a header missing only the steady-state columns never existed and is refused.
+// Files of older fovbenches: before the acuity column, before the density columns too, and
+// before the steady-state ones too (their rows read as csf); a header missing only the
+// steady-state columns never existed and is refused.
 TEST(ResultsCsv, TheColumnsBeforeSteadyStateReadOnlyWhenAsked) {
   const std::string path = ::testing::TempDir() + "/results-before-steady-state.csv";
   const std::set<std::string> density = {"density", "adaptive_threshold", "levels", "level_rays"};
-  const std::set<std::string> steady = {"taa_frames", "taa_pattern"};
+  const std::set<std::string> steady = {"taa_frames", "taa_pattern"}, acuity = {"acuity"};
+  auto joined = [](std::set<std::string> a, const std::set<std::string>& b) {
+    a.insert(b.begin(), b.end());
+    return a;
+  };
   for (const auto& [dropped, readable] : std::vector<std::pair<std::set<std::string>, bool>>{
-           {density, true}, {[&] { auto both = density; both.insert(steady.begin(), steady.end()); return both; }(), true},
-           {steady, false}}) {
+           {acuity, true}, {joined(acuity, density), true}, {joined(joined(acuity, density), steady), true},
+           {density, false}, {steady, false}}) {
     std::vector<std::string> columns = result_columns();
     columns.erase(std::remove_if(columns.begin(), columns.end(), [&](const std::string& c) { return dropped.count(c) > 0; }),
                   columns.end());
     result_row row = sample_row("nn", "1");
     for (const std::string& c : dropped) row.cells[c] = "";  // what the reader gives a column the file lacks
     row.cells["density"] = "fixed";                           // (an older foveated row's set is fixed)
+    row.cells["acuity"] = "csf";                              // (and of the thesis's acuity model)
     {
       std::ofstream out(path);
       for (size_t i = 0; i < columns.size(); ++i) out << (i ? "," : "") << columns[i];

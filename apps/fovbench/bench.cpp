@@ -154,10 +154,18 @@ std::string fovea_text(const bench_options& o) {
   return fovea_label(d);
 }
 
+// The foveated sets' acuity model, with its default parameters.
+acuity_params acuity_of(const bench_options& o) {
+  acuity_params a;
+  a.model = o.acuity;
+  return a;
+}
+
 // Where the set for one scale lives in --points-dir.
 std::string bench_pointset_path(const bench_options& o, const display_geometry& display, double scale) {
   spacing_model model;
   model.display = display, model.scale = scale;
+  model.acuity.model = o.acuity;
   dart_params darts;
   darts.fovea = o.fovea, darts.grid_spacing = o.grid_spacing;
   return (fs::path(o.points_dir) / pointset_file_name(model, darts)).string();
@@ -167,6 +175,7 @@ std::string bench_pointset_path(const bench_options& o, const display_geometry& 
 std::string bench_nested_path(const bench_options& o, const display_geometry& display) {
   spacing_model model;
   model.display = display, model.scale = o.levels.front();
+  model.acuity.model = o.acuity;
   return (fs::path(o.points_dir) / pointset_file_name(model, dart_params{}, {o.levels.rbegin(), o.levels.rend()})).string();
 }
 
@@ -197,6 +206,7 @@ std::shared_ptr<const pointset> bench_pointset(const bench_options& o, const dis
     spacing_model model;
     model.display = display;
     model.scale = scale;
+    model.acuity.model = o.acuity;
     dart_params darts;
     darts.fovea = o.fovea;
     darts.grid_spacing = o.grid_spacing;
@@ -224,6 +234,9 @@ std::shared_ptr<const pointset> bench_pointset(const bench_options& o, const dis
   if (display_name(set->model.display) != display_name(display) || set->model.scale != scale)
     throw std::runtime_error(fmt::format("{}: made for {} at s = {}, not {} at s = {}", path, display_name(set->model.display),
                                          set->model.scale, display_name(display), scale));
+  if (!same_acuity(set->model.acuity, acuity_of(o)))
+    throw std::runtime_error(fmt::format("{}: made with acuity {}, not {}", path, acuity_label(set->model.acuity),
+                                         acuity_label(acuity_of(o))));
   require_ks(o, *set, path);
   return set;
 }
@@ -343,6 +356,7 @@ std::shared_ptr<const pointset> bench_nested_pointset(const bench_options& o, co
     say(fmt::format("generating {}", path));
     spacing_model model;
     model.display = display;
+    model.acuity.model = o.acuity;
     knn_params kp;
     kp.k = k;
     make_output_dir(o.points_dir);
@@ -351,6 +365,9 @@ std::shared_ptr<const pointset> bench_nested_pointset(const bench_options& o, co
   }
   auto set = std::make_shared<const pointset>(load_pointset(path));
   std::vector<double> finest_first(set->level_scales.rbegin(), set->level_scales.rend());
+  if (!same_acuity(set->model.acuity, acuity_of(o)))
+    throw std::runtime_error(fmt::format("{}: made with acuity {}, not {}", path, acuity_label(set->model.acuity),
+                                         acuity_label(acuity_of(o))));
   if (display_name(set->model.display) != display_name(display) || finest_first != o.levels)
     throw std::runtime_error(fmt::format("{}: made for {} with levels {}, not {} with levels {}", path,
                                          display_name(set->model.display), levels_text(finest_first), display_name(display),
@@ -532,6 +549,9 @@ std::set<std::string> resumed_keys(const bench_options& o, const display_geometr
     if (r.text("fovea") != fovea)
       throw std::runtime_error(fmt::format("{}: its foveated sets have --fovea {}, not {}; use another -o", results_path,
                                            r.text("fovea"), fovea));
+    if (r.text("acuity") != acuity_model_name(o.acuity))
+      throw std::runtime_error(fmt::format("{}: its foveated sets have --acuity {}, not {}; use another -o", results_path,
+                                           r.text("acuity"), acuity_model_name(o.acuity)));
     if (r.text("render_settings") != settings)
       throw std::runtime_error(fmt::format("{}: its rows were measured with {}, not {}; use another -o", results_path,
                                            r.text("render_settings"), settings));
@@ -758,6 +778,7 @@ class scene_sweep {
     const named_gaze& gp = st_.gazes[c.gaze];
     row.cells.insert({{"gaze_x", number(gp.at.x)}, {"gaze_y", number(gp.at.y)},
                       {"texture_footprint", texture_footprint_name(o_.render.footprint)}, {"fovea", fovea_text(o_)},
+                      {"acuity", acuity_model_name(o_.acuity)},
                       {"display", display_name(st_.display)}, {"ppd", number(pixels_per_degree(st_.display))},
                       {"device", r_.device()}, {"frames", std::to_string(o_.frames)},
                       {"neighbours", c.kind == row_kind::foveated || c.kind == row_kind::uniform ? neighbours_label() : ""},
@@ -1069,7 +1090,7 @@ size_t merge_results(const merge_options& m, int argc, char** argv) {
   require_output_dir("-o", m.out);
   std::vector<result_row> rows;
   std::map<std::string, std::string> first_file;  // key -> the file it came from
-  const char* same[] = {"display", "texture_footprint", "fovea", "render_settings", "reference_spp"};
+  const char* same[] = {"display", "texture_footprint", "fovea", "acuity", "render_settings", "reference_spp"};
   std::string first_path;
   for (const std::string& input : m.inputs) {
     const std::string path = fs::is_directory(input) ? (fs::path(input) / "results.csv").string() : input;

@@ -64,6 +64,9 @@ int main(int argc, char** argv) {
   fov::add_label_option(app, "--neighbours", o.neighbours, fov::knn_storage_labels,
                         "How the sets keep their neighbours: table (fastest to read) or cells (memory that grows with "
                         "the points; docs/fovgen.md); default: the table where it fits in memory, else cells");
+  fov::add_label_option(app, "--acuity", o.acuity, fov::acuity_model_labels,
+                        "The foveated sets' acuity model (fovgen --acuity, its default parameters; docs/schemes.md); "
+                        "sets DISPLAY-ACUITY-sS.fovset");
   fov::add_label_option(app, "--fovea", o.fovea, fov::fovea_layout_labels,
                         "The foveated sets' fovea (fovgen --fovea): darts (the thesis) or grid (DISPLAY-sS-grid.fovset)");
   app.add_option("--grid-spacing", o.grid_spacing,

@@ -37,6 +37,9 @@ struct bench_options {
   // The foveated sets' fovea (fovgen --fovea, --grid-spacing): one per results.csv, like
   // the footprint.
   fovea_layout fovea = fovea_layout::darts;
+  // The acuity model of the foveated sets (fovgen --acuity, its default parameters): their
+  // files are named by it, and results.csv's `acuity` column says it.
+  acuity_model acuity = acuity_model::wang_csf;
   // How the sets keep their neighbours; without a value, the table where it fits in memory,
   // else k-NN cells (the same frames either way; results.csv's `neighbours` says which).
   std::optional<knn_storage> neighbours;

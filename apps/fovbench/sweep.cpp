@@ -24,6 +24,8 @@ const std::vector<std::string>& result_columns() {
       // What the row is.
       "scene", "gaze", "gaze_x", "gaze_y", "kind", "scale", "pixel_fraction", "method", "k", "ray_floor", "spp", "texture_footprint", "fovea",
       "display", "ppd",
+      // The foveated sets' acuity model (fovgen --acuity; issue 27).
+      "acuity",
       // Empty for a single frame; else the steady state after this many frames of TAA with a
       // still view, the rays in this pattern (--taa-frames, --pattern).
       "taa_frames", "taa_pattern",
@@ -136,6 +138,9 @@ std::string result_row_problem(const result_row& row) {
   } else if (!pattern.empty()) {
     return fmt::format("taa_pattern '{}' without taa_frames", printable(pattern));
   }
+  acuity_model acuity{};
+  if (!parse_label(acuity_model_labels, row.text("acuity"), acuity))
+    return fmt::format("acuity '{}' is not {}", printable(row.text("acuity")), label_alternatives(acuity_model_labels));
   // Density: a foveated row's fixed or adaptive; an adaptive one names its threshold and
   // levels (increasing scales joined by ';') and has no single scale.
   const std::string& density = row.text("density");
@@ -215,21 +220,22 @@ std::vector<result_row> read_results(const std::string& path, bool older_ok) {
   if (!std::getline(in, line) || in.eof()) throw std::runtime_error(fmt::format("{}: no header", path));
   chomp(line);
   const std::vector<std::string> header = split_csv(line);
-  // An older fovbench's header: without the density columns, and before that without the
-  // steady-state ones too.
+  // An older fovbench's header: without the acuity column, before that without the density
+  // columns, and before that without the steady-state ones too.
   auto without = [](std::set<std::string> later) {
     std::vector<std::string> columns = result_columns();
     columns.erase(std::remove_if(columns.begin(), columns.end(), [&](const std::string& c) { return later.count(c) > 0; }),
                   columns.end());
     return columns;
   };
-  const bool older = older_ok && (header == without({"density", "adaptive_threshold", "levels", "level_rays"}) ||
-                                  header == without({"density", "adaptive_threshold", "levels", "level_rays", "taa_frames",
-                                                     "taa_pattern"}));
+  const bool older = older_ok && (header == without({"acuity"}) ||
+                                  header == without({"acuity", "density", "adaptive_threshold", "levels", "level_rays"}) ||
+                                  header == without({"acuity", "density", "adaptive_threshold", "levels", "level_rays",
+                                                     "taa_frames", "taa_pattern"}));
   if (header != result_columns() && !older)
     throw std::runtime_error(fmt::format("{}:1: not a results.csv of this fovbench (columns differ); use another -o", path));
   static const std::set<std::string> text_columns = {"scene",  "gaze",         "kind",   "method",         "texture_footprint", "taa_pattern",
-                                                     "fovea",  "display", "timing_flag", "density", "levels", "level_rays",  "device", "neighbours", "render_settings", "error_profile",
+                                                     "fovea",  "acuity", "display", "timing_flag", "density", "levels", "level_rays",  "device", "neighbours", "render_settings", "error_profile",
                                                      "speedup_samples", "ladder_samples"};
   std::vector<result_row> rows;
   std::map<std::string, int> first_line;  // by key
@@ -257,6 +263,7 @@ std::vector<result_row> read_results(const std::string& path, bool older_ok) {
       r.cells[header[i]] = c;
     }
     if (older && !r.cells.count("density")) r.cells["density"] = r.text("kind") == "foveated" ? "fixed" : "";
+    if (older && !r.cells.count("acuity")) r.cells["acuity"] = "csf";  // before acuity models: the thesis's
     if (const std::string why = result_row_problem(r); !why.empty())
       throw std::runtime_error(fmt::format("{}:{}: {} (not a row fovbench writes)", path, number, why));
     if (const auto [it, added] = first_line.emplace(r.key(), number); !added)
