@@ -341,6 +341,40 @@ TEST_F(PointsetFile, AcuityModelsRoundTripAsVersionFour) {
       << load_error(path("unknown.fovset"));
 }
 
+// A lattice sampler's set: version 4 with the sampler at offset 380; an unknown sampler, the
+// field set in an older version, a lattice with a grid fovea are refused by name.
+TEST_F(PointsetFile, SamplersAreKeptAndCheckedInTheHeader) {
+  dart_params d = testing::quick_darts();
+  d.sampler = point_sampler::log_polar;
+  knn_params kp;
+  kp.k = 6;
+  save_pointset(path("lp.fovset"), generate_pointset(testing::small_model(60, 50), d, kp));
+  const std::vector<char> bytes = read(path("lp.fovset"));
+  uint32_t version = 0, sampler = 0;
+  std::memcpy(&version, &bytes[8], 4);
+  std::memcpy(&sampler, &bytes[380], 4);
+  EXPECT_EQ(version, 4u);
+  EXPECT_EQ(sampler, uint32_t(point_sampler::log_polar));
+  auto patched = [&](size_t at, uint32_t value, const std::string& name) {
+    std::vector<char> b = bytes;
+    std::memcpy(&b[at], &value, 4);
+    seal_header(b);
+    write(path(name), b);
+    return load_error(path(name));
+  };
+  EXPECT_NE(patched(380, 7, "s7.fovset").find("unknown sampler 7"), std::string::npos);
+  EXPECT_NE(patched(384, 1, "r.fovset").find("unknown sampler"), std::string::npos);
+  EXPECT_NE(patched(8, 2, "v2.fovset").find("version 2 file with fields of version 4"), std::string::npos);
+  EXPECT_NE(patched(44, 1, "grid.fovset").find("grid fovea"), std::string::npos);
+  // The darts' sets keep writing version 2 with the field 0.
+  save_pointset(path("d.fovset"), set_);
+  const std::vector<char> darts = read(path("d.fovset"));
+  std::memcpy(&version, &darts[8], 4);
+  std::memcpy(&sampler, &darts[380], 4);
+  EXPECT_EQ(version, 2u);
+  EXPECT_EQ(sampler, 0u);
+}
+
 // Hostile headers: sizes are checked against the file (without sums that wrap) and the
 // machine's memory before anything is allocated; points out of Morton order are refused.
 TEST_F(PointsetFile, HeaderSizesAreBoundedByTheFileBeforeAnyAllocation) {

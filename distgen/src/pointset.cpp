@@ -18,6 +18,8 @@
 #include "fov/knn_table.h"
 #include "fov/pointset.h"
 
+#include "fov/lattice.h"
+
 namespace fov {
 
 void* allocate_table_bytes(size_t bytes) {
@@ -83,6 +85,7 @@ std::string pointset_file_name(const spacing_model& model, const dart_params& da
   std::string name = display_name(model.display);
   if (model.acuity.model != acuity_model::wang_csf || !same_acuity(model.acuity, acuity_params{}))
     name += "-" + acuity_label(model.acuity);
+  if (darts.sampler != point_sampler::poisson) name += std::string("-") + label_of(point_sampler_labels, darts.sampler);
   if (!level_scales.empty()) {  // given coarsest first, named finest first as --levels lists them
     name += "-n";
     for (size_t l = level_scales.size(); l-- > 0;) {
@@ -505,12 +508,24 @@ void build_neighbours(pointset& set, const knn_params& knn, knn_storage storage)
   }
 }
 
+std::vector<point> place_points(const spacing_model& model, const dart_params& darts, dart_stats* stats) {
+  if (darts.sampler == point_sampler::poisson) return throw_darts(model, darts, stats);
+  if (darts.fovea != fovea_layout::darts) throw std::invalid_argument("a grid fovea is for darts, not lattice samplers");
+  const auto start = std::chrono::steady_clock::now();
+  std::vector<point> points = lattice_points(model, darts.sampler);
+  if (stats) {
+    *stats = {};
+    stats->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  }
+  return points;
+}
+
 pointset generate_pointset(const spacing_model& model, const dart_params& darts, const knn_params& knn,
                            knn_storage storage) {
   pointset set;
   set.model = model;
   set.darts = darts;
-  set.points = throw_darts(model, darts, &set.stats);
+  set.points = place_points(model, darts, &set.stats);
   const auto start = std::chrono::steady_clock::now();
   build_neighbours(set, knn, storage);
   set.knn_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -519,6 +534,7 @@ pointset generate_pointset(const spacing_model& model, const dart_params& darts,
 
 pointset throw_nested_pointset(const spacing_model& model, const std::vector<double>& scales, const dart_params& darts) {
   if (const std::string why = levels_problem(scales); !why.empty()) throw std::invalid_argument(why);
+  if (darts.sampler != point_sampler::poisson) throw std::invalid_argument("a nested set is darts, not a lattice");
   pointset set;
   set.model = model;
   set.model.scale = scales.front();

@@ -58,6 +58,7 @@ struct header {
   // parameters, the other models' fields 0 (the CSF's ct0, alpha and e2 too).
   double mar_slope, mar_fovea_deg, mar_dead_zone_deg;  // linear_mar
   double pivot_cpd[5];                                 // piecewise_mar
+  uint32_t sampler, reserved4;  // point_sampler (0 = poisson, written as versions 2 and 3 do)
   uint32_t header_crc;  // CRC-32C of bytes [0, 508) with this field excluded
 };
 
@@ -81,6 +82,7 @@ void visit_fields(H& h, F&& f) {
   f(h.levels_offset); f(h.levels_bytes); f(h.levels_crc);
   f(h.mar_slope); f(h.mar_fovea_deg); f(h.mar_dead_zone_deg);
   for (auto& v : h.pivot_cpd) f(v);
+  f(h.sampler); f(h.reserved4);
 }
 constexpr size_t header_crc_offset = pointset_header_bytes - 4;
 
@@ -241,7 +243,8 @@ header make_header(const pointset& set, uint32_t k, uint32_t group, const save_p
   // A set of the thesis's CSF is written as before acuity models (version 3 when nested,
   // else 2, byte for byte), any other model as version 4.
   const acuity_params& a = set.model.acuity;
-  h.version = a.model != acuity_model::wang_csf ? 4 : set.nested() ? 3 : 2;
+  h.version = a.model != acuity_model::wang_csf || set.darts.sampler != point_sampler::poisson ? 4 : set.nested() ? 3 : 2;
+  h.sampler = uint32_t(set.darts.sampler);
   h.header_bytes = pointset_header_bytes;
   h.width = uint32_t(set.model.display.width);
   h.height = uint32_t(set.model.display.height);
@@ -423,6 +426,10 @@ pointset load_checked(const std::string& path, const load_params& params) {
   set.model.display = {int(h.width), int(h.height), h.viewing_distance};
   set.model.scale = h.scale;
   if (const std::string why = acuity_fields_problem(h); !why.empty()) throw fail(why);
+  if (h.version < 4 && (h.sampler != 0 || h.reserved4 != 0))
+    throw fail(fmt::format("version {} file with fields of version 4 set (file corrupted)", h.version));
+  if (h.sampler > uint32_t(point_sampler::log_polar) || h.reserved4 != 0)
+    throw fail(fmt::format("unknown sampler {}", h.sampler));
   set.model.acuity = acuity_from_header(h);
   if (h.width > 65536 || h.height > 65536) throw fail("screen size out of range");
   if (const std::string why = validate(set.model); !why.empty()) throw fail("invalid model: " + why);
@@ -434,13 +441,18 @@ pointset load_checked(const std::string& path, const load_params& params) {
   if (cells && (h.table_bytes != 0 || h.group != 1)) throw fail("a cells set with a table section");
   if (h.chunk_rows == 0) throw fail("chunk_rows is zero");
   if (h.point_count < h.k || h.point_count >= (uint64_t(1) << 32)) throw fail("point count out of range");
-  set.darts = {h.seed, h.saturation_rejections, h.central_fraction, h.free_area_probes};
+  set.darts = {};
+  set.darts.seed = h.seed, set.darts.saturation_rejections = h.saturation_rejections;
+  set.darts.central_fraction = h.central_fraction, set.darts.free_area_probes = h.free_area_probes;
+  set.darts.sampler = point_sampler(h.sampler);
   set.stats = {};
   set.stats.phase1_points = h.phase1_points, set.stats.phase2_points = h.phase2_points;
   set.stats.darts_thrown = h.darts_thrown, set.stats.free_fraction = h.free_fraction;
   set.stats.free_probes_accepted = h.free_probes_accepted;
   if (h.version == 1 && (h.fovea != 0 || h.grid_spacing != 0 || h.grid_points != 0))
     throw fail("version 1 file with fields of version 2 set (file corrupted)");
+  if (h.sampler != uint32_t(point_sampler::poisson) && h.fovea != uint32_t(fovea_layout::darts))
+    throw fail("a lattice sampler's set with a grid fovea (a grid fovea is for darts)");
   if (h.fovea == uint32_t(fovea_layout::grid)) {
     if (!valid_grid_spacing(h.grid_spacing))
       throw fail(fmt::format("grid spacing outside {}..{} pixels", min_grid_spacing, max_grid_spacing));
@@ -459,6 +471,7 @@ pointset load_checked(const std::string& path, const load_params& params) {
     if (h.level_count < 2 || h.level_count > max_levels || h.reserved != 0)
       throw fail(fmt::format("a nested set with {} levels (2..{})", h.level_count, max_levels));
     if (h.fovea != uint32_t(fovea_layout::darts)) throw fail("a nested set with a grid fovea");
+    if (h.sampler != uint32_t(point_sampler::poisson)) throw fail("a nested set of a lattice sampler (nested sets are darts)");
     for (uint32_t l = 0; l < max_levels; ++l) {
       const double v = h.level_scales[l];
       if (l >= h.level_count) {

@@ -57,7 +57,11 @@ knn_table regroup(const knn_table& table, uint32_t group);
 // (knn_cells.h, with knn.k), and drops the other kind if it held one.
 void build_neighbours(pointset& set, const knn_params& knn, knn_storage storage);
 
-// Throws darts and builds the table (or the cells) in memory.
+// The set's points as darts.sampler places them: throw_darts for poisson, lattice_points
+// (lattice.h) for a ring lattice (stats then only its seconds; a grid fovea is refused).
+std::vector<point> place_points(const spacing_model& model, const dart_params& darts, dart_stats* stats);
+
+// Places the points (place_points) and builds the table (or the cells) in memory.
 pointset generate_pointset(const spacing_model& model, const dart_params& darts, const knn_params& knn,
                            knn_storage storage = knn_storage::table);
 

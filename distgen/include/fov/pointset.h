@@ -30,12 +30,25 @@ enum class fovea_layout : uint32_t {
 inline constexpr std::pair<const char*, fovea_layout> fovea_layout_labels[] = {
     {"darts", fovea_layout::darts}, {"grid", fovea_layout::grid}};
 
+// What places a set's points (docs/schemes.md). The value is stored in point-set files (version
+// 4), so never renumber.
+enum class point_sampler : uint32_t {
+  poisson = 0,    // Poisson-disc darts at the acuity model's spacing (the thesis; dart_throwing.h)
+  polar = 1,      // rings one sample pitch apart, each ring's samples a pitch apart (HVVR's pattern; lattice.h)
+  log_polar = 2,  // VaFR's log-polar lattice: a ring at every unit of u(r) = integral of dr / pitch (lattice.h)
+};
+inline constexpr std::pair<const char*, point_sampler> point_sampler_labels[] = {
+    {"poisson", point_sampler::poisson}, {"polar", point_sampler::polar}, {"log-polar", point_sampler::log_polar}};
+
 // The grid spacings a set may have (dart_params::grid_spacing), pixels.
 inline constexpr double min_grid_spacing = 0.5, max_grid_spacing = 4;
 inline bool valid_grid_spacing(double p) { return p >= min_grid_spacing && p <= max_grid_spacing; }
 
 // How the dart thrower runs and when it calls a region saturated.
 struct dart_params {
+  // What places the points: darts (all the fields below apply), or a ring lattice, which reads
+  // none of them (it has no randomness: the seed is stored but changes nothing).
+  point_sampler sampler = point_sampler::poisson;
   uint64_t seed = 1;
   // A tile is saturated after this many consecutive rejected darts.
   uint32_t saturation_rejections = 8000;
@@ -224,9 +237,10 @@ bool is_grid_point(const pointset& set, const point& p);
 // grid spacing) or "grid-S" for another spacing S (e.g. "grid-1.10").
 std::string fovea_label(const dart_params& params);
 
-// The one file name of a set, from what fixes it: DISPLAY[-ACUITY]-sS[-FOVEA].fovset, where
-// DISPLAY is display_name(model.display), ACUITY acuity_label(model.acuity) for any model but
-// the thesis's CSF with its constants, S the scale to 2 decimals and FOVEA fovea_label(darts)
+// The one file name of a set, from what fixes it: DISPLAY[-ACUITY][-SAMPLER]-sS[-FOVEA].fovset,
+// where DISPLAY is display_name(model.display), ACUITY acuity_label(model.acuity) for any model
+// but the thesis's CSF with its constants, SAMPLER the sampler's label but for poisson
+// (fove-linear-mar-polar-s1.00.fovset), S the scale to 2 decimals and FOVEA fovea_label(darts)
 // for a grid fovea (e.g. fove-s1.00.fovset, 640x720-v1-s1.75-grid.fovset,
 // fove-linear-mar-s1.00.fovset); a nested set (level scales given, coarsest first) is
 // DISPLAY[-ACUITY]-nS1-S2-...fovset, finest first as --levels lists them
