@@ -43,6 +43,7 @@ result_row sample_row(const std::string& method, const std::string& spp) {
   r.cells["taa_frames"] = r.cells["taa_pattern"] = "";  // a single frame
   r.cells["density"] = "fixed";
   r.cells["acuity"] = "csf";
+  r.cells["sampler"] = "poisson";
   r.cells["adaptive_threshold"] = r.cells["levels"] = r.cells["level_rays"] = "";
   return r;
 }
@@ -146,6 +147,7 @@ TEST(ResultsCsv, CorruptRowsAreRefusedAndCrlfIsRead) {
            {"frame_ms", "-3", "frame_ms -3 lies outside (0"},
            {"kind", "bogus", "kind 'bogus' is not foveated, uniform, full or falloff"},
            {"acuity", "wang_csf", "acuity 'wang_csf' is not csf, linear-mar or piecewise-mar"},
+           {"sampler", "grid", "sampler 'grid' is not poisson, polar or log-polar"},
            {"scale", "1e308", "scale 1e308 lies outside (0, 10]"},
            {"ssim", "1.5", "ssim 1.5 lies outside [-1, 1]"},
            {"method", "full", "method 'full' is not one a foveated row has"},
@@ -551,7 +553,7 @@ TEST(Summary, JoinsRunsAndRefusesOnesThatDisagree) {
 TEST(ResultsCsv, TheColumnsBeforeSteadyStateReadOnlyWhenAsked) {
   const std::string path = ::testing::TempDir() + "/results-before-steady-state.csv";
   const std::set<std::string> density = {"density", "adaptive_threshold", "levels", "level_rays"};
-  const std::set<std::string> steady = {"taa_frames", "taa_pattern"}, acuity = {"acuity"};
+  const std::set<std::string> steady = {"taa_frames", "taa_pattern"}, acuity = {"acuity", "sampler"};
   auto joined = [](std::set<std::string> a, const std::set<std::string>& b) {
     a.insert(b.begin(), b.end());
     return a;
@@ -566,6 +568,7 @@ TEST(ResultsCsv, TheColumnsBeforeSteadyStateReadOnlyWhenAsked) {
     for (const std::string& c : dropped) row.cells[c] = "";  // what the reader gives a column the file lacks
     row.cells["density"] = "fixed";                           // (an older foveated row's set is fixed)
     row.cells["acuity"] = "csf";                              // (and of the thesis's acuity model)
+    row.cells["sampler"] = "poisson";                         // (and darts)
     {
       std::ofstream out(path);
       for (size_t i = 0; i < columns.size(); ++i) out << (i ? "," : "") << columns[i];

@@ -211,5 +211,20 @@ check "acuity table"      0 -- "$fovgen" acuity --display 48x40 -o "$dir/acuity"
 check "acuity bad display" 2 -- "$fovgen" acuity --display oculus
 check "acuity bad scale"  2 -- "$fovgen" acuity --scale -1
 
+# Samplers: a lattice has no grid fovea and no levels; its set is named by it.
+check "unknown sampler"   2 -- "$fovgen" "${small[@]}" --sampler hex -o "$dir/m.fovset"
+check "sampler and grid"  2 -- "$fovgen" "${small[@]}" --sampler polar --fovea grid -o "$dir/m.fovset"
+check "sampler, levels"   2 -- "$fovgen" "${small[@]}" --sampler log-polar --levels 1.0,2.0 -o "$dir/m.fovset"
+[[ ! -e "$dir/m.fovset" ]] || fail "a refused sampler left a file"
+check "sweep polar"       0 -- "$fovgen" sweep "${small[@]}" --k 4 --scales 1.0 --acuity linear-mar --sampler polar -o "$dir/models"
+[[ -s "$dir/models/48x40-v1-linear-mar-polar-s1.00.fovset" ]] || fail "a polar set is not named ...-linear-mar-polar-s1.00: $(ls "$dir/models")"
+"$fovgen" info "$dir/models/48x40-v1-linear-mar-polar-s1.00.fovset" --json > "$dir/p.json" || fail "info on a polar set"
+python3 - "$dir/p.json" <<'PY' || fail "info --json of a polar set"
+import json, sys
+j = json.load(open(sys.argv[1]))
+assert j["sampler"] == "polar" and j["acuity"] == "linear-mar", j
+assert j["spacing_violations"] is None, j  # the darts' rule; a lattice keeps its pitch on average
+PY
+
 echo "fovgen CLI: $passes passed, $failures failed"
 [[ $failures -eq 0 ]]

@@ -167,7 +167,7 @@ std::string bench_pointset_path(const bench_options& o, const display_geometry& 
   model.display = display, model.scale = scale;
   model.acuity.model = o.acuity;
   dart_params darts;
-  darts.fovea = o.fovea, darts.grid_spacing = o.grid_spacing;
+  darts.fovea = o.fovea, darts.grid_spacing = o.grid_spacing, darts.sampler = o.sampler;
   return (fs::path(o.points_dir) / pointset_file_name(model, darts)).string();
 }
 
@@ -210,6 +210,7 @@ std::shared_ptr<const pointset> bench_pointset(const bench_options& o, const dis
     dart_params darts;
     darts.fovea = o.fovea;
     darts.grid_spacing = o.grid_spacing;
+    darts.sampler = o.sampler;
     make_output_dir(o.points_dir);
     const knn_storage storage = bench_storage(o, display, knn_params{}.k);
     if (storage == knn_storage::cells)
@@ -237,6 +238,9 @@ std::shared_ptr<const pointset> bench_pointset(const bench_options& o, const dis
   if (!same_acuity(set->model.acuity, acuity_of(o)))
     throw std::runtime_error(fmt::format("{}: made with acuity {}, not {}", path, acuity_label(set->model.acuity),
                                          acuity_label(acuity_of(o))));
+  if (set->darts.sampler != o.sampler)
+    throw std::runtime_error(fmt::format("{}: placed by sampler {}, not {}", path, label_of(point_sampler_labels, set->darts.sampler),
+                                         label_of(point_sampler_labels, o.sampler)));
   require_ks(o, *set, path);
   return set;
 }
@@ -395,6 +399,8 @@ display_geometry check_bench_options(const bench_options& o) {
                                   o.grid_spacing));
   if (o.fovea != fovea_layout::grid && o.grid_spacing != dart_params{}.grid_spacing)
     throw usage_error("--grid-spacing needs --fovea grid");
+  if (o.sampler != point_sampler::poisson && o.fovea != fovea_layout::darts)
+    throw usage_error("--fovea grid needs --sampler poisson (a lattice has its own fovea)");
   if (o.reference_spp < 1 || o.reference_spp > max_spp)
     throw usage_error(fmt::format("--reference-spp must lie in 1..{} (got {})", max_spp, o.reference_spp));
   for (uint32_t s : o.spps)
@@ -443,6 +449,7 @@ display_geometry check_bench_options(const bench_options& o) {
       if (!(t >= 0 && t <= max_adaptive_threshold))
         throw usage_error(fmt::format("--adaptive-thresholds: {} is outside 0..{:g}", t, max_adaptive_threshold));
     if (o.fovea == fovea_layout::grid) throw usage_error("--levels: a nested set's fovea is darts; drop --fovea grid");
+    if (o.sampler != point_sampler::poisson) throw usage_error("--levels: a nested set is darts; drop --sampler");
     if (o.no_sparse) throw usage_error("--levels: --no-sparse leaves no point set to trace");
   }
   // Sets that will be generated need a --points-dir this process can write in: known now,
@@ -552,6 +559,9 @@ std::set<std::string> resumed_keys(const bench_options& o, const display_geometr
     if (r.text("acuity") != acuity_model_name(o.acuity))
       throw std::runtime_error(fmt::format("{}: its foveated sets have --acuity {}, not {}; use another -o", results_path,
                                            r.text("acuity"), acuity_model_name(o.acuity)));
+    if (r.text("sampler") != label_of(point_sampler_labels, o.sampler))
+      throw std::runtime_error(fmt::format("{}: its foveated sets have --sampler {}, not {}; use another -o", results_path,
+                                           r.text("sampler"), label_of(point_sampler_labels, o.sampler)));
     if (r.text("render_settings") != settings)
       throw std::runtime_error(fmt::format("{}: its rows were measured with {}, not {}; use another -o", results_path,
                                            r.text("render_settings"), settings));
@@ -778,7 +788,7 @@ class scene_sweep {
     const named_gaze& gp = st_.gazes[c.gaze];
     row.cells.insert({{"gaze_x", number(gp.at.x)}, {"gaze_y", number(gp.at.y)},
                       {"texture_footprint", texture_footprint_name(o_.render.footprint)}, {"fovea", fovea_text(o_)},
-                      {"acuity", acuity_model_name(o_.acuity)},
+                      {"acuity", acuity_model_name(o_.acuity)}, {"sampler", label_of(point_sampler_labels, o_.sampler)},
                       {"display", display_name(st_.display)}, {"ppd", number(pixels_per_degree(st_.display))},
                       {"device", r_.device()}, {"frames", std::to_string(o_.frames)},
                       {"neighbours", c.kind == row_kind::foveated || c.kind == row_kind::uniform ? neighbours_label() : ""},
@@ -1090,7 +1100,7 @@ size_t merge_results(const merge_options& m, int argc, char** argv) {
   require_output_dir("-o", m.out);
   std::vector<result_row> rows;
   std::map<std::string, std::string> first_file;  // key -> the file it came from
-  const char* same[] = {"display", "texture_footprint", "fovea", "acuity", "render_settings", "reference_spp"};
+  const char* same[] = {"display", "texture_footprint", "fovea", "acuity", "sampler", "render_settings", "reference_spp"};
   std::string first_path;
   for (const std::string& input : m.inputs) {
     const std::string path = fs::is_directory(input) ? (fs::path(input) / "results.csv").string() : input;

@@ -67,6 +67,8 @@ int main(int argc, char** argv) {
   fov::add_label_option(app, "--acuity", o.acuity, fov::acuity_model_labels,
                         "The foveated sets' acuity model (fovgen --acuity, its default parameters; docs/schemes.md); "
                         "sets DISPLAY-ACUITY-sS.fovset");
+  fov::add_label_option(app, "--sampler", o.sampler, fov::point_sampler_labels,
+                        "The foveated sets' sampler (fovgen --sampler; docs/schemes.md); sets DISPLAY[-ACUITY]-SAMPLER-sS.fovset");
   fov::add_label_option(app, "--fovea", o.fovea, fov::fovea_layout_labels,
                         "The foveated sets' fovea (fovgen --fovea): darts (the thesis) or grid (DISPLAY-sS-grid.fovset)");
   app.add_option("--grid-spacing", o.grid_spacing,

@@ -40,6 +40,7 @@ struct bench_options {
   // The acuity model of the foveated sets (fovgen --acuity, its default parameters): their
   // files are named by it, and results.csv's `acuity` column says it.
   acuity_model acuity = acuity_model::wang_csf;
+  point_sampler sampler = point_sampler::poisson;  // and their sampler (fovgen --sampler; column `sampler`)
   // How the sets keep their neighbours; without a value, the table where it fits in memory,
   // else k-NN cells (the same frames either way; results.csv's `neighbours` says which).
   std::optional<knn_storage> neighbours;

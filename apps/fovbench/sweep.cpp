@@ -24,8 +24,8 @@ const std::vector<std::string>& result_columns() {
       // What the row is.
       "scene", "gaze", "gaze_x", "gaze_y", "kind", "scale", "pixel_fraction", "method", "k", "ray_floor", "spp", "texture_footprint", "fovea",
       "display", "ppd",
-      // The foveated sets' acuity model (fovgen --acuity; issue 27).
-      "acuity",
+      // The foveated sets' acuity model and sampler (fovgen --acuity, --sampler; issue 27).
+      "acuity", "sampler",
       // Empty for a single frame; else the steady state after this many frames of TAA with a
       // still view, the rays in this pattern (--taa-frames, --pattern).
       "taa_frames", "taa_pattern",
@@ -141,6 +141,9 @@ std::string result_row_problem(const result_row& row) {
   acuity_model acuity{};
   if (!parse_label(acuity_model_labels, row.text("acuity"), acuity))
     return fmt::format("acuity '{}' is not {}", printable(row.text("acuity")), label_alternatives(acuity_model_labels));
+  point_sampler sampler{};
+  if (!parse_label(point_sampler_labels, row.text("sampler"), sampler))
+    return fmt::format("sampler '{}' is not {}", printable(row.text("sampler")), label_alternatives(point_sampler_labels));
   // Density: a foveated row's fixed or adaptive; an adaptive one names its threshold and
   // levels (increasing scales joined by ';') and has no single scale.
   const std::string& density = row.text("density");
@@ -228,14 +231,14 @@ std::vector<result_row> read_results(const std::string& path, bool older_ok) {
                   columns.end());
     return columns;
   };
-  const bool older = older_ok && (header == without({"acuity"}) ||
-                                  header == without({"acuity", "density", "adaptive_threshold", "levels", "level_rays"}) ||
-                                  header == without({"acuity", "density", "adaptive_threshold", "levels", "level_rays",
+  const bool older = older_ok && (header == without({"acuity", "sampler"}) ||
+                                  header == without({"acuity", "sampler", "density", "adaptive_threshold", "levels", "level_rays"}) ||
+                                  header == without({"acuity", "sampler", "density", "adaptive_threshold", "levels", "level_rays",
                                                      "taa_frames", "taa_pattern"}));
   if (header != result_columns() && !older)
     throw std::runtime_error(fmt::format("{}:1: not a results.csv of this fovbench (columns differ); use another -o", path));
   static const std::set<std::string> text_columns = {"scene",  "gaze",         "kind",   "method",         "texture_footprint", "taa_pattern",
-                                                     "fovea",  "acuity", "display", "timing_flag", "density", "levels", "level_rays",  "device", "neighbours", "render_settings", "error_profile",
+                                                     "fovea",  "acuity", "sampler", "display", "timing_flag", "density", "levels", "level_rays",  "device", "neighbours", "render_settings", "error_profile",
                                                      "speedup_samples", "ladder_samples"};
   std::vector<result_row> rows;
   std::map<std::string, int> first_line;  // by key
@@ -264,6 +267,7 @@ std::vector<result_row> read_results(const std::string& path, bool older_ok) {
     }
     if (older && !r.cells.count("density")) r.cells["density"] = r.text("kind") == "foveated" ? "fixed" : "";
     if (older && !r.cells.count("acuity")) r.cells["acuity"] = "csf";  // before acuity models: the thesis's
+    if (older && !r.cells.count("sampler")) r.cells["sampler"] = "poisson";  // ... and its darts
     if (const std::string why = result_row_problem(r); !why.empty())
       throw std::runtime_error(fmt::format("{}:{}: {} (not a row fovbench writes)", path, number, why));
     if (const auto [it, added] = first_line.emplace(r.key(), number); !added)

@@ -64,6 +64,9 @@ void add_generate_flags(CLI::App& app, generate_options& o) {
                              "and none above the one before (default 40,10,6,5,4, VaFR's)", min_pivot_cpd, max_pivot_cpd))
       ->delimiter(',')
       ->expected(5);
+  add_label_option(app, "--sampler", o.sampler, point_sampler_labels,
+                   "What places the points (docs/schemes.md): poisson, darts at the model's spacing (the thesis); "
+                   "polar, rings a pitch apart (HVVR's pattern); log-polar, VaFR's lattice");
   app.add_flag("--json", o.json, "Print a JSON summary on stdout");
 }
 
@@ -127,6 +130,10 @@ spacing_model model_from(const generate_options& o) {
   if (!parse_table_encoding(o.encoding, e))
     throw usage_error(fmt::format("--encoding: unknown '{}' (ref-left-zstd, raw, cells)", o.encoding));
   if (const std::string why = validate(m); !why.empty()) throw usage_error(why);
+  if (o.sampler != point_sampler::poisson && o.fovea != fovea_layout::darts)
+    throw usage_error("--fovea grid needs --sampler poisson (a lattice has its own fovea)");
+  if (o.sampler != point_sampler::poisson && !o.levels.empty())
+    throw usage_error("--levels needs --sampler poisson (a nested set is darts)");
   if (!o.levels.empty()) {
     if (const std::string why = levels_problem(o.levels); !why.empty()) throw usage_error(why);
     if (o.scale_given) throw usage_error("--scale and --levels: a nested set's scales are its levels");
@@ -183,7 +190,7 @@ json summary(const pointset& set, const std::string& path) {
   }
   j["acuity"] = acuity_model_name(set.model.acuity.model);
   j["acuity_params"] = acuity_json(set.model.acuity);
-  j["sampler"] = "poisson";  // the only sampler so far: Poisson-disc darts
+  j["sampler"] = label_of(point_sampler_labels, set.darts.sampler);
   j["k"] = stored_k(set);
   j["neighbours"] = label_of(knn_storage_labels, set.storage());
   if (set.table.k != 0) j["table_group"] = set.table.group;
@@ -207,7 +214,12 @@ json summary(const pointset& set, const std::string& path) {
 }
 
 // Pairs closer than the spacing rule allows: in the whole set, and (nested) in each level's set.
+// The rule is the darts': a lattice keeps its pitch only on average (null).
 void add_spacing_violations(json& j, const pointset& set) {
+  if (set.darts.sampler != point_sampler::poisson) {
+    j["spacing_violations"] = nullptr;
+    return;
+  }
   j["spacing_violations"] = count_spacing_violations(set.points, set.canvas_width(), set.canvas_height());
   if (!set.nested()) return;
   for (uint32_t l = 0; l < set.level_count(); ++l)
@@ -252,6 +264,7 @@ void read_timings(json& j, const std::string& set_path) {
 // Generates one set and writes it; the table goes to disk band by band.
 pointset generate_file(const spacing_model& model, const generate_options& o, const std::string& path) {
   dart_params darts;
+  darts.sampler = o.sampler;
   darts.seed = o.seed;
   darts.saturation_rejections = o.saturation;
   darts.fovea = o.fovea;
@@ -265,7 +278,7 @@ pointset generate_file(const spacing_model& model, const generate_options& o, co
   } else {
     set.model = model;
     set.darts = darts;
-    set.points = throw_darts(model, set.darts, &set.stats);
+    set.points = place_points(model, set.darts, &set.stats);
   }
   if (set.points.size() < o.k)
     throw usage_error(fmt::format("--k {} exceeds the {} points of this set; use --k {} or less", o.k,
@@ -443,7 +456,7 @@ int run_sweep(const sweep_options& o) {
   for (size_t i = 0; i < scales.size(); ++i) {
     const double s = scales[i];
     dart_params layout;
-    layout.fovea = sweep_gen.fovea, layout.grid_spacing = sweep_gen.grid_spacing;
+    layout.fovea = sweep_gen.fovea, layout.grid_spacing = sweep_gen.grid_spacing, layout.sampler = sweep_gen.sampler;
     spacing_model m = base;
     m.scale = s;
     const std::string path = (std::filesystem::path(sweep_dir) / pointset_file_name(m, layout)).string();
@@ -459,7 +472,8 @@ int run_sweep(const sweep_options& o) {
         // Reuse only a set these exact flags would write again (the file is deterministic).
         reuse = old.model.scale == s && old.darts.seed == sweep_gen.seed &&
                 old.darts.saturation_rejections == sweep_gen.saturation && stored_k(old) == sweep_gen.k &&
-                fovea_label(old.darts) == fovea_label(layout) && (old.table.k == 0) == (sweep_gen.encoding == "cells") &&
+                fovea_label(old.darts) == fovea_label(layout) && old.darts.sampler == layout.sampler &&
+                same_acuity(old.model.acuity, m.acuity) && (old.table.k == 0) == (sweep_gen.encoding == "cells") &&
                 (old.table.k == 0 || old.table.group == std::clamp<uint32_t>(sweep_gen.group, 1, sweep_gen.k)) &&
                 old.model.display.width == m.display.width && old.model.display.height == m.display.height &&
                 old.model.display.viewing_distance == m.display.viewing_distance;

@@ -28,6 +28,7 @@ struct generate_options {
   // The acuity model and its parameters (docs/schemes.md); pivots: piecewise-mar's five acuities.
   acuity_params acuity;
   std::vector<double> pivots;
+  point_sampler sampler = point_sampler::poisson;
   bool json = false;
   std::string output;  // the set's file (generate only)
   // Nested set (generate only): the levels' scales, finest first (e.g. 0.7,1.0,1.5,2.25,3.0);
