@@ -218,6 +218,9 @@ check "sampler, levels"   2 -- "$fovgen" "${small[@]}" --sampler log-polar --lev
 [[ ! -e "$dir/m.fovset" ]] || fail "a refused sampler left a file"
 check "sweep polar"       0 -- "$fovgen" sweep "${small[@]}" --k 4 --scales 1.0 --acuity linear-mar --sampler polar -o "$dir/models"
 [[ -s "$dir/models/48x40-v1-linear-mar-polar-s1.00.fovset" ]] || fail "a polar set is not named ...-linear-mar-polar-s1.00: $(ls "$dir/models")"
+check "generate log-polar" 0 -- "$fovgen" "${small[@]}" --k 4 --sampler log-polar -o "$dir/lp.fovset"
+"$fovgen" "${small[@]}" --k 4 --sampler log-polar -o "$dir/lp2.fovset" | grep -q "points placed by the log-polar lattice" \
+  || fail "generating a lattice set does not say so"
 "$fovgen" info "$dir/models/48x40-v1-linear-mar-polar-s1.00.fovset" --json > "$dir/p.json" || fail "info on a polar set"
 python3 - "$dir/p.json" <<'PY' || fail "info --json of a polar set"
 import json, sys

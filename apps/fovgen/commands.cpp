@@ -374,6 +374,10 @@ int run_generate(const generate_options& o) {
   add_spacing_violations(j, set);
   if (o.json) {
     std::cout << j.dump(2) << "\n";
+  } else if (set.darts.sampler != point_sampler::poisson) {
+    fmt::print("{}: {} points placed by the {} lattice in {:.1f} s + {} {:.1f} s, {:.1f} MB\n", output, set.points.size(),
+               label_of(point_sampler_labels, set.darts.sampler), set.stats.seconds, label_of(knn_storage_labels, set.storage()),
+               set.knn_seconds, j.value("file_bytes", 0.0) / 1e6);
   } else {
     fmt::print("{}: {} points ({} on the foveal grid, {} + {} darts in phase 2), free area {:.2e}, {} spacing violations, "
                "darts {:.1f} s + {} {:.1f} s, {:.1f} MB\n",
