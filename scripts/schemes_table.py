@@ -1,0 +1,97 @@
+#!/usr/bin/python3
+"""The schemes study's tables (docs/schemes.md) from scripts/schemes-study.sh's runs:
+one Markdown table per display of every scheme's rows and the full-resolution rows, and with
+--figure STEM a figure of JOD against frame time, one line per scheme (STEM.png).
+Usage: scripts/schemes_table.py [--figure STEM] out/schemes/DISPLAY [...] (Debian's python3 and
+python3-matplotlib, as the tools' figures use)"""
+import csv
+import glob
+import os
+import sys
+
+
+def rows_of(run):
+    with open(os.path.join(run, "results.csv"), newline="") as f:
+        return list(csv.DictReader(f))
+
+
+def num(r, key, fmt="{:.2f}"):
+    v = r.get(key, "")
+    return fmt.format(float(v)) if v not in ("", None) else ""
+
+
+def table(display_dir):
+    runs = sorted(d for d in glob.glob(os.path.join(display_dir, "*")) if os.path.exists(os.path.join(d, "results.csv")))
+    out = ["| scheme | spp | points traced | rays (M) | frame ms (min-max) | same-spp speedup (min-max) | JOD | PSNR | FLIP | FLIP < 5° | 5-10° | 10-20° | 20-30° | > 30° |",
+           "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
+    full = {}
+    floors = set()
+    for run in runs:
+        for r in rows_of(run):
+            floors.add((r["noise_floor_jod"], r["noise_floor_flip"]))
+            if r["kind"] == "full":
+                full.setdefault(r["spp"], []).append(r)
+                continue
+            name = f'{r["acuity"]} + {r["sampler"]}'
+            out.append(f'| {name} | {r["spp"]} | {int(r["points_traced"]):,} | {float(r["rays"]) / 1e6:.2f} | '
+                       f'{num(r, "frame_ms", "{:.0f}")} ({num(r, "frame_ms_lo", "{:.0f}")}-{num(r, "frame_ms_hi", "{:.0f}")}) | '
+                       f'{num(r, "speedup")} ({num(r, "speedup_lo")}-{num(r, "speedup_hi")}) | {num(r, "jod")} | {num(r, "psnr")} | '
+                       + " | ".join(num(r, k, "{:.3f}") for k in ("flip", "flip_fovea", "flip_5_10", "flip_10_20", "flip_20_30", "flip_periphery")) + " |")
+    for spp in sorted(full, key=int):
+        rs = full[spp]  # one per run, each timed beside its own sweep: the JOD is the same frame's
+        jods = sorted(float(r["jod"]) for r in rs)
+        ms = sorted(float(r["full_ms"]) for r in rs)
+        r = rs[0]
+        out.append(f'| full resolution ({len(rs)} runs) | {spp} |  | {float(r["rays"]) / 1e6:.2f} | '
+                   f'{ms[len(ms) // 2]:.0f} ({ms[0]:.0f}-{ms[-1]:.0f}) | 1 | {jods[len(jods) // 2]:.2f} | {num(r, "psnr")} | '
+                   + " | ".join(num(r, k, "{:.3f}") for k in ("flip", "flip_fovea", "flip_5_10", "flip_10_20", "flip_20_30", "flip_periphery")) + " |")
+    out.append("")
+    floors = sorted({f"{float(j):.2f}, {float(fl):.4f}" for j, fl in floors})
+    out.append("Reference noise floor (JOD, FLIP), " + ("the same in every run: " if len(floors) == 1 else "per run: ")
+               + "; ".join(floors) + ".")
+    return "\n".join(out)
+
+
+def figure(display_dirs, stem):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, axes = plt.subplots(1, len(display_dirs), figsize=(6.5 * len(display_dirs), 4.8), squeeze=False)
+    for ax, d in zip(axes[0], display_dirs):
+        series, full = {}, {}
+        for run in sorted(glob.glob(os.path.join(d, "*"))):
+            if not os.path.exists(os.path.join(run, "results.csv")):
+                continue
+            for r in rows_of(run):
+                if r["kind"] == "full":
+                    full.setdefault(int(r["spp"]), []).append((float(r["full_ms"]), float(r["jod"])))
+                else:
+                    series.setdefault(f'{r["acuity"]} + {r["sampler"]}', []).append((float(r["frame_ms"]), float(r["jod"]), r["spp"]))
+        for name, pts in sorted(series.items()):
+            pts.sort()
+            ax.plot([p[0] for p in pts], [p[1] for p in pts], marker="o", label=name)
+            for x, y, spp in pts:
+                ax.annotate(spp, (x, y), textcoords="offset points", xytext=(4, -10), fontsize=7)
+        fpts = sorted((sorted(v)[len(v) // 2][0], v[0][1], spp) for spp, v in full.items())
+        ax.plot([p[0] for p in fpts], [p[1] for p in fpts], marker="s", color="black", linestyle="--", label="full resolution")
+        for x, y, spp in fpts:
+            ax.annotate(str(spp), (x, y), textcoords="offset points", xytext=(4, -10), fontsize=7)
+        ax.set_xscale("log")
+        ax.set_xlabel("frame time (ms, median of 3; labels: rays per point or pixel)")
+        ax.set_ylabel("JOD (FovVideoVDP, foveated, centred gaze)")
+        ax.set_title(f"builtin scene, {os.path.basename(os.path.normpath(d))}")
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(stem + ".png", dpi=110)
+
+
+if __name__ == "__main__":
+    args = sys.argv[1:]
+    if len(args) >= 2 and args[0] == "--figure":
+        figure(args[2:], args[1])
+        args = args[2:]
+    for d in args:
+        print(f"### {os.path.basename(os.path.normpath(d))}\n")
+        print(table(d))
+        print()
