@@ -1,11 +1,14 @@
 #!/usr/bin/env bash
 # The schemes side by side (issue 27, docs/schemes.md): one fovbench sweep per scheme
-# (ACUITY:SAMPLER) on one display (default fove), the built-in scene as the study renders it (its whites
-# unclipped, the camera's field of view the display's, centred gaze): the model's sets at
+# (ACUITY:SAMPLER) on one display (default fove) and one scene (FOV_SCENE: builtin, the default,
+# with its whites unclipped; helmet, the close-up of ../shared/scenes/flight-helmet the study
+# uses; forest, the blender-data forest.exr env: scene), the camera's field of view the
+# display's, centred gaze: the model's sets at
 # s = 1.0, Shepard k = 5 at 1, 2 and 4 rays per point, against full resolution at 1, 2 and 4
 # spp, 3 interleaved repetitions, JOD and FLIP against a 128-spp reference. Off the FOVE the
 # sets keep k-NN cells (--neighbours cells, as scripts/sparse-displays.sh), on it their tables.
-#   out/schemes/DISPLAY/ACUITY-SAMPLER/   results.csv, report.md; sets in out/schemes/sets
+#   out/schemes/DISPLAY[-SCENE]/ACUITY-SAMPLER/   results.csv, report.md (SCENE unless builtin);
+#   sets in out/schemes/sets
 # Usage: scripts/schemes-study.sh [DISPLAY [ACUITY:SAMPLER...]] (default: the thesis's csf:poisson,
 # the MAR models with darts, and the papers' pairs linear-mar:polar and piecewise-mar:log-polar).
 # Interrupted? Run it again (--resume).
@@ -17,20 +20,28 @@ display=${1:-fove}
 shift || true
 schemes=("$@")
 (( ${#schemes[@]} )) || schemes=(csf:poisson linear-mar:poisson piecewise-mar:poisson linear-mar:polar piecewise-mar:log-polar)
+scene=${FOV_SCENE:-builtin}
+case $scene in
+  builtin) scene_flags=(--scene builtin --sun-irradiance 0.8,0.77,0.7) where=$display ;;
+  helmet) scene_flags=(--scene ../shared/scenes/flight-helmet/FlightHelmet.gltf --eye 0.1,0.28,0.22 --look-at 0,0.3,0)
+    where=$display-helmet ;;
+  forest) scene_flags=(--scene env:/usr/share/blender/datafiles/studiolights/world/forest.exr) where=$display-forest ;;
+  *) echo "schemes-study.sh: FOV_SCENE must be builtin, helmet or forest (got '$scene')" >&2; exit 2 ;;
+esac
 neighbours=()
 [[ $display == fove ]] || neighbours=(--neighbours cells)
 hfov=$("$fovgen" displays --display "$display" --json | python3 -c 'import json, sys; print("%.4f" % json.load(sys.stdin)[0]["fov_deg"][0])')
 first=""
 for scheme in "${schemes[@]}"; do
   model=${scheme%%:*} sampler=${scheme#*:}
-  run="out/schemes/$display/$model-$sampler"
+  run="out/schemes/$where/$model-$sampler"
   # The runs share one scene, display and reference: the first run's cached references serve
   # the others (copied: each run keeps its own folder).
   if [[ -n $first && -d $first/references && ! -e $run/references ]]; then
     mkdir -p "$run" && cp -r "$first/references" "$run/references"
   fi
   [[ -n $first ]] || first=$run
-  "$bench" --scene builtin --sun-irradiance 0.8,0.77,0.7 --display "$display" --hfov "$hfov" --acuity "$model" --sampler "$sampler" \
+  "$bench" "${scene_flags[@]}" --display "$display" --hfov "$hfov" --acuity "$model" --sampler "$sampler" \
     --scales 1.0 --methods shepard --k 5 --spp 1,2,4 --baselines full --gazes centre --frames 3 --reference-spp 128 \
     "${neighbours[@]}" --points-dir out/schemes/sets --resume -o "$run"
 done

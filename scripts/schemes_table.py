@@ -20,6 +20,16 @@ def num(r, key, fmt="{:.2f}"):
     return fmt.format(float(v)) if v not in ("", None) else ""
 
 
+def scene_of(display_dir):
+    """The scene a study folder's runs rendered, as results.csv names it."""
+    for run in sorted(glob.glob(os.path.join(display_dir, "*"))):
+        if os.path.exists(os.path.join(run, "results.csv")):
+            rows = rows_of(run)
+            if rows:
+                return rows[0]["scene"]
+    return "?"
+
+
 def table(display_dir):
     runs = sorted(d for d in glob.glob(os.path.join(display_dir, "*")) if os.path.exists(os.path.join(d, "results.csv")))
     out = ["| scheme | spp | points traced | rays (M) | frame ms (min-max) | same-spp speedup (min-max) | JOD | PSNR | FLIP | FLIP < 5° | 5-10° | 10-20° | 20-30° | > 30° |",
@@ -52,6 +62,12 @@ def table(display_dir):
     return "\n".join(out)
 
 
+# One colour per scheme in every figure.
+COLOURS = {"csf + poisson": "tab:blue", "linear-mar + poisson": "tab:orange", "linear-mar + polar": "tab:green",
+           "piecewise-mar + log-polar": "tab:red", "piecewise-mar + poisson": "tab:purple",
+           "csf + polar": "tab:olive", "csf + log-polar": "tab:cyan"}
+
+
 def figure(display_dirs, stem):
     import matplotlib
     matplotlib.use("Agg")
@@ -69,7 +85,7 @@ def figure(display_dirs, stem):
                     series.setdefault(f'{r["acuity"]} + {r["sampler"]}', []).append((float(r["frame_ms"]), float(r["jod"]), r["spp"]))
         for name, pts in sorted(series.items()):
             pts.sort()
-            ax.plot([p[0] for p in pts], [p[1] for p in pts], marker="o", label=name)
+            ax.plot([p[0] for p in pts], [p[1] for p in pts], marker="o", label=name, color=COLOURS.get(name))
             for x, y, spp in pts:
                 ax.annotate(spp, (x, y), textcoords="offset points", xytext=(4, -10), fontsize=7)
         fpts = sorted((sorted(v)[len(v) // 2][0], v[0][1], spp) for spp, v in full.items())
@@ -79,7 +95,7 @@ def figure(display_dirs, stem):
         ax.set_xscale("log")
         ax.set_xlabel("frame time (ms, median of 3; labels: rays per point or pixel)")
         ax.set_ylabel("JOD (FovVideoVDP, foveated, centred gaze)")
-        ax.set_title(f"builtin scene, {os.path.basename(os.path.normpath(d))}")
+        ax.set_title(f"{scene_of(d)}, {os.path.basename(os.path.normpath(d)).split('-')[0]}")
         ax.grid(True, which="both", alpha=0.3)
         ax.legend(fontsize=8)
     fig.tight_layout()
