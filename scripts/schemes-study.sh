@@ -9,6 +9,9 @@
 # sets keep k-NN cells (--neighbours cells, as scripts/sparse-displays.sh), on it their tables.
 #   out/schemes/DISPLAY[-SCENE]/ACUITY-SAMPLER/   results.csv, report.md (SCENE unless builtin);
 #   sets in out/schemes/sets
+# FOV_TEMPORAL=N adds flicker and the video JOD along fovbench's temporal path of N frames
+# (--temporal-frames; runs in out/schemes/DISPLAY[-SCENE]-temporal/), FOV_SPP the rays per
+# point and pixel (default 1,2,4).
 # Usage: scripts/schemes-study.sh [DISPLAY [ACUITY:SAMPLER...]] (default: the thesis's csf:poisson,
 # the MAR models with darts, and the papers' pairs linear-mar:polar and piecewise-mar:log-polar).
 # Interrupted? Run it again (--resume).
@@ -28,6 +31,11 @@ case $scene in
   forest) scene_flags=(--scene env:/usr/share/blender/datafiles/studiolights/world/forest.exr) where=$display-forest ;;
   *) echo "schemes-study.sh: FOV_SCENE must be builtin, helmet or forest (got '$scene')" >&2; exit 2 ;;
 esac
+temporal=()
+if [[ -n ${FOV_TEMPORAL:-} ]]; then
+  temporal=(--temporal-frames "$FOV_TEMPORAL")
+  where=$where-temporal
+fi
 neighbours=()
 [[ $display == fove ]] || neighbours=(--neighbours cells)
 hfov=$("$fovgen" displays --display "$display" --json | python3 -c 'import json, sys; print("%.4f" % json.load(sys.stdin)[0]["fov_deg"][0])')
@@ -42,6 +50,6 @@ for scheme in "${schemes[@]}"; do
   fi
   [[ -n $first ]] || first=$run
   "$bench" "${scene_flags[@]}" --display "$display" --hfov "$hfov" --acuity "$model" --sampler "$sampler" \
-    --scales 1.0 --methods shepard --k 5 --spp 1,2,4 --baselines full --gazes centre --frames 3 --reference-spp 128 \
+    --scales 1.0 --methods shepard --k 5 --spp "${FOV_SPP:-1,2,4}" "${temporal[@]}" --baselines full --gazes centre --frames 3 --reference-spp 128 \
     "${neighbours[@]}" --points-dir out/schemes/sets --resume -o "$run"
 done

@@ -140,6 +140,7 @@ python3 - "$conv" <<'PY' || { echo "FAIL --reference-spp JSON: $conv"; failures=
 import json, sys
 j = json.loads(sys.argv[1])
 assert j["reference_spp"] == 8 and j["metrics"]["flip"] > 0 and j["noise_floor"]["flip"] > 0, j
+assert j["acuity"] == "csf" and j["sampler"] == "poisson", j  # the scheme of the set traced
 assert j["noise_floor"]["jod"] > j["metrics"]["jod"] and j["noise_floor"]["jod_nonfoveated"] > j["metrics"]["jod_nonfoveated"], j
 assert j["noise_floor"]["flip"] < j["metrics"]["flip"], "the 8-spp references must differ less than a 1-spp frame from them"
 PY

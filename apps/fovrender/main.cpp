@@ -232,6 +232,8 @@ int main(int argc, char** argv) {
       if (p.taa) j["taa_frames"] = o.taa_frames, j["pattern"] = fov::label_of(fov::ray_pattern_labels, p.pattern);
     } else {
       r.use_pointset(set);
+      j["acuity"] = fov::acuity_model_name(set->model.acuity.model);  // the scheme that placed the points
+      j["sampler"] = fov::label_of(fov::point_sampler_labels, set->darts.sampler);
       if (p.device == fov::reconstruct_device::opencl) j["device_setup_ms"] = r.device_setup_ms();
       j["set_load_ms"] = set_load_ms;  // reading and checking the file (a table's decoding, a cells file's build)
       if (r.levels()) {  // the levels' k-NN cells, then those and a reconstructor per coarser level
