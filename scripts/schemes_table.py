@@ -26,7 +26,7 @@ def scene_of(display_dir):
         if os.path.exists(os.path.join(run, "results.csv")):
             rows = rows_of(run)
             if rows:
-                return rows[0]["scene"]
+                return os.path.basename(rows[0]["scene"])
     return "?"
 
 
