@@ -30,6 +30,26 @@ def scene_of(display_dir):
     return "?"
 
 
+def temporal_table(display_dir):
+    """Flicker and video JOD along fovbench's temporal path (runs with --temporal-frames)."""
+    out = ["| scheme | spp | points traced | flicker | flicker through TAA | full resolution's flicker | video JOD | through TAA | full resolution's video JOD |",
+           "|---|---:|---:|---:|---:|---:|---:|---:|---:|"]
+    floors = set()
+    for run in sorted(glob.glob(os.path.join(display_dir, "*"))):
+        if not os.path.exists(os.path.join(run, "results.csv")):
+            continue
+        for r in rows_of(run):
+            if r["kind"] != "foveated" or r["flicker"] == "":
+                continue
+            floors.add(num(r, "noise_floor_video_jod"))
+            out.append(f'| {r["acuity"]} + {r["sampler"]} | {r["spp"]} | {int(r["points_traced"]):,} | ' +
+                       " | ".join(num(r, k, "{:.4f}") for k in ("flicker", "flicker_taa", "flicker_reference")) + " | " +
+                       " | ".join(num(r, k) for k in ("video_jod", "video_jod_taa", "video_jod_full")) + " |")
+    out.append("")
+    out.append("The converged path's own floor (video JOD): " + ", ".join(sorted(floors)) + ".")
+    return "\n".join(out)
+
+
 def table(display_dir):
     runs = sorted(d for d in glob.glob(os.path.join(display_dir, "*")) if os.path.exists(os.path.join(d, "results.csv")))
     out = ["| scheme | spp | points traced | rays (M) | frame ms (min-max) | same-spp speedup (min-max) | JOD | PSNR | FLIP | FLIP < 5° | 5-10° | 10-20° | 20-30° | > 30° |",
@@ -111,3 +131,6 @@ if __name__ == "__main__":
         print(f"### {os.path.basename(os.path.normpath(d))}\n")
         print(table(d))
         print()
+        if any(r["flicker"] for run in glob.glob(os.path.join(d, "*", "results.csv")) for r in rows_of(os.path.dirname(run))):
+            print(temporal_table(d))
+            print()
