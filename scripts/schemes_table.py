@@ -92,8 +92,12 @@ def figure(display_dirs, stem):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    fig, axes = plt.subplots(1, len(display_dirs), figsize=(6.5 * len(display_dirs), 4.8), squeeze=False)
-    for ax, d in zip(axes[0], display_dirs):
+    cols = min(2, len(display_dirs))
+    rows = (len(display_dirs) + cols - 1) // cols
+    fig, axes = plt.subplots(rows, cols, figsize=(6.5 * cols, 4.8 * rows), squeeze=False)
+    for ax in axes.flat[len(display_dirs):]:
+        ax.set_visible(False)
+    for ax, d in zip(axes.flat, display_dirs):
         series, full = {}, {}
         for run in sorted(glob.glob(os.path.join(d, "*"))):
             if not os.path.exists(os.path.join(run, "results.csv")):
