@@ -67,7 +67,7 @@ TEST(Lattice, RingSamplesLieAPitchApartAndTheSetHoldsThem) {
   for (point_sampler s : {point_sampler::polar, point_sampler::log_polar}) {
     uint64_t on_canvas = 1;
     for (double r : lattice_rings(m, s)) {
-      const uint32_t n = lattice_ring_count(m, s, r);
+      const uint32_t n = lattice_ring_count(m, r);
       const double chord = 2 * r * std::sin(pi / n), q = lattice_pitch_px(m, r);
       EXPECT_LE(chord, q * (1 + 1e-9)) << r;
       EXPECT_GE(chord, q * 6 / 7 * 0.99) << r;

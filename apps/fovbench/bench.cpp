@@ -147,36 +147,46 @@ std::vector<config> all_configs(const bench_options& o, const std::vector<named_
   return all;
 }
 
-// The foveated sets' layout as results.csv and the set's file name say it (fov::fovea_label).
-std::string fovea_text(const bench_options& o) {
-  dart_params d;
-  d.fovea = o.fovea, d.grid_spacing = o.grid_spacing;
-  return fovea_label(d);
+// The model of the foveated sets at one scale: the display and the acuity model of the
+// options (its default parameters). Their names and their generation both start here.
+spacing_model bench_model(const bench_options& o, const display_geometry& display, double scale) {
+  spacing_model model;
+  model.display = display, model.scale = scale;
+  model.acuity.model = o.acuity;
+  return model;
 }
 
-// The foveated sets' acuity model, with its default parameters.
-acuity_params acuity_of(const bench_options& o) {
-  acuity_params a;
-  a.model = o.acuity;
-  return a;
+// How the foveated sets' points are placed: the options' sampler and fovea.
+dart_params bench_darts(const bench_options& o) {
+  dart_params darts;
+  darts.fovea = o.fovea, darts.grid_spacing = o.grid_spacing, darts.sampler = o.sampler;
+  return darts;
+}
+
+// The foveated sets' layout as results.csv and the set's file name say it (fov::fovea_label).
+std::string fovea_text(const bench_options& o) { return fovea_label(bench_darts(o)); }
+
+// Throws unless a loaded set has the options' acuity model and sampler.
+void require_scheme(const bench_options& o, const pointset& set, const std::string& path) {
+  const acuity_params want = bench_model(o, set.model.display, set.model.scale).acuity;
+  if (!same_acuity(set.model.acuity, want))
+    throw std::runtime_error(
+        fmt::format("{}: made with acuity {}, not {}", path, acuity_label(set.model.acuity), acuity_label(want)));
+  if (set.darts.sampler != o.sampler)
+    throw std::runtime_error(fmt::format("{}: placed by sampler {}, not {}", path, label_of(point_sampler_labels, set.darts.sampler),
+                                         label_of(point_sampler_labels, o.sampler)));
 }
 
 // Where the set for one scale lives in --points-dir.
 std::string bench_pointset_path(const bench_options& o, const display_geometry& display, double scale) {
-  spacing_model model;
-  model.display = display, model.scale = scale;
-  model.acuity.model = o.acuity;
-  dart_params darts;
-  darts.fovea = o.fovea, darts.grid_spacing = o.grid_spacing, darts.sampler = o.sampler;
-  return (fs::path(o.points_dir) / pointset_file_name(model, darts)).string();
+  return (fs::path(o.points_dir) / pointset_file_name(bench_model(o, display, scale), bench_darts(o))).string();
 }
 
 // Where the nested set of --levels lives in --points-dir.
 std::string bench_nested_path(const bench_options& o, const display_geometry& display) {
-  spacing_model model;
-  model.display = display, model.scale = o.levels.front();
-  model.acuity.model = o.acuity;
-  return (fs::path(o.points_dir) / pointset_file_name(model, dart_params{}, {o.levels.rbegin(), o.levels.rend()})).string();
+  return (fs::path(o.points_dir) /
+          pointset_file_name(bench_model(o, display, o.levels.front()), dart_params{}, {o.levels.rbegin(), o.levels.rend()}))
+      .string();
 }
 
 }  // namespace
@@ -203,19 +213,11 @@ std::shared_ptr<const pointset> bench_pointset(const bench_options& o, const dis
   const std::string path = bench_pointset_path(o, display, scale);
   if (!fs::exists(path)) {
     say(fmt::format("generating {}", path));
-    spacing_model model;
-    model.display = display;
-    model.scale = scale;
-    model.acuity.model = o.acuity;
-    dart_params darts;
-    darts.fovea = o.fovea;
-    darts.grid_spacing = o.grid_spacing;
-    darts.sampler = o.sampler;
     make_output_dir(o.points_dir);
     const knn_storage storage = bench_storage(o, display, knn_params{}.k);
     if (storage == knn_storage::cells)
       say(fmt::format("the k-NN table of a {} set would not fit in memory: the set keeps k-NN cells", display_name(display)));
-    save_pointset(path, generate_pointset(model, darts, {}, storage));
+    save_pointset(path, generate_pointset(bench_model(o, display, scale), bench_darts(o), {}, storage));
   }
   pointset loaded = load_pointset(path);
   // A set stored the other way is kept the way asked for: its neighbours built from its points.
@@ -235,12 +237,7 @@ std::shared_ptr<const pointset> bench_pointset(const bench_options& o, const dis
   if (display_name(set->model.display) != display_name(display) || set->model.scale != scale)
     throw std::runtime_error(fmt::format("{}: made for {} at s = {}, not {} at s = {}", path, display_name(set->model.display),
                                          set->model.scale, display_name(display), scale));
-  if (!same_acuity(set->model.acuity, acuity_of(o)))
-    throw std::runtime_error(fmt::format("{}: made with acuity {}, not {}", path, acuity_label(set->model.acuity),
-                                         acuity_label(acuity_of(o))));
-  if (set->darts.sampler != o.sampler)
-    throw std::runtime_error(fmt::format("{}: placed by sampler {}, not {}", path, label_of(point_sampler_labels, set->darts.sampler),
-                                         label_of(point_sampler_labels, o.sampler)));
+  require_scheme(o, *set, path);
   require_ks(o, *set, path);
   return set;
 }
@@ -358,20 +355,15 @@ std::shared_ptr<const pointset> bench_nested_pointset(const bench_options& o, co
   for (uint32_t ok : o.ks) k = std::max(k, ok);
   if (!fs::exists(path)) {
     say(fmt::format("generating {}", path));
-    spacing_model model;
-    model.display = display;
-    model.acuity.model = o.acuity;
     knn_params kp;
     kp.k = k;
     make_output_dir(o.points_dir);
     const knn_storage storage = bench_storage(o, display, kp.k);
-    save_pointset(path, generate_nested_pointset(model, o.levels, dart_params{}, kp, storage));
+    save_pointset(path, generate_nested_pointset(bench_model(o, display, o.levels.front()), o.levels, dart_params{}, kp, storage));
   }
   auto set = std::make_shared<const pointset>(load_pointset(path));
   std::vector<double> finest_first(set->level_scales.rbegin(), set->level_scales.rend());
-  if (!same_acuity(set->model.acuity, acuity_of(o)))
-    throw std::runtime_error(fmt::format("{}: made with acuity {}, not {}", path, acuity_label(set->model.acuity),
-                                         acuity_label(acuity_of(o))));
+  require_scheme(o, *set, path);
   if (display_name(set->model.display) != display_name(display) || finest_first != o.levels)
     throw std::runtime_error(fmt::format("{}: made for {} with levels {}, not {} with levels {}", path,
                                          display_name(set->model.display), levels_text(finest_first), display_name(display),

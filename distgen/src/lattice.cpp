@@ -48,9 +48,9 @@ std::vector<double> lattice_rings(const spacing_model& model, point_sampler samp
   }
 }
 
-uint32_t lattice_ring_count(const spacing_model& model, point_sampler, double radius_px) {
+uint32_t lattice_ring_count(const spacing_model& model, double radius_px) {
   const double n = 2 * pi * radius_px / lattice_pitch_px(model, radius_px);
-  return uint32_t(std::ceil(n - 1e-9));  // polar: ceil(n); log-polar: the integers below l
+  return uint32_t(std::ceil(n - 1e-9));
 }
 
 std::vector<point> lattice_points(const spacing_model& model, point_sampler sampler) {
@@ -59,7 +59,7 @@ std::vector<point> lattice_points(const spacing_model& model, point_sampler samp
   std::vector<point> points;
   points.push_back({float(cx), float(cy), float(lattice_pitch_px(model, 0.0))});
   for (double r : lattice_rings(model, sampler)) {
-    const uint32_t n = lattice_ring_count(model, sampler, r);
+    const uint32_t n = lattice_ring_count(model, r);
     const double q = lattice_pitch_px(model, r);
     // polar: n equal steps, half a step from angle 0; log-polar: steps of the pitch from 0.
     const double step = sampler == point_sampler::polar ? 2 * pi / n : q / r, phase = sampler == point_sampler::polar ? 0.5 : 0.0;

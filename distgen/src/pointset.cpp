@@ -16,9 +16,8 @@
 #include "fov/dart_throwing.h"
 #include "fov/knn_cells.h"
 #include "fov/knn_table.h"
-#include "fov/pointset.h"
-
 #include "fov/lattice.h"
+#include "fov/pointset.h"
 
 namespace fov {
 

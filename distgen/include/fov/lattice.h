@@ -21,10 +21,11 @@ double lattice_pitch_px(const spacing_model& model, double distance_px);
 //   (VaFR's Eq. 5 for any acuity model, evaluated numerically).
 std::vector<double> lattice_rings(const spacing_model& model, point_sampler sampler);
 
-// The samples on a ring of radius r: polar, ceil(2 pi r / q(r)) at angles (i + 1/2) 2 pi / n
-// (HVVR's phase); log_polar, l = 2 pi r / q(r) (VaFR's Eq. 9 with its tangential pitch equal
-// to the radial) at angles i 2 pi / l for the integers i < l (the last gap shorter).
-uint32_t lattice_ring_count(const spacing_model& model, point_sampler sampler, double radius_px);
+// The samples on a ring of radius r, the same number for both lattices: ceil(2 pi r / q(r)).
+// polar places them at angles (i + 1/2) 2 pi / n (HVVR's phase); log_polar at angles i q / r
+// (VaFR's Eq. 9, its tangential pitch equal to the radial: the integers i below l = 2 pi r / q,
+// the last gap shorter).
+uint32_t lattice_ring_count(const spacing_model& model, double radius_px);
 
 // The lattice's points on the canvas: the centre, then every ring's, each with its pitch as its
 // spacing, in Morton order. sampler must not be poisson.
