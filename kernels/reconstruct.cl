@@ -5,13 +5,13 @@
 // Same rules as the C++ path (interp/include/fov/reconstruct.h), in float.
 
 // Constants shared with C++ come from the host at build time (cl_reconstructor::
-// kernel_build_options): FOV_MAX_K = max_knn (knn_table.h), FOV_RBF_TILE =
-// rbf_weight_cache::tile (rbf_cache.h), FOV_CELL_TILE = knn_cells::tile (pointset.h),
+// kernel_build_options): FOV_MAX_K = max_knn (knn_table.h), FOV_WEIGHT_TILE =
+// weight_cache::tile (weight_cache.h), FOV_CELL_TILE = knn_cells::tile (pointset.h),
 // FOV_BLOCK = refinement_block (frame.h), FOV_ON_POINT = on_point_px and FOV_SHEPARD_TIE =
 // shepard_tie (reconstruct.h).
-#if !defined(FOV_MAX_K) || !defined(FOV_RBF_TILE) || !defined(FOV_CELL_TILE) || !defined(FOV_BLOCK) || \
+#if !defined(FOV_MAX_K) || !defined(FOV_WEIGHT_TILE) || !defined(FOV_CELL_TILE) || !defined(FOV_BLOCK) || \
     !defined(FOV_ON_POINT) || !defined(FOV_SHEPARD_TIE)
-#error "build with -DFOV_MAX_K=... -DFOV_RBF_TILE=... -DFOV_CELL_TILE=... -DFOV_BLOCK=... -DFOV_ON_POINT=... -DFOV_SHEPARD_TIE=... (cl_reconstructor::kernel_build_options)"
+#error "build with -DFOV_MAX_K=... -DFOV_WEIGHT_TILE=... -DFOV_CELL_TILE=... -DFOV_BLOCK=... -DFOV_ON_POINT=... -DFOV_SHEPARD_TIE=... (cl_reconstructor::kernel_build_options)"
 #endif
 
 // Distances are ranked exactly as the C++ path ranks them (distgen/src/knn_cells.cpp): in
@@ -167,8 +167,8 @@ __kernel void reconstruct_shepard(FOV_NEIGHBOUR_ARGS, uint k, uint renka, __glob
   out_depth[at] = shepard_depth(h, idx, k, renka, depth);
 }
 
-// Precomputed linear weights (RBF, interp/include/fov/rbf_cache.h): colour = sum w_j f_j with
-// the canvas pixel's k weights, stored tile-major (FOV_RBF_TILE^2 canvas pixels per tile); depth
+// Precomputed linear weights (RBF, interp/include/fov/weight_cache.h): colour = sum w_j f_j with
+// the canvas pixel's k weights, stored tile-major (FOV_WEIGHT_TILE^2 canvas pixels per tile); depth
 // as Shepard's.
 __kernel void reconstruct_weighted(FOV_NEIGHBOUR_ARGS, uint k, uint renka, __global const float* weights, uint tiles_x,
                                    __global const float4* colour, __global const float* depth,
@@ -179,9 +179,9 @@ __kernel void reconstruct_weighted(FOV_NEIGHBOUR_ARGS, uint k, uint renka, __glo
   const uint cx = (uint)(tx + offset_x), cy = (uint)(ty + offset_y);
   const float2 centre = (float2)((float)cx + 0.5f, (float)cy + 0.5f);
   __global const float* w = weights +
-                            ((ulong)(cy / FOV_RBF_TILE) * tiles_x + cx / FOV_RBF_TILE) *
-                                (FOV_RBF_TILE * FOV_RBF_TILE * (ulong)k) +
-                            ((ulong)(cy % FOV_RBF_TILE) * FOV_RBF_TILE + cx % FOV_RBF_TILE) * k;
+                            ((ulong)(cy / FOV_WEIGHT_TILE) * tiles_x + cx / FOV_WEIGHT_TILE) *
+                                (FOV_WEIGHT_TILE * FOV_WEIGHT_TILE * (ulong)k) +
+                            ((ulong)(cy % FOV_WEIGHT_TILE) * FOV_WEIGHT_TILE + cx % FOV_WEIGHT_TILE) * k;
   float h[FOV_MAX_K];
   uint idx[FOV_MAX_K];
   float4 acc = (float4)(0.0f);

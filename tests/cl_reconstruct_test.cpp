@@ -7,7 +7,7 @@
 #include <gtest/gtest.h>
 
 #include "fov/cl_reconstruct.h"
-#include "fov/rbf_cache.h"
+#include "fov/weight_cache.h"
 #include "fov/dart_throwing.h"
 #include "fov/knn_cells.h"
 #include "fov/knn_table.h"
@@ -134,30 +134,30 @@ TEST_F(device_fixture, RbfWeightsAreComputedOncePerTileAndReused) {
   rp.how = method::rbf;
   rp.k = 10;
   frame first;
-  const rbf_stats stats = device.run(samples, rp, first).rbf;
-  ASSERT_NE(device.rbf_cache(), nullptr);
-  const size_t tiles = device.rbf_cache()->tiles_ready();
+  const weight_stats stats = device.run(samples, rp, first).weights;
+  ASSERT_NE(device.cached_weights(), nullptr);
+  const size_t tiles = device.cached_weights()->tiles_ready();
   EXPECT_EQ(tiles, 4u);  // the screen at offset (36, 18) touches all four tiles of the 112 x 96 canvas
   EXPECT_EQ(stats.pixels, 112u * 96u);  // one solve per canvas pixel, none past the canvas edge
   // New colours, same geometry: no new tiles, and the sums use the new colours.
   for (glm::vec3& c : samples.colour) c = glm::vec3(1) - c;
   const frame second = device.run(samples, rp);
-  EXPECT_EQ(device.rbf_cache()->tiles_ready(), tiles);
+  EXPECT_EQ(device.cached_weights()->tiles_ready(), tiles);
   const frame expected = reconstruct(set, samples, rp);
   for (size_t i = 0; i < second.rgb.size(); ++i) ASSERT_NEAR(second.rgb[i].g, expected.rgb[i].g, 1e-4) << i;
   EXPECT_NE(first.rgb, second.rgb);
   // Another shape: a new cache.
-  const rbf_weight_cache* shape1 = device.rbf_cache();
+  const weight_cache* shape1 = device.cached_weights();
   const double shape1_seconds = shape1->seconds();
   rp.shape = 2;
   device.run(samples, rp);
-  EXPECT_EQ(device.rbf_cache()->tiles_ready(), tiles);
-  EXPECT_TRUE(device.rbf_cache()->serves(rp));
-  EXPECT_NE(device.rbf_cache(), shape1);
+  EXPECT_EQ(device.cached_weights()->tiles_ready(), tiles);
+  EXPECT_TRUE(device.cached_weights()->serves(rp));
+  EXPECT_NE(device.cached_weights(), shape1);
   // Back to the first shape: its weights were kept, nothing is solved again ...
   rp.shape = 1;
   const frame again = device.run(samples, rp);
-  EXPECT_EQ(device.rbf_cache(), shape1);
+  EXPECT_EQ(device.cached_weights(), shape1);
   EXPECT_EQ(shape1->seconds(), shape1_seconds);
   EXPECT_EQ(again.rgb, second.rgb);
   // ... and a third shape replaces the one used longest ago (shape 2), not shape 1.
@@ -165,7 +165,7 @@ TEST_F(device_fixture, RbfWeightsAreComputedOncePerTileAndReused) {
   device.run(samples, rp);
   rp.shape = 1;
   device.run(samples, rp);
-  EXPECT_EQ(device.rbf_cache(), shape1);
+  EXPECT_EQ(device.cached_weights(), shape1);
   EXPECT_EQ(shape1->seconds(), shape1_seconds);
 }
 
@@ -300,7 +300,7 @@ TEST_F(device_fixture, TaaOnTheDeviceMatchesTheCppPath) {
 TEST_F(device_fixture, KernelConstantsAndStructLayoutComeFromTheHost) {
   const std::string options = cl_reconstructor::kernel_build_options();
   EXPECT_NE(options.find("-DFOV_MAX_K=" + std::to_string(max_knn)), std::string::npos) << options;
-  EXPECT_NE(options.find("-DFOV_RBF_TILE=" + std::to_string(rbf_weight_cache::tile)), std::string::npos) << options;
+  EXPECT_NE(options.find("-DFOV_WEIGHT_TILE=" + std::to_string(weight_cache::tile)), std::string::npos) << options;
   EXPECT_NE(options.find("-DFOV_CELL_TILE=" + std::to_string(knn_cells::tile)), std::string::npos) << options;
   EXPECT_NE(options.find(fmt::format("-DFOV_ON_POINT={:.9g}f", on_point_px)), std::string::npos) << options;
   cl_reconstructor device(set);
@@ -321,7 +321,7 @@ TEST_F(device_fixture, TheCppModeRunsTheCppPath) {
   frame got;
   const reconstruct_result ran = cpp.run(samples, rp, got);
   EXPECT_FALSE(ran.on_device);
-  EXPECT_EQ(ran.rbf.pixels, 112u * 96u);
+  EXPECT_EQ(ran.weights.pixels, 112u * 96u);
   const frame expected = reconstruct(set, samples, rp);
   for (size_t i = 0; i < got.rgb.size(); ++i) ASSERT_NEAR(got.rgb[i].r, expected.rgb[i].r, 1e-5) << i;
 }

@@ -8,7 +8,7 @@
 #include "fov/dart_throwing.h"
 #include "fov/knn_cells.h"
 #include "fov/knn_table.h"
-#include "fov/rbf_cache.h"
+#include "fov/weight_cache.h"
 #include "fov/reconstruct.h"
 #include "test_samples.h"
 #include "test_sets.h"
@@ -155,8 +155,8 @@ TEST(Cells, EveryMethodGivesTheTablesFrameBitForBit) {
       ASSERT_EQ(a.rgb, b.rgb) << method_name(rp.how) << " k=" << rp.k << " kind " << kind;
       ASSERT_EQ(a.depth, b.depth) << method_name(rp.how) << " k=" << rp.k << " kind " << kind;
       if (rp.how == method::rbf) {
-        rbf_weight_cache cache(with_cells, rp);
-        rbf_weight_cache table_cache(with_table, rp);
+        weight_cache cache(with_cells, rp);
+        weight_cache table_cache(with_table, rp);
         ASSERT_EQ(reconstruct(with_cells, s, rp, nullptr, &cache).rgb, reconstruct(with_table, s, rp, nullptr, &table_cache).rgb);
       }
     });
@@ -221,7 +221,7 @@ TEST(Rbf, ReproducesAConstantFieldAtEveryKWithBothKernels) {
       rp.how = method::rbf;
       rp.k = k;
       rp.kernel = kernel;
-      rbf_stats stats;
+      weight_stats stats;
       const frame f = reconstruct(fx.set, fx.samples, rp, &stats);
       for (size_t i = 0; i < f.rgb.size(); ++i)
         for (int ch = 0; ch < 3; ++ch) ASSERT_NEAR(f.rgb[i][ch], c[ch], 1e-5 * c[ch]) << "k=" << k << " pixel " << i;
@@ -284,7 +284,7 @@ TEST(RbfCache, CachedWeightsGiveTheDirectSolveAndComputeEachTileOnce) {
       rp.how = method::rbf;
       rp.k = k;
       rp.kernel = kernel;
-      rbf_weight_cache cache(fx.set, rp);
+      weight_cache cache(fx.set, rp);
       EXPECT_EQ(cache.tiles_ready(), 0u);
       const frame cached = reconstruct(fx.set, fx.samples, rp, nullptr, &cache);
       const frame direct = reconstruct(fx.set, fx.samples, rp);
@@ -302,7 +302,7 @@ TEST(RbfCache, CachedWeightsGiveTheDirectSolveAndComputeEachTileOnce) {
     }
   reconstruct_params other;
   other.how = method::rbf;
-  rbf_weight_cache cache(fx.set, other);
+  weight_cache cache(fx.set, other);
   other.shape = 2;
   EXPECT_FALSE(cache.serves(other));
   EXPECT_THROW(reconstruct(fx.set, fx.samples, other, nullptr, &cache), std::invalid_argument);
@@ -386,8 +386,8 @@ TEST(Rbf, NearDuplicateNeighboursFallBackAndKeepAConstantField) {
     reconstruct_params rp;
     rp.how = method::rbf;
     rp.k = k;
-    rbf_stats stats;
-    rbf_weight_cache cache(fx.set, rp);
+    weight_stats stats;
+    weight_cache cache(fx.set, rp);
     const frame direct = reconstruct(fx.set, fx.samples, rp, &stats);
     const frame cached = reconstruct(fx.set, fx.samples, rp, nullptr, &cache);
     EXPECT_GT(stats.fallbacks, 0u) << "k=" << k;
@@ -436,15 +436,15 @@ TEST(Rbf, WeightsWhoseAbsoluteSumPassesTheBoundFallBack) {
     reconstruct_params rp;
     rp.how = method::rbf;
     rp.k = 2;
-    rbf_stats stats;
-    rbf_weight_cache cache(fx.set, rp);
+    weight_stats stats;
+    weight_cache cache(fx.set, rp);
     bounded(reconstruct(fx.set, fx.samples, rp, &stats), "k = 2, direct");
     bounded(reconstruct(fx.set, fx.samples, rp, nullptr, &cache), "k = 2, cached");
     EXPECT_GT(stats.weight_sum, 0u);
     EXPECT_EQ(stats.fallbacks, stats.weight_sum + stats.near_duplicates + stats.singular);
     EXPECT_LE(stats.worst_weight_sum, rbf_max_weight_sum);
-    EXPECT_NE(rbf_fallback_warning(stats).find(std::to_string(stats.fallbacks) + " of"), std::string::npos)
-        << rbf_fallback_warning(stats);
+    EXPECT_NE(weight_fallback_warning(stats).find(std::to_string(stats.fallbacks) + " of"), std::string::npos)
+        << weight_fallback_warning(stats);
   }
   {  // Gaussian, shape 10, k = 32, on a grid set
     knn_params kp;
@@ -460,12 +460,12 @@ TEST(Rbf, WeightsWhoseAbsoluteSumPassesTheBoundFallBack) {
     rp.k = 32;
     rp.kernel = rbf_kernel::gaussian;
     rp.shape = 10;
-    rbf_stats stats;
+    weight_stats stats;
     bounded(reconstruct(set, s, rp, &stats), "gaussian k = 32");
     EXPECT_GT(stats.weight_sum + stats.singular, 0u);
     EXPECT_LE(stats.worst_weight_sum, rbf_max_weight_sum);
   }
-  EXPECT_EQ(rbf_fallback_warning({}), "");
+  EXPECT_EQ(weight_fallback_warning({}), "");
 }
 
 // Neighbours at the radius within shepard_tie weigh nothing (issue 27): two neighbours tied at

@@ -246,7 +246,7 @@ int main(int argc, char** argv) {
         const fov::warm_up_report w = r.warm_up(gaze, p);
         j["warmup_ms"] = w.trace_ms;
         j["device_first_launch_ms"] = w.reconstruct_ms;
-        if (p.reconstruct.how == fov::method::rbf) j["rbf_weights_ms"] = w.rbf_weights_ms;
+        if (p.reconstruct.how == fov::method::rbf) j["weights_ms"] = w.weights_ms;
         j["traced_index_ms"] = w.traced_index_ms;
       }
       // With --taa-frames N: N frames of the same view blended by TAA; the JSON reports the last frame's costs.
@@ -275,12 +275,12 @@ int main(int argc, char** argv) {
       j["device"] = r.device();
       if (p.reconstruct.how == fov::method::rbf) {
         j["rbf"] = {{"kernel", fov::label_of(fov::rbf_kernel_labels, p.reconstruct.kernel)}, {"shape", p.reconstruct.shape},
-                    {"pixels", t.rbf.pixels}, {"fallbacks", t.rbf.fallbacks},
-                    {"fallback_near_duplicates", t.rbf.near_duplicates}, {"fallback_singular", t.rbf.singular},
-                    {"fallback_weight_sum", t.rbf.weight_sum}, {"max_weight_sum", fov::rbf_max_weight_sum},
-                    {"worst_weight_sum", t.rbf.worst_weight_sum}, {"worst_condition", t.rbf.worst_condition},
-                    {"condition_sampled_pixels", t.rbf.sampled}};
-        if (const std::string w = fov::rbf_fallback_warning(t.rbf); !w.empty()) std::cerr << "fovrender: " << w << "\n";
+                    {"pixels", t.weights.pixels}, {"fallbacks", t.weights.fallbacks},
+                    {"fallback_near_duplicates", t.weights.near_duplicates}, {"fallback_singular", t.weights.singular},
+                    {"fallback_weight_sum", t.weights.weight_sum}, {"max_weight_sum", fov::rbf_max_weight_sum},
+                    {"worst_weight_sum", t.weights.worst_weight_sum}, {"worst_condition", t.weights.worst_condition},
+                    {"condition_sampled_pixels", t.weights.sampled}};
+        if (const std::string w = fov::weight_fallback_warning(t.weights); !w.empty()) std::cerr << "fovrender: " << w << "\n";
       }
       if (p.taa) j["taa_frames"] = o.taa_frames, j["pattern"] = fov::label_of(fov::ray_pattern_labels, p.pattern);
       j["k"] = p.reconstruct.k;

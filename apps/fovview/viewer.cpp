@@ -406,9 +406,9 @@ int run_viewer(const viewer_options& o, render_params settings) {
                        settings.spp, double(timing.rays), double(timing.refinement.points_refined),
                        timing.adaptive && timing.refinement.budget_short});
     // RBF fallbacks: said when their count changes (newly solved weights, another k or shape).
-    if (timing.rbf.fallbacks != rbf_fallbacks_said) {
-      if (timing.rbf.fallbacks > 0) std::cerr << "fovview: " << fov::rbf_fallback_warning(timing.rbf) << "\n";
-      rbf_fallbacks_said = timing.rbf.fallbacks;
+    if (timing.weights.fallbacks != rbf_fallbacks_said) {
+      if (timing.weights.fallbacks > 0) std::cerr << "fovview: " << fov::weight_fallback_warning(timing.weights) << "\n";
+      rbf_fallbacks_said = timing.weights.fallbacks;
     }
     if (timing.adaptive && timing.refinement.budget_short && !budget_warned) {
       std::cerr << "fovview: " << fov::refinement_warning(timing, settings) << "\n";

@@ -14,7 +14,7 @@
 #include <tbb/parallel_for.h>
 
 #include "fov/kernel_sources.h"
-#include "fov/rbf_cache.h"
+#include "fov/weight_cache.h"
 
 namespace fov {
 
@@ -64,22 +64,22 @@ struct cl_reconstructor::impl {
   cl_mem table = nullptr, position = nullptr, colour = nullptr, depth = nullptr, out_rgb = nullptr, out_depth = nullptr;
   cl_mem level_map = nullptr;  // an adaptive frame's refinement map (launch's level_mask)
   size_t level_map_bytes = 0;
-  // RBF weights, one slot per (k, kernel, shape) in use: the two used last are kept, so a
+  // Cached weights, one slot per (method, k, kernel, shape) in use: the two used last are kept, so a
   // sweep that alternates two k does not solve its weights again at every switch.
-  struct rbf_slot {
-    std::unique_ptr<rbf_weight_cache> cache;
+  struct weight_slot {
+    std::unique_ptr<weight_cache> cache;
     cl_mem weights = nullptr;  // the cache's tiles on the device
     uint64_t used = 0;
   };
-  static constexpr size_t rbf_slots_kept = 2;
-  std::vector<rbf_slot> rbf;
-  uint64_t rbf_clock = 0;
-  rbf_slot* last_rbf = nullptr;
+  static constexpr size_t weight_slots_kept = 2;
+  std::vector<weight_slot> caches;
+  uint64_t weights_clock = 0;
+  weight_slot* last_weights = nullptr;
 
   ~impl() {
     for (cl_mem m : {table, position, colour, depth, out_rgb, out_depth, history, taa_out, level_map})
       if (m) clReleaseMemObject(m);
-    for (rbf_slot& r : rbf)
+    for (weight_slot& r : caches)
       if (r.weights) clReleaseMemObject(r.weights);
     for (cl_kernel k : {nn, shepard, weighted, copy, taa, layout})
       if (k) clReleaseKernel(k);
@@ -196,9 +196,9 @@ const std::string& cl_reconstructor::reason() const { return impl_->reason; }
 
 std::string cl_reconstructor::kernel_build_options() {
   return fmt::format(
-      "-cl-std=CL1.2 -DFOV_MAX_K={} -DFOV_RBF_TILE={} -DFOV_CELL_TILE={} -DFOV_ON_POINT={:.9g}f -DFOV_BLOCK={} "
+      "-cl-std=CL1.2 -DFOV_MAX_K={} -DFOV_WEIGHT_TILE={} -DFOV_CELL_TILE={} -DFOV_ON_POINT={:.9g}f -DFOV_BLOCK={} "
       "-DFOV_SHEPARD_TIE={:.9g}f",
-      max_knn, rbf_weight_cache::tile, knn_cells::tile, on_point_px, refinement_block, shepard_tie);
+      max_knn, weight_cache::tile, knn_cells::tile, on_point_px, refinement_block, shepard_tie);
 }
 
 frame cl_reconstructor::run(const point_samples& samples, const reconstruct_params& params) {
@@ -214,7 +214,7 @@ reconstruct_result cl_reconstructor::run(const point_samples& samples, const rec
   reconstruct_result result;
   result.on_device = d.ok;
   if (!d.ok) {
-    reconstruct_into(set_, samples, params, out, &result.rbf, prepare_rbf(params), only);
+    reconstruct_into(set_, samples, params, out, &result.weights, prepare_weights(params), only);
     return result;
   }
   cl_event done = launch(samples, params, result, only);
@@ -225,21 +225,21 @@ reconstruct_result cl_reconstructor::run(const point_samples& samples, const rec
   return result;
 }
 
-rbf_weight_cache* cl_reconstructor::prepare_rbf(const reconstruct_params& params) {
+weight_cache* cl_reconstructor::prepare_weights(const reconstruct_params& params) {
   impl& d = *impl_;
   if (params.how != method::rbf) return nullptr;
-  auto slot = std::find_if(d.rbf.begin(), d.rbf.end(), [&](const impl::rbf_slot& r) { return r.cache->serves(params); });
-  if (slot == d.rbf.end()) {
-    if (d.rbf.size() < impl::rbf_slots_kept) {
-      slot = d.rbf.insert(d.rbf.end(), impl::rbf_slot{});
+  auto slot = std::find_if(d.caches.begin(), d.caches.end(), [&](const impl::weight_slot& r) { return r.cache->serves(params); });
+  if (slot == d.caches.end()) {
+    if (d.caches.size() < impl::weight_slots_kept) {
+      slot = d.caches.insert(d.caches.end(), impl::weight_slot{});
     } else {  // replace the one used longest ago
-      slot = std::min_element(d.rbf.begin(), d.rbf.end(), [](const auto& a, const auto& b) { return a.used < b.used; });
+      slot = std::min_element(d.caches.begin(), d.caches.end(), [](const auto& a, const auto& b) { return a.used < b.used; });
       if (slot->weights) clReleaseMemObject(slot->weights), slot->weights = nullptr;
     }
-    slot->cache = std::make_unique<rbf_weight_cache>(set_, params);
+    slot->cache = std::make_unique<weight_cache>(set_, params);
   }
-  slot->used = ++d.rbf_clock;
-  d.last_rbf = &*slot;
+  slot->used = ++d.weights_clock;
+  d.last_weights = &*slot;
   return slot->cache.get();
 }
 
@@ -247,11 +247,11 @@ cl_event cl_reconstructor::launch(const point_samples& samples, const reconstruc
                                   reconstruct_result& result, const level_mask* only) {
   impl& d = *impl_;
   const knn_table& t = set_.table;
-  rbf_weight_cache* cache = prepare_rbf(params);
+  weight_cache* cache = prepare_weights(params);
   const bool rbf = cache != nullptr;
   cl_mem weights = nullptr;
   if (rbf) {  // compute the weights the screen needs and copy the new tiles to the device
-    cl_mem& slot_weights = d.last_rbf->weights;
+    cl_mem& slot_weights = d.last_weights->weights;
     cl_int status = 0;
     if (!slot_weights) {
       slot_weights = clCreateBuffer(d.context, CL_MEM_READ_ONLY, cache->floats() * sizeof(float), nullptr, &status);
@@ -263,7 +263,7 @@ cl_event cl_reconstructor::launch(const point_samples& samples, const reconstruc
       check(clEnqueueWriteBuffer(d.queue, weights, CL_FALSE, index * tile_bytes, tile_bytes,
                                  cache->data() + size_t(index) * cache->tile_floats(), 0, nullptr, nullptr),
             "RBF weight upload");
-    result.rbf = cache->stats();
+    result.weights = cache->stats();
   }
 
   // Colours are written straight into the mapped device buffer (on a CPU device a
@@ -401,7 +401,7 @@ reconstruct_result cl_reconstructor::run_taa(const point_samples& samples, const
   reconstruct_result result;
   result.on_device = d.ok;
   if (!d.ok) {
-    const frame current = reconstruct(set_, samples, params, &result.rbf, prepare_rbf(params));
+    const frame current = reconstruct(set_, samples, params, &result.weights, prepare_weights(params));
     out = taa_resolve(state, current, cam, display, gaze, taa);
     return result;
   }
@@ -452,8 +452,8 @@ reconstruct_result cl_reconstructor::run_taa(const point_samples& samples, const
   return result;
 }
 
-const rbf_weight_cache* cl_reconstructor::rbf_cache() const {
-  return impl_->last_rbf ? impl_->last_rbf->cache.get() : nullptr;
+const weight_cache* cl_reconstructor::cached_weights() const {
+  return impl_->last_weights ? impl_->last_weights->cache.get() : nullptr;
 }
 
 double cl_reconstructor::copy_gigabytes_per_second(size_t bytes, int repeats) {

@@ -1,7 +1,7 @@
 #include "fov/reconstruct.h"
 
 #include "fov/knn_cells.h"
-#include "fov/rbf_cache.h"
+#include "fov/weight_cache.h"
 
 #include <cmath>
 #include <limits>
@@ -104,7 +104,7 @@ bool rbf_weights(const double* px, const double* py, uint32_t k, double x, doubl
   return true;
 }
 
-rbf_stats& rbf_stats::operator+=(const rbf_stats& o) {
+weight_stats& weight_stats::operator+=(const weight_stats& o) {
   pixels += o.pixels, fallbacks += o.fallbacks, sampled += o.sampled;
   near_duplicates += o.near_duplicates, singular += o.singular, weight_sum += o.weight_sum;
   worst_condition = std::max(worst_condition, o.worst_condition);
@@ -112,7 +112,7 @@ rbf_stats& rbf_stats::operator+=(const rbf_stats& o) {
   return *this;
 }
 
-std::string rbf_fallback_warning(const rbf_stats& s) {
+std::string weight_fallback_warning(const weight_stats& s) {
   if (s.fallbacks == 0) return "";
   return fmt::format(
       "RBF fell back to Shepard at {} of {} pixels ({} with near-duplicate neighbours, {} singular systems, {} with "
@@ -136,7 +136,7 @@ void shepard_weights(const double* h, uint32_t k, bool renka, double* w) {
 }
 
 void pixel_weights(const pointset& set, const reconstruct_params& params, uint32_t cx, uint32_t cy, double* w,
-                   rbf_stats* stats) {
+                   weight_stats* stats) {
   const uint32_t k = params.k;
   uint32_t idx[max_knn];
   pixel_neighbours(set, cx, cy, k, idx);
@@ -201,14 +201,14 @@ void check_reconstruct_inputs(const pointset& set, const point_samples& samples,
 }
 
 frame reconstruct(const pointset& set, const point_samples& samples, const reconstruct_params& params,
-                  rbf_stats* stats, rbf_weight_cache* cache) {
+                  weight_stats* stats, weight_cache* cache) {
   frame out;
   reconstruct_into(set, samples, params, out, stats, cache);
   return out;
 }
 
 void reconstruct_into(const pointset& set, const point_samples& samples, const reconstruct_params& params, frame& out,
-                      rbf_stats* stats, rbf_weight_cache* cache, const level_mask* only) {
+                      weight_stats* stats, weight_cache* cache, const level_mask* only) {
   check_reconstruct_inputs(set, samples, params);
   const bool rbf = params.how == method::rbf;
   if (rbf && cache) {
@@ -231,7 +231,7 @@ void reconstruct_into(const pointset& set, const point_samples& samples, const r
   tbb::parallel_for(tbb::blocked_range<int>(0, h, 8), [&](const tbb::blocked_range<int>& rows) {
     double dist[max_knn], dist_hit[max_knn], depth[max_knn], weight[max_knn];
     rgbd value[max_knn];
-    rbf_stats local;
+    weight_stats local;
     for (int sy = rows.begin(); sy < rows.end(); ++sy) {
       // A mirrored pattern: this screen pixel reads the table at the mirrored pixel.
       const int ty = samples.mirror_y ? h - 1 - sy : sy;

@@ -9,7 +9,7 @@
 #include <fmt/format.h>
 #include <tbb/parallel_for.h>
 
-#include "fov/rbf_cache.h"
+#include "fov/weight_cache.h"
 
 namespace fov {
 
@@ -180,7 +180,7 @@ const frame& renderer::reconstruct(const point_samples& samples, gaze_point gaze
     }
   }
   t.on_device = r.on_device;
-  t.rbf = r.rbf;
+  t.weights = r.weights;
   return frame_;
 }
 
@@ -247,7 +247,7 @@ const frame& renderer::reconstruct_refined(const adaptive_trace& a, gaze_point g
     const reconstruct_result rl = finest ? dev.run(all, p.reconstruct, into, &only)
                                          : dev.run(level_samples(*levels_, l, all), p.reconstruct, into, &only);
     r.on_device = rl.on_device;
-    r.rbf += rl.rbf;
+    r.weights += rl.weights;
     if (first) {
       first = false;
       continue;
@@ -265,7 +265,7 @@ const frame& renderer::reconstruct_refined(const adaptive_trace& a, gaze_point g
   frame_.rays = all.rays;
   t.reconstruct_ms = ms_since(t1);
   t.on_device = r.on_device;
-  t.rbf = r.rbf;
+  t.weights = r.weights;
   t.taa_ms = 0;
   if (p.taa) {
     const auto t2 = clock_type::now();
@@ -416,7 +416,7 @@ warm_up_report renderer::prepare(const point_samples& samples, const render_para
   const auto t0 = clock_type::now();
   device_->run(samples, p.reconstruct, frame_);
   r.reconstruct_ms = ms_since(t0);
-  if (p.reconstruct.how == method::rbf && device_->rbf_cache()) r.rbf_weights_ms = 1e3 * device_->rbf_cache()->seconds();
+  if (p.reconstruct.how == method::rbf && device_->cached_weights()) r.weights_ms = 1e3 * device_->cached_weights()->seconds();
   return r;
 }
 

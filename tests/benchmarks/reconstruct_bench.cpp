@@ -4,7 +4,7 @@
 // gaze, on the OpenCL device (the first platform's first device: PoCL here) and on the C++
 // path; then the device's reconstruction followed by TAA, as a live loop runs them.
 // Colours are synthetic: the cost does not depend on them. Device setup (kernel build,
-// table upload) and RBF's one-time weight solve (rbf_cache.h) happen outside the timed
+// table upload) and RBF's one-time weight solve (weight_cache.h) happen outside the timed
 // loop; the solve's time is reported as the counter weights_s.
 #include <algorithm>
 #include <cstdio>
@@ -17,7 +17,7 @@
 #include "fov/cl_reconstruct.h"
 #include "fov/knn_table.h"
 #include "fov/pointset_io.h"
-#include "fov/rbf_cache.h"
+#include "fov/weight_cache.h"
 
 namespace {
 
@@ -60,15 +60,15 @@ void BM_Reconstruct(benchmark::State& state) {
   const bool on_device = state.range(2) == 1;
   if (on_device && !device().available()) return state.SkipWithError(device().reason().c_str());
   // Warm-up: PoCL compiles for the launch shape; RBF solves its weights once.
-  std::unique_ptr<fov::rbf_weight_cache> cache;
+  std::unique_ptr<fov::weight_cache> cache;
   if (rp.how == fov::method::rbf && !on_device) {
-    cache = std::make_unique<fov::rbf_weight_cache>(bench_set(), rp);
+    cache = std::make_unique<fov::weight_cache>(bench_set(), rp);
     cache->prepare(bench_samples().offset);
     state.counters["weights_s"] = cache->seconds();
   }
   if (on_device) {
     device().run(bench_samples(), rp);
-    if (rp.how == fov::method::rbf) state.counters["weights_s"] = device().rbf_cache()->seconds();
+    if (rp.how == fov::method::rbf) state.counters["weights_s"] = device().cached_weights()->seconds();
   }
   bool ran_on_device = false;
   double kernel_ms = 1e30, upload_ms = 0, read_back_ms = 0;

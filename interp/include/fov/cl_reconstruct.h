@@ -15,7 +15,7 @@ struct _cl_mem;
 
 namespace fov {
 
-class rbf_weight_cache;
+class weight_cache;
 
 // Where reconstruction runs: the OpenCL kernels (falling back to C++ when no device can
 // be had) or the C++ path alone.
@@ -26,7 +26,7 @@ inline constexpr std::pair<const char*, reconstruct_device> reconstruct_device_l
 // What one run did.
 struct reconstruct_result {
   bool on_device = false;    // the kernels ran (else the C++ path)
-  rbf_stats rbf;             // RBF only: the weight solves' fallbacks and conditioning
+  weight_stats weights;             // RBF only: the weight solves' fallbacks and conditioning
   double kernel_ms = 0;      // device time of the reconstruction kernel (profiling events)
   double taa_kernel_ms = 0;  // run_taa on the device: the TAA kernel's time (0 without history)
   // On the device, host wall times: the samples' upload (colours converted into a mapped
@@ -53,7 +53,7 @@ class cl_reconstructor {
   const std::string& reason() const;  // why unavailable
 
   // Every method runs on the device, or on the C++ path when the device is unavailable.
-  // RBF reads geometry-only weights (rbf_cache.h) that the first RBF run for the screen's
+  // RBF reads geometry-only weights (weight_cache.h) that the first RBF run for the screen's
   // tiles computes on the host and copies to the device; later runs with the same k,
   // kernel and shape only form weighted sums. `out` keeps its storage when it has the
   // screen's size (a live loop saves zero-filling 29 MB a FOVE frame).
@@ -73,7 +73,7 @@ class cl_reconstructor {
 
   // The RBF weights kept so far (null before the first RBF run): its seconds() is the
   // one-time cost, its stats() the solves' fallbacks and condition numbers.
-  const rbf_weight_cache* rbf_cache() const;
+  const weight_cache* cached_weights() const;
 
   // Bandwidth of a plain copy kernel over `bytes` (read + write counted), best of `repeats`.
   double copy_gigabytes_per_second(size_t bytes, int repeats = 5);
@@ -88,7 +88,7 @@ class cl_reconstructor {
  private:
   struct impl;
   std::unique_ptr<impl> impl_;
-  rbf_weight_cache* prepare_rbf(const reconstruct_params& params);  // null unless RBF
+  weight_cache* prepare_weights(const reconstruct_params& params);  // null unless RBF
   ::_cl_event* launch(const point_samples& samples, const reconstruct_params& params, reconstruct_result& result,
                       const level_mask* only = nullptr);
   double read_back(::_cl_mem* rgb, frame& out);  // milliseconds it took

@@ -69,7 +69,7 @@ T shepard_weighted(const double* h, const T* f, uint32_t k, bool renka) {
 constexpr double rbf_duplicate_fraction = 1e-3;
 constexpr double rbf_max_weight_sum = 8;
 void pixel_weights(const pointset& set, const reconstruct_params& params, uint32_t cx, uint32_t cy, double* w,
-                   rbf_stats* stats);
+                   weight_stats* stats);
 
 // Throws std::invalid_argument when the set's table is not loaded, k lies outside 1..the
 // set's k, the samples belong to another set, or an RBF shape is not positive.
@@ -79,12 +79,12 @@ void check_reconstruct_inputs(const pointset& set, const point_samples& samples,
 // reconstructed from the same weights over neighbours that hit something (+inf if none).
 // RBF solves a system per pixel unless `cache` (built for the same params) holds its
 // weights; the cache is then prepared for the samples' offset first.
-class rbf_weight_cache;
+class weight_cache;
 frame reconstruct(const pointset& set, const point_samples& samples, const reconstruct_params& params,
-                  rbf_stats* stats = nullptr, rbf_weight_cache* cache = nullptr);
+                  weight_stats* stats = nullptr, weight_cache* cache = nullptr);
 // The same into `out` (resized to the screen when it is not), and with `only` just the pixels
 // of that level of an adaptive frame's refinement map: the others keep their values.
 void reconstruct_into(const pointset& set, const point_samples& samples, const reconstruct_params& params, frame& out,
-                      rbf_stats* stats = nullptr, rbf_weight_cache* cache = nullptr, const level_mask* only = nullptr);
+                      weight_stats* stats = nullptr, weight_cache* cache = nullptr, const level_mask* only = nullptr);
 
 }  // namespace fov

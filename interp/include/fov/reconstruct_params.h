@@ -37,17 +37,17 @@ struct reconstruct_params {
 // What an RBF reconstruction met: pixels whose system fell back to Shepard, by rule
 // (reconstruct.h, pixel_weights), the worst 1-norm condition number among sampled pixels and
 // the largest sum of |weights| among the systems kept.
-struct rbf_stats {
+struct weight_stats {
   uint64_t pixels = 0, fallbacks = 0, sampled = 0;
   uint64_t near_duplicates = 0;  // fallbacks: two neighbours closer than rbf_duplicate_fraction
   uint64_t singular = 0;         // fallbacks: a pivot vanished
   uint64_t weight_sum = 0;       // fallbacks: the weights' |sum| passed rbf_max_weight_sum
   double worst_condition = 0;
   double worst_weight_sum = 0;
-  rbf_stats& operator+=(const rbf_stats& o);
+  weight_stats& operator+=(const weight_stats& o);
 };
 // One line for stderr when some pixels fell back (how many, by which rule), else "".
-std::string rbf_fallback_warning(const rbf_stats& s);
+std::string weight_fallback_warning(const weight_stats& s);
 
 // Throws std::invalid_argument unless k lies in 1..k_stored and an RBF shape is positive
 // and finite; returns quietly otherwise.

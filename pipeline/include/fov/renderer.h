@@ -84,7 +84,7 @@ struct frame_timing {
   double trace_wait_ms = 0;   // how long the frame still waited for it
   uint64_t rays = 0, points_traced = 0;
   bool on_device = false;
-  rbf_stats rbf;
+  weight_stats weights;
   // An adaptive frame (render_params::adaptive): rays and points per level, blocks per level.
   // Its trace_ms is every level's trace and the refinement's choices; its reconstruct_ms
   // every level's reconstruction (one per level a block reads) and their composite.
@@ -97,7 +97,7 @@ struct frame_timing {
 struct warm_up_report {
   double trace_ms = 0;        // textures read and MIP-mapped on first use
   double reconstruct_ms = 0;  // the first launch: kernel compilation for its shape, RBF weights
-  double rbf_weights_ms = 0;  // the RBF weights alone (their one-time solve)
+  double weights_ms = 0;  // the RBF weights alone (their one-time solve)
   double traced_index_ms = 0;  // make_traced_index for the set and k (0 when already made)
 };
 

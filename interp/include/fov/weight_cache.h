@@ -17,13 +17,13 @@
 
 namespace fov {
 
-class rbf_weight_cache {
+class weight_cache {
  public:
   static constexpr uint32_t tile = 64;  // canvas pixels per tile side
 
   // Weights for `params` (method rbf: its k, kernel and shape) over the set's canvas.
   // Nothing is computed yet. Throws std::invalid_argument as check_reconstruct_inputs.
-  rbf_weight_cache(const pointset& set, const reconstruct_params& params);
+  weight_cache(const pointset& set, const reconstruct_params& params);
 
   // True when this cache holds the weights `params` asks for.
   bool serves(const reconstruct_params& params) const;
@@ -44,7 +44,7 @@ class rbf_weight_cache {
   size_t tiles_ready() const;
   const float* data() const { return data_.data(); }  // tile-major: tile, pixel in tile, rank
   size_t floats() const { return data_.size(); }
-  const rbf_stats& stats() const { return stats_; }
+  const weight_stats& stats() const { return stats_; }
   double seconds() const { return seconds_; }  // wall time spent computing tiles so far
 
  private:
@@ -53,7 +53,7 @@ class rbf_weight_cache {
   uint32_t k_ = 0, tiles_x_ = 0, tiles_y_ = 0;
   std::vector<uint8_t> ready_;
   std::vector<float, table_allocator<float>> data_;  // pages are touched only for computed tiles
-  rbf_stats stats_;
+  weight_stats stats_;
   double seconds_ = 0;
 };
 

@@ -1,4 +1,4 @@
-#include "fov/rbf_cache.h"
+#include "fov/weight_cache.h"
 
 #include "fov/reconstruct.h"
 
@@ -11,7 +11,7 @@
 
 namespace fov {
 
-rbf_weight_cache::rbf_weight_cache(const pointset& set, const reconstruct_params& params)
+weight_cache::weight_cache(const pointset& set, const reconstruct_params& params)
     : set_(set), params_(params) {
   require_neighbours(set);
   if (params.how != method::rbf) throw std::invalid_argument("an RBF weight cache needs method rbf");
@@ -23,13 +23,13 @@ rbf_weight_cache::rbf_weight_cache(const pointset& set, const reconstruct_params
   data_.resize(ready_.size() * tile_floats());
 }
 
-bool rbf_weight_cache::serves(const reconstruct_params& p) const {
+bool weight_cache::serves(const reconstruct_params& p) const {
   return p.how == method::rbf && p.k == params_.k && p.kernel == params_.kernel && p.shape == params_.shape;
 }
 
-size_t rbf_weight_cache::tiles_ready() const { return size_t(std::count(ready_.begin(), ready_.end(), 1)); }
+size_t weight_cache::tiles_ready() const { return size_t(std::count(ready_.begin(), ready_.end(), 1)); }
 
-std::vector<uint32_t> rbf_weight_cache::prepare(canvas_offset o) {
+std::vector<uint32_t> weight_cache::prepare(canvas_offset o) {
   const uint32_t w = set_.model.display.width, h = set_.model.display.height;
   const uint32_t tx0 = uint32_t(o.x) / tile, tx1 = (uint32_t(o.x) + w - 1) / tile;
   const uint32_t ty0 = uint32_t(o.y) / tile, ty1 = (uint32_t(o.y) + h - 1) / tile;
@@ -43,7 +43,7 @@ std::vector<uint32_t> rbf_weight_cache::prepare(canvas_offset o) {
   tbb::parallel_for(size_t(0), todo.size(), [&](size_t n) {
     const uint32_t index = todo[n], tx = index % tiles_x_, ty = index / tiles_x_;
     float* out = data_.data() + size_t(index) * tile_floats();
-    rbf_stats local;
+    weight_stats local;
     double weight[32];
     for (uint32_t y = 0; y < tile; ++y)
       for (uint32_t x = 0; x < tile; ++x) {
