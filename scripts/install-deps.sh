@@ -29,6 +29,7 @@ packages=(
   xvfb xauth                 # tests: fovview and fovstair windows run headless under xvfb-run
   clang libclang-rt-dev      # scripts/fuzz.sh: libFuzzer and the sanitizers' runtimes for clang
   time                       # scripts/cells-bench.sh: GNU time's wall time and peak memory per run
+  libcgal-dev                # interp: Delaunay triangulation and Sibson's natural-neighbour coordinates (header-only)
 )
 
 missing=()

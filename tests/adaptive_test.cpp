@@ -366,7 +366,7 @@ TEST_F(adaptive, TheSameSeedGivesTheSameFrameAndAStillViewKeepsItsRefinement) {
 
 TEST_F(adaptive, TheDeviceRebuildsWhatTheCppPathDoes) {
   const std::shared_ptr<const scene> scn = load_scene("builtin");
-  for (method m : {method::nn, method::shepard, method::rbf}) {
+  for (method m : {method::nn, method::shepard, method::rbf, method::barycentric, method::natural}) {
     params.reconstruct.how = m;
     params.adaptive.threshold = 0.2;
     render_params on_device = params;

@@ -20,6 +20,15 @@ check "gaze off screen"    2 -- "$fovrender" "${set[@]}" --gaze 100,10 -o "$dir/
 check "bad rbf kernel"     2 -- "$fovrender" "${set[@]}" --method rbf --rbf-kernel cubic -o "$dir/a.png"
 check "bad rbf shape"      2 -- "$fovrender" "${set[@]}" --method rbf --rbf-shape -1 -o "$dir/a.png"
 check "rbf"                0 -- "$fovrender" "${set[@]}" --spp 2 --method rbf --k 8 -o "$dir/rbf.png"
+# The Delaunay methods: at k = 8 they run; at k = 1 every pixel off a point falls back to
+# Shepard's weights, which fovrender says in one line naming the method and the remedy.
+check "barycentric"        0 -- "$fovrender" "${set[@]}" --spp 2 --method barycentric --k 8 -o "$dir/bary.png"
+check "natural"            0 -- "$fovrender" "${set[@]}" --spp 2 --method natural --k 8 -o "$dir/natural.png"
+"$fovrender" "${set[@]}" --spp 1 --method natural --k 1 -o "$dir/n1.png" --json > "$dir/n1.json" 2> "$dir/n1.err"
+if [[ $(grep -c "natural fell back to Shepard at .* raise --k" "$dir/n1.err") != 1 ]] ||
+   ! python3 -c 'import json, sys; d = json.load(open(sys.argv[1]))["delaunay"]; sys.exit(0 if d["fallback_beyond_k"] > 0 and d["fallbacks"] == d["fallback_beyond_k"] + d["fallback_outside_hull"] else 1)' "$dir/n1.json"; then
+  echo "FAIL natural at k = 1: no single fallback line or no counts in --json"; cat "$dir/n1.err"; failures=$((failures + 1))
+fi
 check "footprint unknown"  2 -- "$fovrender" "${set[@]}" --texture-footprint wide -o "$dir/a.png"
 check "pixel footprint"    0 -- "$fovrender" "${set[@]}" --spp 2 --texture-footprint pixel -o "$dir/px.png"
 check "bad device"         2 -- "$fovrender" "${set[@]}" --device tpu -o "$dir/a.png"

@@ -101,7 +101,7 @@ TEST(Protocol, ErrorsNameTheFileLineAndField) {
   EXPECT_EQ(error_of(protocol_with("    {\"name\": \"B\", \"method\": \"shepard\", \"k\": 40}")),
             "p.json:5: conditions[1].k: must lie in 1..32");
   EXPECT_EQ(error_of(protocol_with("    {\"name\": \"B\", \"method\": \"cubic\"}")),
-            "p.json:5: conditions[1].method: must be nn, shepard or rbf");
+            "p.json:5: conditions[1].method: must be nn, shepard, rbf, barycentric or natural");
   EXPECT_EQ(error_of(protocol_with("    {\"name\": \"B\", \"rbf_kernel\": \"cubic\"}")),
             "p.json:5: conditions[1].rbf_kernel: must be multiquadric or gaussian");
   EXPECT_EQ(error_of(protocol_with("    {\"name\": \"A\", \"method\": \"rbf\"}")),

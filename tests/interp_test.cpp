@@ -154,7 +154,7 @@ TEST(Cells, EveryMethodGivesTheTablesFrameBitForBit) {
       const frame a = reconstruct(with_table, s, rp), b = reconstruct(with_cells, s, rp);
       ASSERT_EQ(a.rgb, b.rgb) << method_name(rp.how) << " k=" << rp.k << " kind " << kind;
       ASSERT_EQ(a.depth, b.depth) << method_name(rp.how) << " k=" << rp.k << " kind " << kind;
-      if (rp.how == method::rbf) {
+      if (cached_weights_method(rp.how)) {
         weight_cache cache(with_cells, rp);
         weight_cache table_cache(with_table, rp);
         ASSERT_EQ(reconstruct(with_cells, s, rp, nullptr, &cache).rgb, reconstruct(with_table, s, rp, nullptr, &table_cache).rgb);
@@ -443,8 +443,8 @@ TEST(Rbf, WeightsWhoseAbsoluteSumPassesTheBoundFallBack) {
     EXPECT_GT(stats.weight_sum, 0u);
     EXPECT_EQ(stats.fallbacks, stats.weight_sum + stats.near_duplicates + stats.singular);
     EXPECT_LE(stats.worst_weight_sum, rbf_max_weight_sum);
-    EXPECT_NE(weight_fallback_warning(stats).find(std::to_string(stats.fallbacks) + " of"), std::string::npos)
-        << weight_fallback_warning(stats);
+    EXPECT_NE(weight_fallback_warning(stats, method::rbf).find(std::to_string(stats.fallbacks) + " of"), std::string::npos)
+        << weight_fallback_warning(stats, method::rbf);
   }
   {  // Gaussian, shape 10, k = 32, on a grid set
     knn_params kp;
@@ -465,7 +465,7 @@ TEST(Rbf, WeightsWhoseAbsoluteSumPassesTheBoundFallBack) {
     EXPECT_GT(stats.weight_sum + stats.singular, 0u);
     EXPECT_LE(stats.worst_weight_sum, rbf_max_weight_sum);
   }
-  EXPECT_EQ(weight_fallback_warning({}), "");
+  EXPECT_EQ(weight_fallback_warning({}, method::rbf), "");
 }
 
 // Neighbours at the radius within shepard_tie weigh nothing (issue 27): two neighbours tied at

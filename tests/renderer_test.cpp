@@ -343,7 +343,7 @@ TEST_F(pipeline, TheDevicePathGivesTheCppFrames) {
     GTEST_SKIP() << "no OpenCL device: " << gpu.device_problem();
   }
   EXPECT_EQ(gpu.device_problem(), "");
-  for (method m : {method::nn, method::shepard, method::rbf})
+  for (method m : {method::nn, method::shepard, method::rbf, method::barycentric, method::natural})
     for (bool taa : {false, true}) {
       on.reconstruct.how = m, on.taa = taa;
       render_params off = params;
@@ -393,7 +393,7 @@ TEST_F(foveal_grid, GridPixelsAreTheFullResolutionFrameExactly) {
   p.reconstruct.k = 5;
   for (reconstruct_device device : {reconstruct_device::cpp, reconstruct_device::opencl})
     for (uint32_t spp : {1u, 4u})
-      for (method m : {method::nn, method::shepard, method::rbf})
+      for (method m : {method::nn, method::shepard, method::rbf, method::barycentric, method::natural})
         for (gaze_point g : {screen_centre(set->model.display), gaze_point{30, 70}}) {
           p.spp = spp, p.reconstruct.how = m, p.device = device;
           renderer r(scn, p);

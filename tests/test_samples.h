@@ -19,14 +19,14 @@ inline point_samples random_samples(size_t n, unsigned seed) {
   return s;
 }
 
-// Calls f(params) for nn, Shepard (Renka's weights every fourth case) and RBF at k = 1, 5
-// and 20, at each gaze, with s placed there and mirrored in turn.
+// Calls f(params) for nn, Shepard (Renka's weights every fourth case), RBF, barycentric and
+// natural at k = 1, 5 and 20, at each gaze, with s placed there and mirrored in turn.
 template <class F>
 void for_each_reconstruction(const display_geometry& display, std::initializer_list<gaze_point> gazes, point_samples& s,
                              F&& f) {
   int round = 0;
   for (gaze_point gaze : gazes)
-    for (method m : {method::nn, method::shepard, method::rbf})
+    for (method m : {method::nn, method::shepard, method::rbf, method::barycentric, method::natural})
       for (uint32_t k : {1u, 5u, 20u}) {
         if (m == method::nn && k != 1) continue;
         s.offset = offset_for_gaze(display, gaze);

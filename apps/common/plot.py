@@ -19,6 +19,8 @@ SCHEME_COLOURS = {
     "nn": "#0072B2",
     "shepard": "#D55E00",
     "rbf": "#009E73",
+    "barycentric": "#332288",
+    "natural": "#117733",
     "uniform": "#CC79A7",
     "full": "#000000",
     "front-foveated": "#7F7F7F",
@@ -33,7 +35,7 @@ SCHEME_COLOURS = {
 }
 OTHER_COLOURS = ["#56B4E9", "#882255", "#44AA99", "#999933", "#AA4499", "#F0E442"]
 STYLES = {"solid": "-", "dashed": "--", "dotted": ":", "dashdot": "-."}
-MARKERS = {"nn": "o", "shepard": "s", "rbf": "^", "uniform": "D", "full": "P", "adaptive": "*"}
+MARKERS = {"nn": "o", "shepard": "s", "rbf": "^", "barycentric": "v", "natural": "D", "uniform": "D", "full": "P", "adaptive": "*"}
 
 
 def colour_of(scheme, others):

@@ -938,7 +938,7 @@ class scene_sweep {
       p.reconstruct.how = c->how, p.reconstruct.k = c->k;
       frame_timing t;
       const frame image = c->taa ? r_.steady_state(gp.at, p, c->taa) : rebuild(p, t);
-      if (const std::string w = weight_fallback_warning(t.weights); !w.empty())  // once per row
+      if (const std::string w = weight_fallback_warning(t.weights, c->how); !w.empty())  // once per row
         std::cerr << fmt::format("fovbench: {} {} {} k={}: {}\n", scene, what, gp.name, c->k, w);
       result_row row = row_for(*c);
       if (adaptive) {

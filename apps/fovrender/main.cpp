@@ -246,7 +246,7 @@ int main(int argc, char** argv) {
         const fov::warm_up_report w = r.warm_up(gaze, p);
         j["warmup_ms"] = w.trace_ms;
         j["device_first_launch_ms"] = w.reconstruct_ms;
-        if (p.reconstruct.how == fov::method::rbf) j["weights_ms"] = w.weights_ms;
+        if (fov::cached_weights_method(p.reconstruct.how)) j["weights_ms"] = w.weights_ms;
         j["traced_index_ms"] = w.traced_index_ms;
       }
       // With --taa-frames N: N frames of the same view blended by TAA; the JSON reports the last frame's costs.
@@ -280,8 +280,12 @@ int main(int argc, char** argv) {
                     {"fallback_weight_sum", t.weights.weight_sum}, {"max_weight_sum", fov::rbf_max_weight_sum},
                     {"worst_weight_sum", t.weights.worst_weight_sum}, {"worst_condition", t.weights.worst_condition},
                     {"condition_sampled_pixels", t.weights.sampled}};
-        if (const std::string w = fov::weight_fallback_warning(t.weights); !w.empty()) std::cerr << "fovrender: " << w << "\n";
+      } else if (fov::delaunay_method(p.reconstruct.how)) {
+        j["delaunay"] = {{"pixels", t.weights.pixels}, {"fallbacks", t.weights.fallbacks},
+                         {"fallback_outside_hull", t.weights.outside_hull}, {"fallback_beyond_k", t.weights.beyond_k}};
       }
+      if (const std::string w = fov::weight_fallback_warning(t.weights, p.reconstruct.how); !w.empty())
+        std::cerr << "fovrender: " << w << "\n";
       if (p.taa) j["taa_frames"] = o.taa_frames, j["pattern"] = fov::label_of(fov::ray_pattern_labels, p.pattern);
       j["k"] = p.reconstruct.k;
       if (t.adaptive) {

@@ -112,7 +112,7 @@ pointset_family find_family(const std::string& points, const std::string& dir, c
 }
 
 const char* help_lines[] = {
-    "1/2/3  nearest neighbour / Shepard / RBF", "+/-    k",  "[ ]    previous / next point-set scale",
+    "1-5    nearest neighbour / Shepard / RBF / barycentric / natural", "+/-    k",  "[ ]    previous / next point-set scale",
     "T      TAA on/off",  "R      full-resolution reference", "V      debug view: points, density, eccentricity, error",
     "G      gaze cursor", "P      screenshot (PNG + JSON); also S while the mouse is the gaze",
     "WASD   move, right-drag turns (when the mouse is not the gaze)",
@@ -365,9 +365,12 @@ int run_viewer(const viewer_options& o, render_params settings) {
     if (window.closed()) break;
     const int c = key >= 0 && key < 256 ? std::tolower(key) : -1;
     if (c == 'q' || key == 27) break;
-    if (c == '1' || c == '2' || c == '3') {
-      settings.reconstruct.how = c == '1' ? fov::method::nn : c == '2' ? fov::method::shepard : fov::method::rbf;
-      if (settings.reconstruct.how == fov::method::rbf) status = "RBF: solving weights once for the screen (seconds)";
+    if (c >= '1' && c <= '5') {
+      constexpr fov::method keys[] = {fov::method::nn, fov::method::shepard, fov::method::rbf, fov::method::barycentric,
+                                      fov::method::natural};
+      settings.reconstruct.how = keys[c - '1'];
+      if (fov::cached_weights_method(settings.reconstruct.how))
+        status = fmt::format("{}: computing weights once for the screen (seconds)", fov::method_name(settings.reconstruct.how));
     }
     if (c == '+' || c == '=') settings.reconstruct.k = std::min(settings.reconstruct.k + 1, stored_k(*renderer.current_set()));
     if (c == '-') settings.reconstruct.k = std::max(settings.reconstruct.k - 1, 1u);
@@ -405,9 +408,9 @@ int run_viewer(const viewer_options& o, render_params settings) {
     history.push_back({frame_ms, timing.trace_ms, timing.reconstruct_ms, timing.taa_ms, display_ms, latency_ms, gaze_age_ms,
                        settings.spp, double(timing.rays), double(timing.refinement.points_refined),
                        timing.adaptive && timing.refinement.budget_short});
-    // RBF fallbacks: said when their count changes (newly solved weights, another k or shape).
+    // Cached weights' fallbacks: said when their count changes (new weights, another method, k or shape).
     if (timing.weights.fallbacks != rbf_fallbacks_said) {
-      if (timing.weights.fallbacks > 0) std::cerr << "fovview: " << fov::weight_fallback_warning(timing.weights) << "\n";
+      if (timing.weights.fallbacks > 0) std::cerr << "fovview: " << fov::weight_fallback_warning(timing.weights, settings.reconstruct.how) << "\n";
       rbf_fallbacks_said = timing.weights.fallbacks;
     }
     if (timing.adaptive && timing.refinement.budget_short && !budget_warned) {

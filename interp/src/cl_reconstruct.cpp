@@ -227,7 +227,7 @@ reconstruct_result cl_reconstructor::run(const point_samples& samples, const rec
 
 weight_cache* cl_reconstructor::prepare_weights(const reconstruct_params& params) {
   impl& d = *impl_;
-  if (params.how != method::rbf) return nullptr;
+  if (!cached_weights_method(params.how)) return nullptr;
   auto slot = std::find_if(d.caches.begin(), d.caches.end(), [&](const impl::weight_slot& r) { return r.cache->serves(params); });
   if (slot == d.caches.end()) {
     if (d.caches.size() < impl::weight_slots_kept) {

@@ -1,10 +1,12 @@
 #include "fov/reconstruct.h"
 
+#include "fov/delaunay.h"
 #include "fov/knn_cells.h"
 #include "fov/weight_cache.h"
 
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <mutex>
 #include <stdexcept>
 
@@ -107,15 +109,21 @@ bool rbf_weights(const double* px, const double* py, uint32_t k, double x, doubl
 weight_stats& weight_stats::operator+=(const weight_stats& o) {
   pixels += o.pixels, fallbacks += o.fallbacks, sampled += o.sampled;
   near_duplicates += o.near_duplicates, singular += o.singular, weight_sum += o.weight_sum;
+  outside_hull += o.outside_hull, beyond_k += o.beyond_k;
   worst_condition = std::max(worst_condition, o.worst_condition);
   worst_weight_sum = std::max(worst_weight_sum, o.worst_weight_sum);
   return *this;
 }
 
-std::string weight_fallback_warning(const weight_stats& s) {
+std::string weight_fallback_warning(const weight_stats& s, method how) {
   if (s.fallbacks == 0) return "";
+  if (delaunay_method(how))
+    return fmt::format(
+        "{} fell back to Shepard at {} of {} pixels weighed ({} outside the points' convex hull, {} weighing a point beyond "
+        "their k nearest: raise --k)",
+        method_name(how), s.fallbacks, s.pixels, s.outside_hull, s.beyond_k);
   return fmt::format(
-      "RBF fell back to Shepard at {} of {} pixels ({} with near-duplicate neighbours, {} singular systems, {} with "
+      "RBF fell back to Shepard at {} of {} pixels weighed ({} with near-duplicate neighbours, {} singular systems, {} with "
       "weights whose absolute sum passed {})",
       s.fallbacks, s.pixels, s.near_duplicates, s.singular, s.weight_sum, rbf_max_weight_sum);
 }
@@ -136,7 +144,7 @@ void shepard_weights(const double* h, uint32_t k, bool renka, double* w) {
 }
 
 void pixel_weights(const pointset& set, const reconstruct_params& params, uint32_t cx, uint32_t cy, double* w,
-                   weight_stats* stats) {
+                   weight_stats* stats, const delaunay_weights* at) {
   const uint32_t k = params.k;
   uint32_t idx[max_knn];
   pixel_neighbours(set, cx, cy, k, idx);
@@ -148,7 +156,7 @@ void pixel_weights(const pointset& set, const reconstruct_params& params, uint32
     xs[j] = p.x, ys[j] = p.y, spacing += p.spacing;
     dist[j] = std::hypot(double(p.x) - x, double(p.y) - y);
   }
-  if (params.how == method::rbf) {
+  if (cached_weights_method(params.how)) {
     // A neighbour on the pixel centre (a grid point): the interpolant's value there is its
     // value, exactly, where a solved system would give it only to rounding.
     for (uint32_t j = 0; j < k; ++j)
@@ -157,6 +165,27 @@ void pixel_weights(const pointset& set, const reconstruct_params& params, uint32
         for (uint32_t i = 0; i < k; ++i) w[i] = i == j ? 1 : 0;
         return;
       }
+  }
+  if (delaunay_method(params.how)) {
+    if (!at) throw std::invalid_argument("pixel_weights: barycentric and natural need the pixel's Delaunay weights");
+    if (stats) ++stats->pixels;
+    if (at->where == delaunay_case::inside) {
+      std::fill(w, w + k, 0.0);
+      bool all_found = true;
+      for (uint32_t n = 0; n < at->n && all_found; ++n) {
+        uint32_t j = 0;
+        while (j < k && idx[j] != at->index[n]) ++j;
+        if (j == k) all_found = false;
+        else w[j] += at->weight[n];
+      }
+      if (all_found) return;
+      if (stats) ++stats->fallbacks, ++stats->beyond_k;
+    } else if (at->where == delaunay_case::crowded) {
+      if (stats) ++stats->fallbacks, ++stats->beyond_k;
+    } else if (stats) {
+      ++stats->fallbacks, ++stats->outside_hull;
+    }
+  } else if (params.how == method::rbf) {
     const bool sample = stats && (cy * 131 + cx) % 257 == 0;
     double condition = 0;
     if (stats) ++stats->pixels;
@@ -210,9 +239,14 @@ frame reconstruct(const pointset& set, const point_samples& samples, const recon
 void reconstruct_into(const pointset& set, const point_samples& samples, const reconstruct_params& params, frame& out,
                       weight_stats* stats, weight_cache* cache, const level_mask* only) {
   check_reconstruct_inputs(set, samples, params);
-  const bool rbf = params.how == method::rbf;
-  if (rbf && cache) {
-    if (!cache->serves(params)) throw std::invalid_argument("the RBF weight cache was built for other parameters");
+  const bool weighted = cached_weights_method(params.how);
+  std::unique_ptr<weight_cache> own;  // barycentric and natural without a cache: one for this call
+  if (delaunay_method(params.how) && !cache) {
+    own = std::make_unique<weight_cache>(set, params);
+    cache = own.get();
+  }
+  if (weighted && cache) {
+    if (!cache->serves(params)) throw std::invalid_argument("the weight cache was built for other parameters");
     cache->prepare(samples.offset);
     if (stats) *stats = cache->stats();
   }
@@ -267,11 +301,11 @@ void reconstruct_into(const pointset& set, const point_samples& samples, const r
           if (std::isfinite(samples.depth[i])) dist_hit[hits] = dist[j], depth[hits++] = samples.depth[i];
         }
         rgbd c;
-        if (rbf && cache) {
+        if (weighted && cache) {
           const float* cached = cache->weights(cx, cy);
           for (uint32_t j = 0; j < k; ++j)
             if (cached[j] != 0) c = c + value[j] * double(cached[j]);
-        } else if (rbf) {
+        } else if (weighted) {  // RBF solved per pixel
           pixel_weights(set, params, cx, cy, weight, stats ? &local : nullptr);
           for (uint32_t j = 0; j < k; ++j)
             if (weight[j] != 0) c = c + value[j] * weight[j];
@@ -285,7 +319,7 @@ void reconstruct_into(const pointset& set, const point_samples& samples, const r
                                       : infinity;
       }
     }
-    if (stats && rbf && !cache) {
+    if (stats && weighted && !cache) {
       std::lock_guard<std::mutex> guard(stats_lock);
       *stats += local;
     }

@@ -416,7 +416,7 @@ warm_up_report renderer::prepare(const point_samples& samples, const render_para
   const auto t0 = clock_type::now();
   device_->run(samples, p.reconstruct, frame_);
   r.reconstruct_ms = ms_since(t0);
-  if (p.reconstruct.how == method::rbf && device_->cached_weights()) r.weights_ms = 1e3 * device_->cached_weights()->seconds();
+  if (cached_weights_method(p.reconstruct.how) && device_->cached_weights()) r.weights_ms = 1e3 * device_->cached_weights()->seconds();
   return r;
 }
 

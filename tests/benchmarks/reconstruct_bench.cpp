@@ -5,7 +5,9 @@
 // path; then the device's reconstruction followed by TAA, as a live loop runs them.
 // Colours are synthetic: the cost does not depend on them. Device setup (kernel build,
 // table upload) and RBF's one-time weight solve (weight_cache.h) happen outside the timed
-// loop; the solve's time is reported as the counter weights_s.
+// loop; the solve's time is reported as the counter weights_s. BM_PrecomputeWeights times
+// that precomputation for RBF, barycentric and natural (their per-frame cost is RBF's: the
+// same weighted-sum kernel over the same k).
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
@@ -149,6 +151,40 @@ void BM_ReconstructTaa(benchmark::State& state) {
 BENCHMARK(BM_ReconstructTaa)
     ->ArgNames({"method", "k", "moving"})
     ->ArgsProduct({{0, 1, 2}, {5}, {0, 1}})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+
+// Precomputing the geometry-only weights (weight_cache.h) for a centred screen: RBF's solves,
+// and for barycentric and natural the set's Delaunay triangulation (CGAL) plus each canvas
+// pixel's weights, from a fresh cache every iteration. Counters: triangulation_s (its part of
+// the time), triangulation_MB and cache_MB (the data held: the triangulation's records and
+// the computed tiles' weights, 4k bytes per canvas pixel), tiles, and fallback_share (pixels
+// that took Shepard's weights, by the method's rules in reconstruct.h).
+// args: method (2 rbf, 3 barycentric, 4 natural), k
+void BM_PrecomputeWeights(benchmark::State& state) {
+  fov::reconstruct_params rp;
+  rp.how = fov::method(state.range(0));
+  rp.k = uint32_t(state.range(1));
+  double triangulation_s = 0, triangulation_mb = 0, cache_mb = 0, tiles = 0, fallback_share = 0;
+  for (auto _ : state) {
+    fov::weight_cache cache(bench_set(), rp);
+    triangulation_s = cache.seconds();
+    cache.prepare(bench_samples().offset);
+    triangulation_mb = cache.triangulation_bytes() / 1e6;
+    tiles = double(cache.tiles_ready());
+    cache_mb = tiles * cache.tile_floats() * sizeof(float) / 1e6;
+    fallback_share = double(cache.stats().fallbacks) / double(std::max<uint64_t>(1, cache.stats().pixels));
+  }
+  state.counters["triangulation_s"] = triangulation_s;
+  state.counters["triangulation_MB"] = triangulation_mb;
+  state.counters["cache_MB"] = cache_mb;
+  state.counters["tiles"] = tiles;
+  state.counters["fallback_share"] = fallback_share;
+}
+BENCHMARK(BM_PrecomputeWeights)
+    ->ArgNames({"method", "k"})
+    ->ArgsProduct({{2, 3, 4}, {5, 8, 12, 20}})
+    ->Iterations(3)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 

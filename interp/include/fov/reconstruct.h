@@ -52,10 +52,12 @@ T shepard_weighted(const double* h, const T* f, uint32_t k, bool renka) {
   return acc;
 }
 
-// The weights of canvas pixel (cx, cy) under `params` (shepard or rbf): the pixel's value is
-// sum w[j] f[j] over its k neighbours, nearest first, with terms of zero weight left out (a
-// NaN sample there adds nothing; the OpenCL kernels follow the same rule). An RBF pixel falls
-// back to Shepard's weights (counted in stats by rule) where
+// The weights of canvas pixel (cx, cy) under `params` (shepard, rbf, barycentric or natural):
+// the pixel's value is sum w[j] f[j] over its k neighbours, nearest first, with terms of zero
+// weight left out (a NaN sample there adds nothing; the OpenCL kernels follow the same rule).
+// A neighbour within on_point_px of the pixel centre takes all the weight, in every method.
+// Pixels a method cannot weigh take Shepard's weights instead, counted in stats by rule.
+// RBF falls back where
 //  - two neighbours lie closer than rbf_duplicate_fraction of their spacing (near-duplicate
 //    points, which fovgen never makes but an imported set may),
 //  - a pivot vanishes (a singular system), or
@@ -64,12 +66,17 @@ T shepard_weighted(const double* h, const T* f, uint32_t k, bool renka) {
 //    condition number only warns of: systems that pass the pivot test with condition numbers
 //    of 1e17 (Gaussian kernel, shape 10, k = 32 on a grid) or whose two neighbours 2.1e-3 px
 //    apart sent the value to 159x the data range (issue 27).
-// Every 257th pixel or so has its condition number sampled. Inputs are not checked (see
-// check_reconstruct_inputs).
+// Every 257th pixel or so has its condition number sampled. Barycentric and natural take the
+// pixel's Delaunay weights `at` (delaunay.h, required for them) and fall back where
+//  - no triangle holds the pixel (outside the points' convex hull, or all points on a line), or
+//  - a point with weight is not among the pixel's k nearest (raise k: fallbacks are counted),
+//    so a frame reads no point that the k-NN tables do not list, and traces none.
+// Inputs are not checked (see check_reconstruct_inputs).
 constexpr double rbf_duplicate_fraction = 1e-3;
 constexpr double rbf_max_weight_sum = 8;
+struct delaunay_weights;
 void pixel_weights(const pointset& set, const reconstruct_params& params, uint32_t cx, uint32_t cy, double* w,
-                   weight_stats* stats);
+                   weight_stats* stats, const delaunay_weights* at = nullptr);
 
 // Throws std::invalid_argument when the set's table is not loaded, k lies outside 1..the
 // set's k, the samples belong to another set, or an RBF shape is not positive.
@@ -78,7 +85,8 @@ void check_reconstruct_inputs(const pointset& set, const point_samples& samples,
 // Rebuilds the screen (the set's display size) for the samples' gaze offset. Depth is
 // reconstructed from the same weights over neighbours that hit something (+inf if none).
 // RBF solves a system per pixel unless `cache` (built for the same params) holds its
-// weights; the cache is then prepared for the samples' offset first.
+// weights; the cache is then prepared for the samples' offset first. Barycentric and natural
+// always read a cache: without one, a cache for this call is built (triangulating the set).
 class weight_cache;
 frame reconstruct(const pointset& set, const point_samples& samples, const reconstruct_params& params,
                   weight_stats* stats = nullptr, weight_cache* cache = nullptr);

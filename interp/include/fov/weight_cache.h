@@ -1,15 +1,19 @@
-// Geometry-only RBF weights, computed once per canvas pixel (thesis Eqs. 7-10 made cheap).
+// Geometry-only weights, computed once per canvas pixel: RBF's (thesis Eqs. 7-10 made cheap),
+// barycentric and natural-neighbour (delaunay.h).
 //
-// A canvas pixel's k neighbours never change, only their colours do, and the RBF
-// interpolant is linear in those colours: s(x) = sum_i w_i(x) f_i with weights that depend
-// on the points' positions and spacings alone. Solving the (k+1) x (k+1) system once per
-// canvas pixel and keeping the k weights turns every later frame into a weighted sum, the
-// same work as Shepard. Weights are computed per 64 x 64 canvas tile the first time a
-// screen covers it, so a gaze that moves only pays for the tiles it uncovers.
+// A canvas pixel's k neighbours never change, only their colours do, and these interpolants
+// are linear in those colours: s(x) = sum_i w_i(x) f_i with weights that depend on the points'
+// positions (and, for RBF, spacings) alone. Computing them once per canvas pixel (RBF: solving
+// the (k+1) x (k+1) system) and keeping the k weights, by rank of the pixel's k nearest,
+// turns every later frame into a weighted sum, the same work as Shepard. Weights are computed
+// per 64 x 64 canvas tile the first time a screen covers it, so a gaze that moves only pays
+// for the tiles it uncovers. The Delaunay methods triangulate the whole set when the cache is
+// made (memory linear in the points: triangulation_bytes()).
 #pragma once
 
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "fov/pointset.h"
@@ -17,13 +21,19 @@
 
 namespace fov {
 
+class delaunay;
+
 class weight_cache {
  public:
   static constexpr uint32_t tile = 64;  // canvas pixels per tile side
 
-  // Weights for `params` (method rbf: its k, kernel and shape) over the set's canvas.
-  // Nothing is computed yet. Throws std::invalid_argument as check_reconstruct_inputs.
+  // Weights for `params` (method rbf: its k, kernel and shape; barycentric, natural: k) over
+  // the set's canvas. No pixel's weights are computed yet (the Delaunay methods' triangulation
+  // is). Throws std::invalid_argument as check_reconstruct_inputs, or for another method.
   weight_cache(const pointset& set, const reconstruct_params& params);
+  ~weight_cache();
+  weight_cache(const weight_cache&) = delete;
+  weight_cache& operator=(const weight_cache&) = delete;
 
   // True when this cache holds the weights `params` asks for.
   bool serves(const reconstruct_params& params) const;
@@ -45,11 +55,13 @@ class weight_cache {
   const float* data() const { return data_.data(); }  // tile-major: tile, pixel in tile, rank
   size_t floats() const { return data_.size(); }
   const weight_stats& stats() const { return stats_; }
-  double seconds() const { return seconds_; }  // wall time spent computing tiles so far
+  double seconds() const { return seconds_; }  // wall time spent computing tiles (and triangulating) so far
+  size_t triangulation_bytes() const;           // 0 for RBF
 
  private:
   const pointset& set_;
   reconstruct_params params_;
+  std::unique_ptr<const class delaunay> triangulation_;  // barycentric and natural
   uint32_t k_ = 0, tiles_x_ = 0, tiles_y_ = 0;
   std::vector<uint8_t> ready_;
   std::vector<float, table_allocator<float>> data_;  // pages are touched only for computed tiles
