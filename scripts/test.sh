@@ -6,4 +6,5 @@ root=$(cd "$(dirname "$0")/.." && pwd)
 "$root/scripts/install-deps.sh"
 build=$("$root/scripts/build.sh" | tail -n 1)
 cd "$build"
-ctest --output-on-failure -j "$(nproc)" "$@"
+# --no-tests=error: a configure that loses the test tree must fail, not pass with nothing run.
+ctest --output-on-failure --no-tests=error -j "$(nproc)" "$@"
