@@ -41,15 +41,20 @@ struct linear_fixture {
   }
 };
 
+reconstruct_params params_of(method m, uint32_t k) {
+  reconstruct_params rp;
+  rp.how = m;
+  rp.k = k;
+  return rp;
+}
+
 // Both reproduce a linear field at every pixel inside the points' hull, with k = 32 (so no
 // point with weight lies beyond the k nearest: no fallback at all, on the whole canvas);
 // the error left is the colours' float rounding.
 TEST(Delaunay, BothReproduceALinearFieldWithoutFallbacks) {
   linear_fixture fx(64, 48, 32);
   for (method m : delaunay_methods) {
-    reconstruct_params rp;
-    rp.how = m;
-    rp.k = 32;
+    reconstruct_params rp = params_of(m, 32);
     weight_cache cache(fx.set, rp);
     weight_stats stats;
     const frame f = reconstruct(fx.set, fx.samples, rp, &stats, &cache);
@@ -107,7 +112,9 @@ TEST(Delaunay, APointsPositionGetsItsValueAndWeightsSumToOne) {
       EXPECT_NEAR(sum, 1.0, 1e-12);
       EXPECT_NEAR(cx, x, 1e-9);  // linear precision: the weights reproduce the position itself
       EXPECT_NEAR(cy, y, 1e-9);
-      if (m == method::barycentric) EXPECT_LE(w.n, 3u);
+      if (m == method::barycentric) {
+        EXPECT_LE(w.n, 3u);
+      }
     }
   }
 }
@@ -202,9 +209,7 @@ TEST(Delaunay, CoincidentPointsWeighOnceAtTheSmallestIndex) {
 TEST(Delaunay, PointsBeyondTheKNearestFallBackAndAreCounted) {
   linear_fixture fx(48, 40, 20);
   for (method m : delaunay_methods) {
-    reconstruct_params rp;
-    rp.how = m;
-    rp.k = 1;
+    reconstruct_params rp = params_of(m, 1);
     weight_stats stats;
     const frame one = reconstruct(fx.set, fx.samples, rp, &stats);
     EXPECT_EQ(stats.beyond_k + stats.outside_hull, stats.fallbacks);
