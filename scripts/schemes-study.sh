@@ -7,11 +7,13 @@
 # s = 1.0, Shepard k = 5 at 1, 2 and 4 rays per point, against full resolution at 1, 2 and 4
 # spp, 3 interleaved repetitions, JOD and FLIP against a 128-spp reference. Off the FOVE the
 # sets keep k-NN cells (--neighbours cells, as scripts/sparse-displays.sh), on it their tables.
-#   out/schemes/DISPLAY[-SCENE]/ACUITY-SAMPLER/   results.csv, report.md (SCENE unless builtin);
+#   out/schemes/DISPLAY[-SCENE][-methods]/ACUITY-SAMPLER/   results.csv, report.md (SCENE unless builtin);
 #   sets in out/schemes/sets
 # FOV_TEMPORAL=N adds flicker and the video JOD along fovbench's temporal path of N frames
 # (--temporal-frames; runs in out/schemes/DISPLAY[-SCENE]-temporal/), FOV_SPP the rays per
-# point and pixel (default 1,2,4).
+# point and pixel (default 1,2,4). FOV_METHODS (default shepard) and FOV_K (default 5) choose the
+# reconstructions, e.g. FOV_METHODS=shepard,barycentric,natural FOV_K=12 (runs then in
+# out/schemes/DISPLAY[-SCENE]-methods/).
 # Usage: scripts/schemes-study.sh [DISPLAY [ACUITY:SAMPLER...]] (default: the thesis's csf:poisson,
 # the MAR models with darts, and the papers' pairs linear-mar:polar and piecewise-mar:log-polar).
 # Interrupted? Run it again (--resume).
@@ -32,6 +34,7 @@ case $scene in
   *) echo "schemes-study.sh: FOV_SCENE must be builtin, helmet or forest (got '$scene')" >&2; exit 2 ;;
 esac
 temporal=()
+[[ -z ${FOV_METHODS:-} ]] || where=$where-methods
 if [[ -n ${FOV_TEMPORAL:-} ]]; then
   temporal=(--temporal-frames "$FOV_TEMPORAL")
   where=$where-temporal
@@ -50,6 +53,6 @@ for scheme in "${schemes[@]}"; do
   fi
   [[ -n $first ]] || first=$run
   "$bench" "${scene_flags[@]}" --display "$display" --hfov "$hfov" --acuity "$model" --sampler "$sampler" \
-    --scales 1.0 --methods shepard --k 5 --spp "${FOV_SPP:-1,2,4}" "${temporal[@]}" --baselines full --gazes centre --frames 3 --reference-spp 128 \
+    --scales 1.0 --methods "${FOV_METHODS:-shepard}" --k "${FOV_K:-5}" --spp "${FOV_SPP:-1,2,4}" "${temporal[@]}" --baselines full --gazes centre --frames 3 --reference-spp 128 \
     "${neighbours[@]}" --points-dir out/schemes/sets --resume -o "$run"
 done

@@ -15,6 +15,25 @@ def rows_of(run):
         return list(csv.DictReader(f))
 
 
+def name_of(r, explicit=False):
+    """A row's scheme, with its reconstruction where it is not the study's default (Shepard,
+    k = 5) or where the rows beside it differ in reconstruction (explicit)."""
+    scheme = f'{r["acuity"]} + {r["sampler"]}'
+    if not explicit and (r["method"], r["k"]) == ("shepard", "5"):
+        return scheme
+    return f'{scheme}, {r["method"]} k = {r["k"]}'
+
+
+def all_rows(display_dir):
+    return [r for run in sorted(glob.glob(os.path.join(display_dir, "*", "results.csv")))
+            for r in rows_of(os.path.dirname(run))]
+
+
+def mixed_methods(display_dir):
+    """Whether a display's runs hold more than one reconstruction (then every row names its own)."""
+    return len({(r["method"], r["k"]) for r in all_rows(display_dir) if r["kind"] != "full"}) > 1
+
+
 def num(r, key, fmt="{:.2f}"):
     v = r.get(key, "")
     return fmt.format(float(v)) if v not in ("", None) else ""
@@ -35,6 +54,7 @@ def temporal_table(display_dir):
     out = ["| scheme | spp | points traced | flicker | flicker through TAA | full resolution's flicker | video JOD | through TAA | full resolution's video JOD |",
            "|---|---:|---:|---:|---:|---:|---:|---:|---:|"]
     floors = set()
+    explicit = mixed_methods(display_dir)
     for run in sorted(glob.glob(os.path.join(display_dir, "*"))):
         if not os.path.exists(os.path.join(run, "results.csv")):
             continue
@@ -42,7 +62,7 @@ def temporal_table(display_dir):
             if r["kind"] != "foveated" or r["flicker"] == "":
                 continue
             floors.add(num(r, "noise_floor_video_jod"))
-            out.append(f'| {r["acuity"]} + {r["sampler"]} | {r["spp"]} | {int(r["points_traced"]):,} | ' +
+            out.append(f'| {name_of(r, explicit)} | {r["spp"]} | {int(r["points_traced"]):,} | ' +
                        " | ".join(num(r, k, "{:.4f}") for k in ("flicker", "flicker_taa", "flicker_reference")) + " | " +
                        " | ".join(num(r, k) for k in ("video_jod", "video_jod_taa", "video_jod_full")) + " |")
     out.append("")
@@ -56,13 +76,14 @@ def table(display_dir):
            "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
     full = {}
     floors = set()
+    explicit = mixed_methods(display_dir)
     for run in runs:
         for r in rows_of(run):
             floors.add((r["noise_floor_jod"], r["noise_floor_flip"]))
             if r["kind"] == "full":
                 full.setdefault(r["spp"], []).append(r)
                 continue
-            name = f'{r["acuity"]} + {r["sampler"]}'
+            name = name_of(r, explicit)
             out.append(f'| {name} | {r["spp"]} | {int(r["points_traced"]):,} | {float(r["rays"]) / 1e6:.2f} | '
                        f'{num(r, "frame_ms", "{:.0f}")} ({num(r, "frame_ms_lo", "{:.0f}")}-{num(r, "frame_ms_hi", "{:.0f}")}) | '
                        f'{num(r, "speedup")} ({num(r, "speedup_lo")}-{num(r, "speedup_hi")}) | {num(r, "jod")} | {num(r, "psnr")} | '
@@ -87,6 +108,10 @@ COLOURS = {"csf + poisson": "tab:blue", "linear-mar + poisson": "tab:orange", "l
            "piecewise-mar + log-polar": "tab:red", "piecewise-mar + poisson": "tab:purple",
            "csf + polar": "tab:olive", "csf + log-polar": "tab:cyan"}
 
+# One marker and line style per reconstruction (colour stays the scheme's).
+METHOD_MARKERS = {"shepard": "o", "rbf": "s", "barycentric": "^", "natural": "D", "nn": "x"}
+METHOD_LINES = {"shepard": "-", "rbf": "-.", "barycentric": "--", "natural": ":", "nn": "-"}
+
 
 def figure(display_dirs, stem):
     import matplotlib
@@ -99,6 +124,7 @@ def figure(display_dirs, stem):
         ax.set_visible(False)
     for ax, d in zip(axes.flat, display_dirs):
         series, full = {}, {}
+        explicit = mixed_methods(d)
         for run in sorted(glob.glob(os.path.join(d, "*"))):
             if not os.path.exists(os.path.join(run, "results.csv")):
                 continue
@@ -106,11 +132,16 @@ def figure(display_dirs, stem):
                 if r["kind"] == "full":
                     full.setdefault(int(r["spp"]), []).append((float(r["full_ms"]), float(r["jod"])))
                 else:
-                    series.setdefault(f'{r["acuity"]} + {r["sampler"]}', []).append((float(r["frame_ms"]), float(r["jod"]), r["spp"]))
-        for name, pts in sorted(series.items()):
+                    key = (f'{r["acuity"]} + {r["sampler"]}', r["method"], r["k"])
+                    series.setdefault(key, []).append((float(r["frame_ms"]), float(r["jod"]), r["spp"], name_of(r, explicit)))
+        # Where a run swept several k, the smaller k's markers are hollow.
+        widest = max((int(k) for _, _, k in series), default=0)
+        for (scheme, method, k), pts in sorted(series.items()):
             pts.sort()
-            ax.plot([p[0] for p in pts], [p[1] for p in pts], marker="o", label=name, color=COLOURS.get(name))
-            for x, y, spp in pts:
+            ax.plot([p[0] for p in pts], [p[1] for p in pts], marker=METHOD_MARKERS.get(method, "o"), label=pts[0][3],
+                    color=COLOURS.get(scheme), linestyle=METHOD_LINES.get(method, "-"),
+                    fillstyle="full" if int(k) == widest else "none", linewidth=1.2)
+            for x, y, spp, _ in pts:
                 ax.annotate(spp, (x, y), textcoords="offset points", xytext=(4, -10), fontsize=7)
         fpts = sorted((sorted(v)[len(v) // 2][0], v[0][1], spp) for spp, v in full.items())
         ax.plot([p[0] for p in fpts], [p[1] for p in fpts], marker="s", color="black", linestyle="--", label="full resolution")
@@ -121,7 +152,7 @@ def figure(display_dirs, stem):
         ax.set_ylabel("JOD (FovVideoVDP, foveated, centred gaze)")
         ax.set_title(f"{scene_of(d)}, {os.path.basename(os.path.normpath(d)).split('-')[0]}")
         ax.grid(True, which="both", alpha=0.3)
-        ax.legend(fontsize=8)
+        ax.legend(fontsize=8 if len(series) <= 9 else 6, ncol=1 if len(series) <= 9 else 2)
     fig.tight_layout()
     fig.savefig(stem + ".png", dpi=110)
 
