@@ -55,16 +55,13 @@ def temporal_table(display_dir):
            "|---|---:|---:|---:|---:|---:|---:|---:|---:|"]
     floors = set()
     explicit = mixed_methods(display_dir)
-    for run in sorted(glob.glob(os.path.join(display_dir, "*"))):
-        if not os.path.exists(os.path.join(run, "results.csv")):
+    for r in all_rows(display_dir):
+        if r["kind"] != "foveated" or r["flicker"] == "":
             continue
-        for r in rows_of(run):
-            if r["kind"] != "foveated" or r["flicker"] == "":
-                continue
-            floors.add(num(r, "noise_floor_video_jod"))
-            out.append(f'| {name_of(r, explicit)} | {r["spp"]} | {int(r["points_traced"]):,} | ' +
-                       " | ".join(num(r, k, "{:.4f}") for k in ("flicker", "flicker_taa", "flicker_reference")) + " | " +
-                       " | ".join(num(r, k) for k in ("video_jod", "video_jod_taa", "video_jod_full")) + " |")
+        floors.add(num(r, "noise_floor_video_jod"))
+        out.append(f'| {name_of(r, explicit)} | {r["spp"]} | {int(r["points_traced"]):,} | ' +
+                   " | ".join(num(r, k, "{:.4f}") for k in ("flicker", "flicker_taa", "flicker_reference")) + " | " +
+                   " | ".join(num(r, k) for k in ("video_jod", "video_jod_taa", "video_jod_full")) + " |")
     out.append("")
     out.append("The converged path's own floor (video JOD): " + ", ".join(sorted(floors)) + ".")
     return "\n".join(out)
@@ -125,15 +122,12 @@ def figure(display_dirs, stem):
     for ax, d in zip(axes.flat, display_dirs):
         series, full = {}, {}
         explicit = mixed_methods(d)
-        for run in sorted(glob.glob(os.path.join(d, "*"))):
-            if not os.path.exists(os.path.join(run, "results.csv")):
-                continue
-            for r in rows_of(run):
-                if r["kind"] == "full":
-                    full.setdefault(int(r["spp"]), []).append((float(r["full_ms"]), float(r["jod"])))
-                else:
-                    key = (f'{r["acuity"]} + {r["sampler"]}', r["method"], r["k"])
-                    series.setdefault(key, []).append((float(r["frame_ms"]), float(r["jod"]), r["spp"], name_of(r, explicit)))
+        for r in all_rows(d):
+            if r["kind"] == "full":
+                full.setdefault(int(r["spp"]), []).append((float(r["full_ms"]), float(r["jod"])))
+            else:
+                key = (f'{r["acuity"]} + {r["sampler"]}', r["method"], r["k"])
+                series.setdefault(key, []).append((float(r["frame_ms"]), float(r["jod"]), r["spp"], name_of(r, explicit)))
         # Where a run swept several k, the smaller k's markers are hollow.
         widest = max((int(k) for _, _, k in series), default=0)
         for (scheme, method, k), pts in sorted(series.items()):
