@@ -169,6 +169,47 @@ TEST_F(device_fixture, RbfWeightsAreComputedOncePerTileAndReused) {
   EXPECT_EQ(shape1->seconds(), shape1_seconds);
 }
 
+// A reconstructor told to keep four configurations cycles through four without computing any
+// weights again (the default two would replace each before its turn came round); one told to
+// keep one holds one; a count outside 1..16 is refused.
+TEST_F(device_fixture, KeepsAsManyWeightCachesAsAskedFor) {
+  for (uint32_t kept : {4u, 1u}) {
+    cl_reconstructor device(set, reconstruct_device::opencl, kept);
+    FOV_REQUIRE_DEVICE(device);
+    std::vector<reconstruct_params> configs(4);
+    configs[0].how = method::rbf, configs[0].k = 10;
+    configs[1].how = method::rbf, configs[1].k = 10, configs[1].shape = 2;
+    configs[2].how = method::barycentric, configs[2].k = 12;
+    configs[3].how = method::natural, configs[3].k = 12;
+    std::vector<const weight_cache*> first;
+    std::vector<double> seconds;
+    for (const reconstruct_params& rp : configs) {
+      device.run(samples, rp);
+      first.push_back(device.cached_weights());
+      seconds.push_back(device.cached_weights()->seconds());
+    }
+    for (size_t i = 0; i < configs.size(); ++i) {
+      device.run(samples, configs[i]);
+      ASSERT_TRUE(device.cached_weights()->serves(configs[i]));
+      if (kept == 4) {
+        EXPECT_EQ(device.cached_weights(), first[i]) << i;
+        EXPECT_EQ(device.cached_weights()->seconds(), seconds[i]) << i;
+      }
+      EXPECT_EQ(device.weight_caches_held(), kept) << i;
+    }
+  }
+  cl_reconstructor two(set);
+  FOV_REQUIRE_DEVICE(two);
+  for (const method m : {method::barycentric, method::natural, method::rbf}) {
+    reconstruct_params rp;
+    rp.how = m, rp.k = 12;
+    two.run(samples, rp);
+  }
+  EXPECT_EQ(two.weight_caches_held(), cl_reconstructor::default_weight_caches);
+  EXPECT_THROW(cl_reconstructor(set, reconstruct_device::opencl, 0), std::invalid_argument);
+  EXPECT_THROW(cl_reconstructor(set, reconstruct_device::opencl, cl_reconstructor::max_weight_caches + 1), std::invalid_argument);
+}
+
 // Issue 24: the kernels rank a cell's candidates as the C++ path does, so a set that keeps
 // cells gives on the device the frame the same set gives from its table, bit for bit, for
 // every method and with TAA (a grid-fovea set: exact ties; a dart set seen from afar: cells of

@@ -609,12 +609,22 @@ std::vector<std::shared_ptr<const scene>> load_needed_scenes(const sweep_state& 
   return scenes;
 }
 
+// The sweep's render settings, keeping every cached-weight configuration it alternates (each
+// method with cached weights at each k), so no timed frame computes weights again.
+render_params sweep_render(const bench_options& o) {
+  render_params p = o.render;
+  uint32_t cached = 0;
+  for (method how : o.methods) cached += cached_weights_method(how) ? uint32_t(o.ks.size()) : 0;
+  p.weight_caches = std::clamp(cached, cl_reconstructor::default_weight_caches, cl_reconstructor::max_weight_caches);
+  return p;
+}
+
 // One scene's measurements: its renderer, converged references and noise floors, and the
 // full-resolution frames timed beside the foveated and uniform ones.
 class scene_sweep {
  public:
   scene_sweep(sweep_state& st, size_t sc, std::shared_ptr<const scene> scn)
-      : st_(st), o_(st.o), sc_(sc), r_(std::move(scn), st.o.render),
+      : st_(st), o_(st.o), sc_(sc), r_(std::move(scn), sweep_render(st.o)),
         references_((fs::path(st.o.out) / "references").string(), st.o.scenes[sc], st.display),
         eye_{st.display, 1.0, acuity_params{}} {
     r_.warm_up_reference(st.display.width, st.display.height, o_.render);  // textures read and MIP-mapped on first use
@@ -1038,6 +1048,12 @@ size_t run_bench(const bench_options& o, const bench_reporter& report) {
   // Only now is anything written.
   report.line(fmt::format("{} configurations, {} already in {}, {} to measure", st.all.size(), st.all.size() - st.todo,
                           st.results_path, st.todo));
+  if (const uint32_t kept = sweep_render(o).weight_caches; kept > cl_reconstructor::default_weight_caches) {
+    double bytes = 0;  // each configuration's weights for one screen, on the host and the device
+    for (method how : o.methods)
+      for (uint32_t k : o.ks) bytes += cached_weights_method(how) ? 2.0 * st.display.width * st.display.height * k * sizeof(float) : 0;
+    report.line(fmt::format("keeping {} cached-weight configurations: about {:.1f} GiB of weights per gaze", kept, bytes / (1u << 30)));
+  }
   make_output_dir((fs::path(o.out) / "references").string());
   make_output_dir(results_dir(o));
   for (size_t sc = 0; sc < o.scenes.size() && st.measured_rows < st.todo; ++sc) {

@@ -64,14 +64,14 @@ struct cl_reconstructor::impl {
   cl_mem table = nullptr, position = nullptr, colour = nullptr, depth = nullptr, out_rgb = nullptr, out_depth = nullptr;
   cl_mem level_map = nullptr;  // an adaptive frame's refinement map (launch's level_mask)
   size_t level_map_bytes = 0;
-  // Cached weights, one slot per (method, k, kernel, shape) in use: the two used last are kept, so a
-  // sweep that alternates two k does not solve its weights again at every switch.
+  // Cached weights, one slot per (method, k, kernel, shape) in use: the `slots_kept` used last are
+  // kept, so a sweep that alternates them does not compute its weights again at every switch.
   struct weight_slot {
     std::unique_ptr<weight_cache> cache;
     cl_mem weights = nullptr;  // the cache's tiles on the device
     uint64_t used = 0;
   };
-  static constexpr size_t weight_slots_kept = 2;
+  size_t slots_kept = cl_reconstructor::default_weight_caches;
   std::vector<weight_slot> caches;
   uint64_t weights_clock = 0;
   weight_slot* last_weights = nullptr;
@@ -171,9 +171,12 @@ struct cl_reconstructor::impl {
   }
 };
 
-cl_reconstructor::cl_reconstructor(const pointset& set, reconstruct_device where)
+cl_reconstructor::cl_reconstructor(const pointset& set, reconstruct_device where, uint32_t weight_caches)
     : impl_(std::make_unique<impl>()), set_(set) {
   require_neighbours(set);
+  if (weight_caches < 1 || weight_caches > max_weight_caches)
+    throw std::invalid_argument(fmt::format("cl_reconstructor: weight_caches must lie in 1..{} (got {})", max_weight_caches, weight_caches));
+  impl_->slots_kept = weight_caches;
   if (where == reconstruct_device::cpp) {
     impl_->reason = "the C++ path was asked for";
     return;
@@ -230,7 +233,7 @@ weight_cache* cl_reconstructor::prepare_weights(const reconstruct_params& params
   if (!cached_weights_method(params.how)) return nullptr;
   auto slot = std::find_if(d.caches.begin(), d.caches.end(), [&](const impl::weight_slot& r) { return r.cache->serves(params); });
   if (slot == d.caches.end()) {
-    if (d.caches.size() < impl::weight_slots_kept) {
+    if (d.caches.size() < d.slots_kept) {
       slot = d.caches.insert(d.caches.end(), impl::weight_slot{});
     } else {  // replace the one used longest ago
       slot = std::min_element(d.caches.begin(), d.caches.end(), [](const auto& a, const auto& b) { return a.used < b.used; });
@@ -455,6 +458,8 @@ reconstruct_result cl_reconstructor::run_taa(const point_samples& samples, const
 const weight_cache* cl_reconstructor::cached_weights() const {
   return impl_->last_weights ? impl_->last_weights->cache.get() : nullptr;
 }
+
+size_t cl_reconstructor::weight_caches_held() const { return impl_->caches.size(); }
 
 double cl_reconstructor::copy_gigabytes_per_second(size_t bytes, int repeats) {
   impl& d = *impl_;

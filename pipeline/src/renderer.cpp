@@ -69,6 +69,8 @@ std::string validate(const render_params& p, const pointset* set) {
   if (const std::string why = validate(p.adaptive); !why.empty()) return why;
   if (p.adaptive.enabled && set && !set->nested())
     return "--adaptive needs a nested set (fovgen --levels); this set has one level";
+  if (p.weight_caches < 1 || p.weight_caches > cl_reconstructor::max_weight_caches)
+    return fmt::format("weight caches must lie in 1..{} (got {})", cl_reconstructor::max_weight_caches, p.weight_caches);
   if (!(p.temporal.alpha > 0 && p.temporal.alpha <= 1))
     return fmt::format("TAA alpha must lie in (0, 1] (got {})", p.temporal.alpha);
   return validate(p.view);
@@ -86,7 +88,7 @@ trace_params renderer::frame_trace_params(const render_params& p, uint64_t n) {
 }
 
 renderer::renderer(std::shared_ptr<const scene> s, const render_params& p)
-    : scene_(std::move(s)), cam_(setup_camera(*scene_, p.view)), device_kind_(p.device) {}
+    : scene_(std::move(s)), cam_(setup_camera(*scene_, p.view)), device_kind_(p.device), weight_caches_(p.weight_caches) {}
 
 renderer::~renderer() = default;
 
@@ -97,7 +99,7 @@ void renderer::use_pointset(std::shared_ptr<const pointset> set) {
   set_ = std::move(set);
   index_.reset();
   const auto t0 = clock_type::now();
-  device_ = std::make_unique<cl_reconstructor>(*set_, device_kind_);
+  device_ = std::make_unique<cl_reconstructor>(*set_, device_kind_, weight_caches_);
   device_setup_ms_ = ms_since(t0);
   levels_.reset();
   level_devices_.clear();
@@ -107,7 +109,7 @@ void renderer::use_pointset(std::shared_ptr<const pointset> set) {
     const auto t1 = clock_type::now();
     levels_ = std::make_shared<const nested_levels>(make_levels(set_));
     for (size_t l = 0; l + 1 < levels_->levels.size(); ++l)
-      level_devices_.push_back(std::make_unique<cl_reconstructor>(*levels_->levels[l].set, device_kind_));
+      level_devices_.push_back(std::make_unique<cl_reconstructor>(*levels_->levels[l].set, device_kind_, weight_caches_));
     levels_setup_ms_ = ms_since(t1);
   }
   reset_history();

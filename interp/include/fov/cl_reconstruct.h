@@ -1,6 +1,7 @@
 // Reconstruction on an OpenCL device (PoCL on the CPU here), with the C++ path behind it.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -43,7 +44,12 @@ class cl_reconstructor {
   // With reconstruct_device::cpp no platform is touched and every run takes the C++ path.
   // The table is copied to the device once (on PoCL that is a second copy in host
   // memory); the set must outlive the reconstructor, which falls back to it.
-  explicit cl_reconstructor(const pointset& set, reconstruct_device where = reconstruct_device::opencl);
+  // `weight_caches` is how many cached-weight configurations (method, k, kernel, shape:
+  // weight_cache.h) are kept at once, the one used longest ago replaced by a new one; each
+  // holds k floats per canvas pixel a screen has covered, on the host and on the device.
+  explicit cl_reconstructor(const pointset& set, reconstruct_device where = reconstruct_device::opencl,
+                            uint32_t weight_caches = default_weight_caches);
+  static constexpr uint32_t default_weight_caches = 2, max_weight_caches = 16;
   ~cl_reconstructor();
   cl_reconstructor(const cl_reconstructor&) = delete;
   cl_reconstructor& operator=(const cl_reconstructor&) = delete;
@@ -74,6 +80,7 @@ class cl_reconstructor {
   // The RBF weights kept so far (null before the first RBF run): its seconds() is the
   // one-time cost, its stats() the solves' fallbacks and condition numbers.
   const weight_cache* cached_weights() const;
+  size_t weight_caches_held() const;  // configurations whose weights are kept now
 
   // Bandwidth of a plain copy kernel over `bytes` (read + write counted), best of `repeats`.
   double copy_gigabytes_per_second(size_t bytes, int repeats = 5);

@@ -61,6 +61,10 @@ struct render_params {
   adaptive_params adaptive;
   // Where reconstruction runs (read when a point set is put in use).
   reconstruct_device device = reconstruct_device::opencl;
+  // Cached-weight configurations (method, k, kernel, shape) kept at once: a tool that
+  // alternates more of them than this computes their weights again at each switch
+  // (cl_reconstructor; read when a point set is put in use).
+  uint32_t weight_caches = cl_reconstructor::default_weight_caches;
   // The camera (read when the renderer is made).
   camera_overrides view;
 };
@@ -202,6 +206,7 @@ class renderer {
   std::shared_ptr<const scene> scene_;
   camera cam_;
   reconstruct_device device_kind_;
+  uint32_t weight_caches_;
   std::shared_ptr<const pointset> set_;
   // Finds each frame's traced points (make_traced_index), for set_ and the last k traced.
   std::shared_ptr<const traced_index> index_;
