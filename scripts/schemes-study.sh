@@ -47,9 +47,9 @@ for scheme in "${schemes[@]}"; do
   model=${scheme%%:*} sampler=${scheme#*:}
   run="out/schemes/$where/$model-$sampler"
   # The runs share one scene, display and reference: the first run's cached references serve
-  # the others (copied: each run keeps its own folder).
+  # the others, the converged temporal paths included (hard links: each run keeps its own folder).
   if [[ -n $first && -d $first/references && ! -e $run/references ]]; then
-    mkdir -p "$run" && cp -r "$first/references" "$run/references"
+    mkdir -p "$run" && cp -rl "$first/references" "$run/references"
   fi
   [[ -n $first ]] || first=$run
   "$bench" "${scene_flags[@]}" --display "$display" --hfov "$hfov" --acuity "$model" --sampler "$sampler" \

@@ -14,6 +14,9 @@
 #include <gtest/gtest.h>
 
 #include "bench.h"
+#include "fov/knn_table.h"
+#include "fov/flicker.h"
+#include "fov/dart_throwing.h"
 #include "cli.h"
 #include "plot.h"
 #include "report.h"
@@ -308,6 +311,53 @@ TEST(ReferenceCache, TracesOnceAndReadsTheFilesAfter) {
 }
 
 
+
+// A converged temporal path is traced once and read back by every later cache over the same
+// folder, frame for frame; a frame whose sidecar names another path is refused.
+TEST(ReferenceCache, CachesTheConvergedPath) {
+  namespace fs = std::filesystem;
+  const std::string dir = ::testing::TempDir() + "/fovbench-path-refs";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  render_params p;
+  p.device = reconstruct_device::cpp;
+  renderer r(load_scene("builtin"), p);
+  auto set = std::make_shared<pointset>();
+  set->model.display = {40, 30, 1.0};
+  set->points = throw_darts(set->model, {});
+  knn_params kp;
+  kp.k = 8;
+  set->table = build_knn_table(set->points, set->canvas_width(), set->canvas_height(), kp);
+  r.use_pointset(set);
+  flicker_params f;
+  f.frames = 3;
+  f.yaw_deg_per_frame = 2;
+  reference_cache first(dir, "builtin", set->model.display);
+  bool from_disk = true;
+  const std::vector<frame> traced = first.path(r, p, 2, 7, f, {}, &from_disk);
+  EXPECT_FALSE(from_disk);
+  ASSERT_EQ(traced.size(), 3u);
+  EXPECT_NE(traced[0].rgb, traced[2].rgb);  // the camera turned
+  const std::vector<frame> direct = converged_path(r, p, 2, 7, f);
+  for (size_t n = 0; n < 3; ++n) EXPECT_EQ(traced[n].rgb, direct[n].rgb) << n;
+  reference_cache second(dir, "builtin", set->model.display);
+  const std::vector<frame> read = second.path(r, p, 2, 7, f, {}, &from_disk);
+  EXPECT_TRUE(from_disk);
+  ASSERT_EQ(read.size(), 3u);
+  for (size_t n = 0; n < 3; ++n) EXPECT_EQ(read[n].rgb, traced[n].rgb) << n;  // EXR keeps float RGB
+  second.path(r, p, 2, 8, f, {}, &from_disk);  // another seed: traced
+  EXPECT_FALSE(from_disk);
+  // Another path with the same files' names is refused: the sidecars name frames and yaw.
+  fs::copy_file(second.path_file_base(2, 7, f, 1) + ".json", second.path_file_base(2, 7, f, 0) + ".json",
+                fs::copy_options::overwrite_existing);
+  try {
+    second.path(r, p, 2, 7, f);
+    ADD_FAILURE() << "a sidecar of frame 1 accepted as frame 0";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find(second.path_file_base(2, 7, f, 0) + ".json: not frame 0 of this path"), std::string::npos)
+        << e.what();
+  }
+}
 
 TEST(BenchOptions, AreCheckedBeforeAnythingRuns) {
   bench_options o;

@@ -249,6 +249,56 @@ std::string reference_cache::file_base(uint32_t spp, uint64_t seed) const {
   return (fs::path(dir_) / fmt::format("{}-{}x{}-spp{}-seed{}", slug(scene_), display_.width, display_.height, spp, seed)).string();
 }
 
+std::string reference_cache::path_file_base(uint32_t spp, uint64_t seed, const flicker_params& f, uint32_t n) const {
+  return file_base(spp, seed) + fmt::format("-path{}-yaw{:g}-f{}", f.frames, f.yaw_deg_per_frame, n);
+}
+
+std::vector<frame> reference_cache::path(renderer& r, const render_params& base, uint32_t spp, uint64_t seed,
+                                         const flicker_params& f, const std::function<void(const std::string&)>& say,
+                                         bool* from_disk) {
+  render_params p = base;
+  p.spp = spp, p.seed = seed, p.reference_sampler = pixel_sampler::sobol;  // as converged_path traces
+  // Each frame's settings name the path and the frame: a file of another path or frame is refused.
+  auto settings = [&](uint32_t n) {
+    return render_settings_label(p) + fmt::format(" path_frames={} path_yaw={:g} path_frame={}", f.frames, f.yaw_deg_per_frame, n);
+  };
+  std::error_code ec;
+  bool cached = true;
+  for (uint32_t n = 0; n < f.frames && cached; ++n)
+    cached = fs::exists(path_file_base(spp, seed, f, n) + ".exr", ec) && fs::exists(path_file_base(spp, seed, f, n) + ".json", ec);
+  if (from_disk) *from_disk = cached;
+  std::vector<frame> frames;
+  if (cached) {
+    for (uint32_t n = 0; n < f.frames; ++n) {
+      const std::string file = path_file_base(spp, seed, f, n);
+      const reference_meta m = read_reference_meta(file + ".json");
+      if (m.render_settings != settings(n) || m.spp != spp || m.seed != seed)
+        throw std::runtime_error(fmt::format("{}.json: not frame {} of this path ({}); remove it or use another -o", file, n,
+                                             settings(n)));
+      frame image = read_frame(file + ".exr");
+      if (image.width != display_.width || image.height != display_.height)
+        throw std::runtime_error(fmt::format("{}.exr: {}x{}, not {}x{}", file, image.width, image.height, display_.width,
+                                             display_.height));
+      image.depth = {};  // as converged_path gives it: colour is all the video JOD reads
+      frames.push_back(std::move(image));
+    }
+    return frames;
+  }
+  if (say) say(fmt::format("converged temporal path, {} frames at {} spp, seed {}", f.frames, spp, seed));
+  frames = converged_path(r, base, spp, seed, f);
+  for (uint32_t n = 0; n < f.frames; ++n) {
+    if (frames[n].width != display_.width || frames[n].height != display_.height)
+      throw std::logic_error("reference_cache::path: the renderer's set is not the cache's display");
+    const std::string file = path_file_base(spp, seed, f, n);
+    write_frame(frames[n], file + ".exr");
+    const std::string text = json{{"scene", scene_}, {"spp", spp}, {"seed", seed}, {"ms", 0}, {"rays", frames[n].rays},
+                                  {"sampler", label_of(pixel_sampler_labels, p.reference_sampler)},
+                                  {"render_settings", settings(n)}}.dump(2) + "\n";
+    write_file_atomic(file + ".json", text.data(), text.size());  // last: a frame without it is traced again
+  }
+  return frames;
+}
+
 const reference_frame& reference_cache::get(renderer& r, const render_params& base, uint32_t spp, uint64_t seed,
                                             const std::function<void(const std::string&)>& say) {
   const auto id = std::make_pair(spp, seed);
@@ -1006,9 +1056,9 @@ class scene_sweep {
       st_.say(fmt::format("converged temporal path at {} ({} frames, twice)", st_.gazes[g].name, o_.temporal_frames));
       const auto [seed_a, seed_b] = converged_seeds(o_.render.seed);
       path_truth t;
-      t.frames = converged_path(r_, o_.render, o_.reference_spp, seed_a, temporal_path());
-      t.floor = converged_path_floor(converged_path(r_, o_.render, o_.reference_spp, seed_b, temporal_path()), t.frames,
-                                     st_.gazes[g].at, st_.display, temporal_path());
+      t.frames = references_.path(r_, o_.render, o_.reference_spp, seed_a, temporal_path(), st_.sayer());
+      t.floor = converged_path_floor(references_.path(r_, o_.render, o_.reference_spp, seed_b, temporal_path(), st_.sayer()),
+                                     t.frames, st_.gazes[g].at, st_.display, temporal_path());
       paths_[g] = std::move(t);
     }
     return paths_[g];

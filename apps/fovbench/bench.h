@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "fov/flicker.h"
 #include "fov/renderer.h"
 #include "fov/speedup.h"
 #include "report.h"
@@ -56,6 +57,14 @@ class reference_cache {
                              const std::function<void(const std::string&)>& say = {});
   // DIR/<scene slug>-<W>x<H>-spp<N>-seed<S>, without extension
   std::string file_base(uint32_t spp, uint64_t seed) const;
+  // The converged frames along a temporal path (fov::converged_path; the renderer's set
+  // decides the size, which must be the cache's), cached the same way, one EXR and sidecar
+  // per frame (path_file_base), so the runs of a study that share a path trace it once.
+  // `from_disk` (optional) says whether every frame was read back.
+  std::vector<frame> path(renderer& r, const render_params& base, uint32_t spp, uint64_t seed, const flicker_params& f,
+                          const std::function<void(const std::string&)>& say = {}, bool* from_disk = nullptr);
+  // file_base plus -path<frames>-yaw<degrees per frame>-f<n>
+  std::string path_file_base(uint32_t spp, uint64_t seed, const flicker_params& f, uint32_t n) const;
 
  private:
   std::string dir_, scene_;
