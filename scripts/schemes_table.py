@@ -1,6 +1,7 @@
 #!/usr/bin/python3
 """The schemes study's tables (docs/schemes.md) from scripts/schemes-study.sh's runs:
-one Markdown table per display of every scheme's rows and the full-resolution rows, and with
+one Markdown table per display of every scheme's rows, the full-resolution rows and any
+lower-resolution rows (fovbench --baselines uniform, named by pixel fraction), and with
 --figure STEM a figure of JOD against frame time, one line per scheme (STEM.png).
 Usage: scripts/schemes_table.py [--figure STEM] out/schemes/DISPLAY [...] (Debian's python3 and
 python3-matplotlib, as the tools' figures use)"""
@@ -18,6 +19,8 @@ def rows_of(run):
 def name_of(r, explicit=False):
     """A row's scheme, with its reconstruction where it is not the study's default (Shepard,
     k = 5) or where the rows beside it differ in reconstruction (explicit)."""
+    if r["kind"] == "uniform":  # fovbench's lower-resolution baseline: a uniform set of that pixel fraction
+        return f'lower resolution, 1/{round(1 / float(r["pixel_fraction"]))} of the pixels'
     scheme = f'{r["acuity"]} + {r["sampler"]}'
     if not explicit and (r["method"], r["k"]) == ("shepard", "5"):
         return scheme
@@ -110,6 +113,12 @@ METHOD_MARKERS = {"shepard": "o", "rbf": "s", "barycentric": "^", "natural": "D"
 METHOD_LINES = {"shepard": "-", "rbf": "-.", "barycentric": "--", "natural": ":", "nn": "-"}
 
 
+def lower_colour(name):
+    """Grey, darker for more pixels."""
+    n = float(name.split("1/")[1].split()[0])
+    return str(min(0.75, 0.15 * (n ** 0.5) / 2))
+
+
 def figure(display_dirs, stem):
     import matplotlib
     matplotlib.use("Agg")
@@ -126,14 +135,17 @@ def figure(display_dirs, stem):
             if r["kind"] == "full":
                 full.setdefault(int(r["spp"]), []).append((float(r["full_ms"]), float(r["jod"])))
             else:
-                key = (f'{r["acuity"]} + {r["sampler"]}', r["method"], r["k"])
+                scheme = name_of(r) if r["kind"] == "uniform" else f'{r["acuity"]} + {r["sampler"]}'
+                key = (scheme, r["method"], r["k"])
                 series.setdefault(key, []).append((float(r["frame_ms"]), float(r["jod"]), r["spp"], name_of(r, explicit)))
         # Where a run swept several k, the smaller k's markers are hollow.
         widest = max((int(k) for _, _, k in series), default=0)
         for (scheme, method, k), pts in sorted(series.items()):
             pts.sort()
-            ax.plot([p[0] for p in pts], [p[1] for p in pts], marker=METHOD_MARKERS.get(method, "o"), label=pts[0][3],
-                    color=COLOURS.get(scheme), linestyle=METHOD_LINES.get(method, "-"),
+            lower = scheme.startswith("lower resolution")
+            ax.plot([p[0] for p in pts], [p[1] for p in pts], marker="v" if lower else METHOD_MARKERS.get(method, "o"),
+                    label=pts[0][3], color=lower_colour(scheme) if lower else COLOURS.get(scheme),
+                    linestyle=":" if lower else METHOD_LINES.get(method, "-"),
                     fillstyle="full" if int(k) == widest else "none", linewidth=1.2)
             for x, y, spp, _ in pts:
                 ax.annotate(spp, (x, y), textcoords="offset points", xytext=(4, -10), fontsize=7)
