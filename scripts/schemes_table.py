@@ -113,10 +113,9 @@ METHOD_MARKERS = {"shepard": "o", "rbf": "s", "barycentric": "^", "natural": "D"
 METHOD_LINES = {"shepard": "-", "rbf": "-.", "barycentric": "--", "natural": ":", "nn": "-"}
 
 
-def lower_colour(name):
-    """Grey, darker for more pixels."""
-    n = float(name.split("1/")[1].split()[0])
-    return str(min(0.75, 0.15 * (n ** 0.5) / 2))
+def lower_colour(fraction):
+    """A lower resolution's grey, darker for more pixels (1/4: 0.15, 1/16: 0.3, 1/64: 0.6)."""
+    return str(min(0.75, 0.075 / fraction ** 0.5))
 
 
 def figure(display_dirs, stem):
@@ -135,17 +134,18 @@ def figure(display_dirs, stem):
             if r["kind"] == "full":
                 full.setdefault(int(r["spp"]), []).append((float(r["full_ms"]), float(r["jod"])))
             else:
-                scheme = name_of(r) if r["kind"] == "uniform" else f'{r["acuity"]} + {r["sampler"]}'
-                key = (scheme, r["method"], r["k"])
+                # Lower-resolution rows (uniform sets) are keyed by their pixel fraction, "" otherwise.
+                fraction = r["pixel_fraction"] if r["kind"] == "uniform" else ""
+                scheme = name_of(r) if fraction else f'{r["acuity"]} + {r["sampler"]}'
+                key = (scheme, r["method"], r["k"], fraction)
                 series.setdefault(key, []).append((float(r["frame_ms"]), float(r["jod"]), r["spp"], name_of(r, explicit)))
         # Where a run swept several k, the smaller k's markers are hollow.
-        widest = max((int(k) for _, _, k in series), default=0)
-        for (scheme, method, k), pts in sorted(series.items()):
+        widest = max((int(k) for _, _, k, _ in series), default=0)
+        for (scheme, method, k, fraction), pts in sorted(series.items()):
             pts.sort()
-            lower = scheme.startswith("lower resolution")
-            ax.plot([p[0] for p in pts], [p[1] for p in pts], marker="v" if lower else METHOD_MARKERS.get(method, "o"),
-                    label=pts[0][3], color=lower_colour(scheme) if lower else COLOURS.get(scheme),
-                    linestyle=":" if lower else METHOD_LINES.get(method, "-"),
+            ax.plot([p[0] for p in pts], [p[1] for p in pts], marker="v" if fraction else METHOD_MARKERS.get(method, "o"),
+                    label=pts[0][3], color=lower_colour(float(fraction)) if fraction else COLOURS.get(scheme),
+                    linestyle=":" if fraction else METHOD_LINES.get(method, "-"),
                     fillstyle="full" if int(k) == widest else "none", linewidth=1.2)
             for x, y, spp, _ in pts:
                 ax.annotate(spp, (x, y), textcoords="offset points", xytext=(4, -10), fontsize=7)

@@ -253,6 +253,33 @@ std::string reference_cache::path_file_base(uint32_t spp, uint64_t seed, const f
   return file_base(spp, seed) + fmt::format("-path{}-yaw{:g}-f{}", f.frames, f.yaw_deg_per_frame, n);
 }
 
+bool reference_cache::cached(const std::string& file) {
+  std::error_code ec;
+  return fs::exists(file + ".exr", ec) && fs::exists(file + ".json", ec);
+}
+
+std::pair<frame, reference_meta> reference_cache::read_cached(const std::string& file, const render_params& p,
+                                                              const std::string& settings, const std::string& what) const {
+  const reference_meta m = read_reference_meta(file + ".json");
+  if (m.render_settings != settings || m.sampler != label_of(pixel_sampler_labels, p.reference_sampler) || m.spp != p.spp ||
+      m.seed != p.seed)
+    throw std::runtime_error(fmt::format("{}.json: not {} ({}); remove it or use another -o", file, what, settings));
+  frame image = read_frame(file + ".exr");
+  if (image.width != display_.width || image.height != display_.height)
+    throw std::runtime_error(fmt::format("{}.exr: {}x{}, not {}x{}", file, image.width, image.height, display_.width,
+                                         display_.height));
+  return {std::move(image), m};
+}
+
+void reference_cache::write_cached(const std::string& file, const frame& image, const render_params& p,
+                                   const std::string& settings, double ms) const {
+  write_frame(image, file + ".exr");
+  const std::string text = json{{"scene", scene_}, {"spp", p.spp}, {"seed", p.seed}, {"ms", ms}, {"rays", image.rays},
+                                {"sampler", label_of(pixel_sampler_labels, p.reference_sampler)},
+                                {"render_settings", settings}}.dump(2) + "\n";
+  write_file_atomic(file + ".json", text.data(), text.size());  // last: a frame without it is traced again
+}
+
 std::vector<frame> reference_cache::path(renderer& r, const render_params& base, uint32_t spp, uint64_t seed,
                                          const flicker_params& f, const std::function<void(const std::string&)>& say,
                                          bool* from_disk) {
@@ -262,23 +289,13 @@ std::vector<frame> reference_cache::path(renderer& r, const render_params& base,
   auto settings = [&](uint32_t n) {
     return render_settings_label(p) + fmt::format(" path_frames={} path_yaw={:g} path_frame={}", f.frames, f.yaw_deg_per_frame, n);
   };
-  std::error_code ec;
-  bool cached = true;
-  for (uint32_t n = 0; n < f.frames && cached; ++n)
-    cached = fs::exists(path_file_base(spp, seed, f, n) + ".exr", ec) && fs::exists(path_file_base(spp, seed, f, n) + ".json", ec);
-  if (from_disk) *from_disk = cached;
+  bool on_disk = true;
+  for (uint32_t n = 0; n < f.frames && on_disk; ++n) on_disk = cached(path_file_base(spp, seed, f, n));
+  if (from_disk) *from_disk = on_disk;
   std::vector<frame> frames;
-  if (cached) {
+  if (on_disk) {
     for (uint32_t n = 0; n < f.frames; ++n) {
-      const std::string file = path_file_base(spp, seed, f, n);
-      const reference_meta m = read_reference_meta(file + ".json");
-      if (m.render_settings != settings(n) || m.spp != spp || m.seed != seed)
-        throw std::runtime_error(fmt::format("{}.json: not frame {} of this path ({}); remove it or use another -o", file, n,
-                                             settings(n)));
-      frame image = read_frame(file + ".exr");
-      if (image.width != display_.width || image.height != display_.height)
-        throw std::runtime_error(fmt::format("{}.exr: {}x{}, not {}x{}", file, image.width, image.height, display_.width,
-                                             display_.height));
+      frame image = read_cached(path_file_base(spp, seed, f, n), p, settings(n), fmt::format("frame {} of this path", n)).first;
       image.depth = {};  // as converged_path gives it: colour is all the video JOD reads
       frames.push_back(std::move(image));
     }
@@ -289,12 +306,7 @@ std::vector<frame> reference_cache::path(renderer& r, const render_params& base,
   for (uint32_t n = 0; n < f.frames; ++n) {
     if (frames[n].width != display_.width || frames[n].height != display_.height)
       throw std::logic_error("reference_cache::path: the renderer's set is not the cache's display");
-    const std::string file = path_file_base(spp, seed, f, n);
-    write_frame(frames[n], file + ".exr");
-    const std::string text = json{{"scene", scene_}, {"spp", spp}, {"seed", seed}, {"ms", 0}, {"rays", frames[n].rays},
-                                  {"sampler", label_of(pixel_sampler_labels, p.reference_sampler)},
-                                  {"render_settings", settings(n)}}.dump(2) + "\n";
-    write_file_atomic(file + ".json", text.data(), text.size());  // last: a frame without it is traced again
+    write_cached(path_file_base(spp, seed, f, n), frames[n], p, settings(n), 0);
   }
   return frames;
 }
@@ -310,17 +322,9 @@ const reference_frame& reference_cache::get(renderer& r, const render_params& ba
   p.seed = seed;
   const std::string settings = render_settings_label(p);
   reference_frame ref;
-  std::error_code ec;
-  if (fs::exists(file + ".exr", ec) && fs::exists(file + ".json", ec)) {
-    const reference_meta m = read_reference_meta(file + ".json");
-    if (m.render_settings != settings || m.sampler != label_of(pixel_sampler_labels, p.reference_sampler) || m.spp != spp ||
-        m.seed != seed)
-      throw std::runtime_error(fmt::format("{}.json: not a reference of these settings ({}); remove it or use another -o",
-                                           file, settings));
-    ref.image = read_frame(file + ".exr");
-    if (ref.image.width != display_.width || ref.image.height != display_.height)
-      throw std::runtime_error(fmt::format("{}.exr: {}x{}, not {}x{}", file, ref.image.width, ref.image.height,
-                                           display_.width, display_.height));
+  if (cached(file)) {
+    auto [image, m] = read_cached(file, p, settings, "a reference of these settings");
+    ref.image = std::move(image);
     ref.ms = m.ms;
     ref.rays = m.rays;
     ref.from_disk = true;
@@ -330,11 +334,7 @@ const reference_frame& reference_cache::get(renderer& r, const render_params& ba
     ref.image = r.reference(display_.width, display_.height, p, &t).image;
     ref.ms = t.trace_ms;
     ref.rays = ref.image.rays;
-    write_frame(ref.image, file + ".exr");
-    const std::string text = json{{"scene", scene_}, {"spp", spp}, {"seed", seed}, {"ms", ref.ms}, {"rays", ref.rays},
-                                  {"sampler", label_of(pixel_sampler_labels, p.reference_sampler)},
-                                  {"render_settings", settings}}.dump(2) + "\n";
-    write_file_atomic(file + ".json", text.data(), text.size());
+    write_cached(file, ref.image, p, settings, ref.ms);
   }
   return refs_.emplace(id, std::move(ref)).first->second;
 }
@@ -659,13 +659,21 @@ std::vector<std::shared_ptr<const scene>> load_needed_scenes(const sweep_state& 
   return scenes;
 }
 
-// The sweep's render settings, keeping every cached-weight configuration it alternates (each
-// method with cached weights at each k), so no timed frame computes weights again.
+// The k of every cached-weight configuration the sweep alternates: each method with cached
+// weights at each k.
+std::vector<uint32_t> cached_weight_ks(const bench_options& o) {
+  std::vector<uint32_t> ks;
+  for (method how : o.methods)
+    if (cached_weights_method(how)) ks.insert(ks.end(), o.ks.begin(), o.ks.end());
+  return ks;
+}
+
+// The sweep's render settings, keeping every cached-weight configuration it alternates, so no
+// timed frame computes weights again.
 render_params sweep_render(const bench_options& o) {
   render_params p = o.render;
-  uint32_t cached = 0;
-  for (method how : o.methods) cached += cached_weights_method(how) ? uint32_t(o.ks.size()) : 0;
-  p.weight_caches = std::clamp(cached, cl_reconstructor::default_weight_caches, cl_reconstructor::max_weight_caches);
+  p.weight_caches = std::clamp(uint32_t(cached_weight_ks(o).size()), cl_reconstructor::default_weight_caches,
+                               cl_reconstructor::max_weight_caches);
   return p;
 }
 
@@ -1100,8 +1108,7 @@ size_t run_bench(const bench_options& o, const bench_reporter& report) {
                           st.results_path, st.todo));
   if (const uint32_t kept = sweep_render(o).weight_caches; kept > cl_reconstructor::default_weight_caches) {
     double bytes = 0;  // each configuration's weights for one screen, on the host and the device
-    for (method how : o.methods)
-      for (uint32_t k : o.ks) bytes += cached_weights_method(how) ? 2.0 * st.display.width * st.display.height * k * sizeof(float) : 0;
+    for (uint32_t k : cached_weight_ks(o)) bytes += 2.0 * st.display.width * st.display.height * k * sizeof(float);
     report.line(fmt::format("keeping {} cached-weight configurations: about {:.1f} GiB of weights per gaze", kept, bytes / (1u << 30)));
   }
   make_output_dir((fs::path(o.out) / "references").string());

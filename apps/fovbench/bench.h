@@ -67,6 +67,14 @@ class reference_cache {
   std::string path_file_base(uint32_t spp, uint64_t seed, const flicker_params& f, uint32_t n) const;
 
  private:
+  // One cached frame, FILE.exr and its sidecar FILE.json: whether both are there; reading it
+  // back (its sidecar must name these settings, or "FILE.json: not WHAT (SETTINGS)" is thrown,
+  // and the image must have the display's size); writing it, the sidecar last.
+  static bool cached(const std::string& file);
+  std::pair<frame, reference_meta> read_cached(const std::string& file, const render_params& p, const std::string& settings,
+                                               const std::string& what) const;
+  void write_cached(const std::string& file, const frame& image, const render_params& p, const std::string& settings,
+                    double ms) const;
   std::string dir_, scene_;
   display_geometry display_;
   std::map<std::pair<uint32_t, uint64_t>, reference_frame> refs_;
