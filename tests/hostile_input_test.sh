@@ -29,7 +29,7 @@ check "eye overflows"         2 -- "${R[@]}" --eye 3e38,0,0 --look-at -3e38,0,0 
 err=$("${R[@]}" --eye 3e38,0,0 --look-at -3e38,0,0 -o "$dir/x.png" 2>&1)
 [[ "$err" == *"--eye: a coordinate beyond"* ]] || fail "--eye 3e38 said: $err"
 check "scene fine"            0 -- "${R[@]}" --scene "$dir/ok.gltf" -o "$dir/ok.png"
-for bad in deep-nodes deep-json inf-vertex huge-vertex tiny-scale fifo-buffer empty-buffer; do
+for bad in deep-nodes deep-json inf-vertex huge-vertex tiny-scale fifo-buffer empty-buffer sparse-huge long-buffer; do
   check "scene $bad"          1 -- "${R[@]}" --scene "$dir/$bad.gltf" -o "$dir/x.png"
   err=$("${R[@]}" --scene "$dir/$bad.gltf" -o "$dir/x.png" 2>&1)
   [[ "$err" == "fovrender: $dir/$bad.gltf: "* ]] || fail "$bad: the message does not begin with the scene: $err"
@@ -38,6 +38,11 @@ check "glb chunk past the end" 1 -- "${R[@]}" --scene "$dir/chunk-past-end.glb" 
 [[ "$("${R[@]}" --scene "$dir/chunk-past-end.glb" -o "$dir/x.png" 2>&1)" == \
   "fovrender: $dir/chunk-past-end.glb: its JSON chunk claims 3808429344 bytes, more than the 49-byte file holds (refused)" ]] \
   || fail "a glb chunk past the end is not refused with its length"
+[[ "$("${R[@]}" --scene "$dir/sparse-huge.gltf" -o "$dir/x.png" 2>&1)" == \
+  *": accessor 2: a sparse accessor of 430309376 elements of 8 bytes is larger than the "*" bytes of data the scene holds (refused)" ]] \
+  || fail "a 3.4 GB sparse accessor is not refused with its size"
+[[ "$("${R[@]}" --scene "$dir/long-buffer.gltf" -o "$dir/x.png" 2>&1)" == *"buffer 0: claims 2000000000 bytes, more than the "*" bytes of "*"tex.png (refused)" ]] \
+  || fail "a buffer longer than its file is not refused with both lengths"
 [[ "$("${R[@]}" --scene "$dir/fifo-buffer.gltf" -o "$dir/x.png" 2>&1)" == *"fifo.bin: not a regular file"* ]] \
   || fail "a FIFO buffer is not named"
 [[ "$("${R[@]}" --scene "$dir/empty-buffer.gltf" -o "$dir/x.png" 2>&1)" == *"empty.bin: is empty"* ]] \

@@ -7,12 +7,14 @@ tests/hostile_input_test.sh uses into DIR."""
 import base64, json, math, os, struct, sys, zlib
 
 
-def gltf(positions=None, depth=1, buffer_uri=None, scale=None, json_nesting=0, image_uri=None):
+def gltf(positions=None, depth=1, buffer_uri=None, scale=None, json_nesting=0, image_uri=None, buffer_length=None,
+         sparse_uv_count=None):
     """A glTF 2.0 scene (JSON text, and the buffer's bytes): one mesh of the given vertex
     positions (x, y, z, ...; indices 0, 1, 2, ...), placed by a chain of `depth` nested nodes
     whose last one has `scale`; the buffer inline (data: URI) unless `buffer_uri` names a
-    file; `json_nesting` brackets nested inside an "extras" array; a base-colour texture
-    when `image_uri` is given."""
+    file, its stated length `buffer_length` when given; `json_nesting` brackets nested inside
+    an "extras" array; a base-colour texture when `image_uri` is given; texture coordinates
+    from a sparse accessor of `sparse_uv_count` elements without a bufferView when given."""
     pos = positions or [0, 0, 0, 1, 0, 0, 1, 1, 0]
     count = len(pos) // 3
     uvs = [0.0] * (2 * count)
@@ -24,7 +26,7 @@ def gltf(positions=None, depth=1, buffer_uri=None, scale=None, json_nesting=0, i
     if scale is not None:
         nodes[-1]["scale"] = scale
     attributes = {"POSITION": 0}
-    if image_uri:
+    if image_uri or sparse_uv_count is not None:
         attributes["TEXCOORD_0"] = 2
     g = {
         "asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], "nodes": nodes,
@@ -42,6 +44,12 @@ def gltf(positions=None, depth=1, buffer_uri=None, scale=None, json_nesting=0, i
     }
     if image_uri:
         g["textures"], g["images"] = [{"source": 0}], [{"uri": image_uri}]
+    if buffer_length is not None:
+        g["buffers"][0]["byteLength"] = buffer_length
+    if sparse_uv_count is not None:  # zeros, but for the first vertex's, which is the first two floats
+        g["accessors"][2] = {"componentType": 5126, "count": sparse_uv_count, "type": "VEC2",
+                             "sparse": {"count": 1, "indices": {"bufferView": 1, "componentType": 5123},
+                                        "values": {"bufferView": 2}}}
     text = json.dumps(g)
     if json_nesting:
         text = text[:-1] + ', "extras": ' + "[" * json_nesting + "]" * json_nesting + "}"
@@ -99,6 +107,10 @@ def write_test_files(out):
         "fifo-buffer": {"buffer_uri": "fifo.bin"},
         "empty-buffer": {"buffer_uri": "empty.bin"},
         "textured": {"image_uri": "tex.png"},
+        # What Assimp allocated from a claim alone: a 3.4 GB sparse accessor (a fuzz finding)
+        # and a buffer longer than its file.
+        "sparse-huge": {"sparse_uv_count": 430309376},
+        "long-buffer": {"buffer_uri": "tex.png", "buffer_length": 2000000000},
     }.items():
         text, _ = gltf(**kwargs)
         put(name + ".gltf", text)

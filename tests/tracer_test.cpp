@@ -824,6 +824,65 @@ TEST(Tracer, OutOfRangeGltfIndicesAreRefused) {
   fs::remove_all(dir);
 }
 
+// What a glTF claims beyond the bytes it has: Assimp allocates a buffer's stated length
+// before reading its file and a sparse accessor's dense array from its count alone (a fuzz
+// finding: 3.4 GB for a file of 1 KB), and reads a .glb's binary chunk after padding the
+// JSON chunk. Each is refused before Assimp runs, naming what claimed too much; the same
+// files with honest claims load.
+TEST(Tracer, GltfClaimsBeyondTheirBytesAreRefused) {
+  const fs::path dir = fs::temp_directory_path() / ("fovray-claims-" + std::to_string(getpid()));
+  fs::create_directories(dir);
+  auto refusal = [&](const std::string& name, const std::string& text) {
+    std::ofstream(dir / name, std::ios::binary) << text;
+    try {
+      load_scene((dir / name).string());
+      return std::string("loaded");
+    } catch (const std::runtime_error& e) {
+      const std::string what = e.what(), prefix = (dir / name).string() + ": ";
+      return what.rfind(prefix, 0) == 0 ? what.substr(prefix.size()) : "not named: " + what;
+    }
+  };
+  const float corners[12] = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0};
+  const uint16_t indices[6] = {0, 1, 2, 0, 2, 3};
+  {
+    std::ofstream bin(dir / "quad.bin", std::ios::binary);
+    bin.write(reinterpret_cast<const char*>(corners), sizeof corners);
+    bin.write(reinterpret_cast<const char*>(indices), sizeof indices);
+  }
+  auto quad = [](const std::string& buffer, const std::string& uv) {
+    return R"({"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0, "translation": [0, 0, -2]}], "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "TEXCOORD_0": 2}, "indices": 1}]}], "buffers": [)" +
+           buffer +
+           R"(], "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 48}, {"buffer": 0, "byteOffset": 48, "byteLength": 12}], "accessors": [{"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 0]}, {"bufferView": 1, "componentType": 5123, "count": 6, "type": "SCALAR"}, )" +
+           uv + "]}";
+  };
+  const std::string buffer = R"({"byteLength": 60, "uri": "quad.bin"})";
+  auto sparse_uv = [](const std::string& count) {  // zeros but for the first vertex's (0, 0)
+    return R"({"componentType": 5126, "count": )" + count +
+           R"(, "type": "VEC2", "sparse": {"count": 1, "indices": {"bufferView": 1, "componentType": 5123}, "values": {"bufferView": 0}}})";
+  };
+  EXPECT_EQ(refusal("sparse.gltf", quad(buffer, sparse_uv("4"))), "loaded");
+  const std::string huge = quad(buffer, sparse_uv("430309376"));  // 3.4 GB dense
+  EXPECT_EQ(refusal("sparse-huge.gltf", huge), "accessor 2: a sparse accessor of 430309376 elements of 8 bytes is larger than the " +
+                                                  std::to_string(huge.size() + 60) +
+                                                  " bytes of data the scene holds (refused)");
+  const std::string dense_uv = R"({"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC2"})";
+  EXPECT_EQ(refusal("long-buffer.gltf", quad(R"({"byteLength": 2000000000, "uri": "quad.bin"})", dense_uv)),
+            "buffer 0: claims 2000000000 bytes, more than the 60 bytes of " + (dir / "quad.bin").string() + " (refused)");
+  EXPECT_EQ(refusal("buffer.gltf", quad(buffer, dense_uv)), "loaded");
+  // A .glb whose JSON chunk is not padded to 4 bytes and whose binary chunk claims 3.4 GB.
+  auto u32 = [](uint32_t v) { return std::string(reinterpret_cast<const char*>(&v), 4); };
+  const std::string json = R"({"asset":{"version":"2.0"}}  )";
+  const size_t padding = (4 - json.size() % 4) % 4;
+  ASSERT_NE(padding, 0u);
+  const std::string body = u32(0xCD300000u) + "BIN" + std::string(1, '\0') + std::string(8, '\0');
+  const std::string glb = "glTF" + u32(2) + u32(uint32_t(20 + json.size() + padding + body.size())) +
+                          u32(uint32_t(json.size())) + "JSON" + json + std::string(padding, '\0') + body;
+  EXPECT_EQ(refusal("unpadded.glb", glb),
+            "its binary chunk claims 3442475008 bytes, more than the " + std::to_string(glb.size()) +
+                "-byte file holds (refused)");
+  fs::remove_all(dir);
+}
+
 TEST(Tracer, UnreadableTexturesWarnWithTheirReason) {
   const fs::path dir = fs::temp_directory_path() / ("fovray-tex-" + std::to_string(getpid()));
   fs::create_directories(dir / "dir.png");

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <mutex>
 #include <set>
 #include <stdexcept>
@@ -120,6 +121,71 @@ class checked_io : public Assimp::DefaultIOSystem {
   std::vector<std::string> refused, unusable, read;  // unusable: missing or empty
 };
 
+// What a glTF's buffers and accessors claim, held to the bytes the scene has: Assimp
+// allocates a buffer's stated byteLength before reading its file, and the dense array of a
+// sparse accessor without a bufferView (count x element size, zero-filled) from the count
+// alone, so a file of a few hundred bytes could ask for gigabytes. A buffer may not claim
+// more bytes than the file it names holds; a sparse accessor's dense array may not be
+// larger than all the data the scene carries (the scene file and its buffers' files), as
+// the dense one it modifies in a real file is. "" when fine; what Assimp refuses anyway
+// (a missing file, a count that is not a number) is left to it.
+std::string gltf_data_problem(const nlohmann::json& j, const fs::path& dir, uintmax_t scene_bytes) {
+  uintmax_t data_bytes = scene_bytes;
+  if (j.contains("buffers") && j["buffers"].is_array()) {
+    const nlohmann::json& buffers = j["buffers"];
+    for (size_t i = 0; i < buffers.size(); ++i) {
+      const nlohmann::json& b = buffers[i];
+      if (!b.is_object() || !b.contains("uri") || !b["uri"].is_string()) continue;
+      const std::string uri = b["uri"].get<std::string>();
+      if (uri.rfind("data:", 0) == 0) continue;  // inside the scene file
+      const fs::path file = dir / uri;
+      std::error_code ec;
+      if (!fs::is_regular_file(file, ec)) continue;  // missing or special: the checked IOSystem names it
+      const uintmax_t bytes = fs::file_size(file, ec);
+      if (ec) continue;
+      data_bytes += bytes;
+      if (!b.contains("byteLength") || !b["byteLength"].is_number_unsigned()) continue;
+      const uint64_t claimed = b["byteLength"].get<uint64_t>();
+      if (claimed > bytes && bytes == 0)
+        return fmt::format("buffer {}: {}: is empty (0 bytes), but the buffer claims {} bytes (refused)", i,
+                           file.string(), claimed);
+      if (claimed > bytes)
+        return fmt::format("buffer {}: claims {} bytes, more than the {} bytes of {} (refused)", i, claimed, bytes,
+                           file.string());
+    }
+  }
+  if (!j.contains("accessors") || !j["accessors"].is_array()) return "";
+  const nlohmann::json& accessors = j["accessors"];
+  for (size_t i = 0; i < accessors.size(); ++i) {
+    const nlohmann::json& a = accessors[i];
+    if (!a.is_object() || !a.contains("sparse") || a.contains("bufferView")) continue;
+    if (!a.contains("count") || !a["count"].is_number_unsigned()) continue;
+    // The element's size as Assimp reads it (a missing type is a scalar, a missing
+    // component type a byte); an unknown name or code counts as the largest.
+    static const std::map<std::string, uint64_t> components = {{"SCALAR", 1}, {"VEC2", 2}, {"VEC3", 3}, {"VEC4", 4},
+                                                               {"MAT2", 4},   {"MAT3", 9}, {"MAT4", 16}};
+    static const std::map<uint64_t, uint64_t> component_bytes = {{5120, 1}, {5121, 1}, {5122, 2},
+                                                                 {5123, 2}, {5125, 4}, {5126, 4}};
+    uint64_t n = 1, bytes = 1;
+    if (a.contains("type")) {
+      const auto it = a["type"].is_string() ? components.find(a["type"].get<std::string>()) : components.end();
+      n = it == components.end() ? 16 : it->second;
+    }
+    if (a.contains("componentType")) {
+      const auto it = a["componentType"].is_number_unsigned() ? component_bytes.find(a["componentType"].get<uint64_t>())
+                                                               : component_bytes.end();
+      bytes = it == component_bytes.end() ? 4 : it->second;
+    }
+    const uint64_t count = a["count"].get<uint64_t>();
+    if (count > data_bytes || count * n * bytes > data_bytes)  // (count <= data_bytes: no overflow)
+      return fmt::format(
+          "accessor {}: a sparse accessor of {} elements of {} bytes is larger than the {} bytes of data the scene "
+          "holds (refused)",
+          i, count, n * bytes, data_bytes);
+  }
+  return "";
+}
+
 // A glTF's JSON (a .gltf file, a .glb's first chunk), checked before Assimp parses it:
 // nesting at most max_gltf_json_depth, and a node tree (children by index) at most
 // max_node_depth deep in which every node has at most one parent and no node is its own
@@ -141,11 +207,14 @@ std::string gltf_structure_problem(const std::string& path, const std::string& e
       return fmt::format("its JSON chunk claims {} bytes, more than the {}-byte file holds (refused)", length, size);
     text.resize(length);
     if (!in.read(text.data(), std::streamsize(length))) return "";
-    char bin[8] = {};  // the binary chunk, when one follows
-    if (in.read(bin, sizeof bin)) {
+    // The binary chunk, when one follows: Assimp reads its header after padding the JSON
+    // chunk to 4 bytes.
+    const uintmax_t padding = (4 - length % 4) % 4;
+    char bin[8] = {};
+    if (in.seekg(std::streamoff(padding), std::ios::cur) && in.read(bin, sizeof bin)) {
       uint32_t bin_length = 0;
       std::memcpy(&bin_length, bin, 4);
-      if (bin_length > size - sizeof head - length - sizeof bin)
+      if (bin_length > size - sizeof head - length - padding - sizeof bin)
         return fmt::format("its binary chunk claims {} bytes, more than the {}-byte file holds (refused)", bin_length, size);
     }
   } else {
@@ -154,7 +223,10 @@ std::string gltf_structure_problem(const std::string& path, const std::string& e
   if (const int line = json_too_deep_line(text, max_gltf_json_depth))
     return fmt::format("line {}: JSON nested deeper than {} levels (refused)", line, max_gltf_json_depth);
   const nlohmann::json j = nlohmann::json::parse(text, nullptr, false);
-  if (j.is_discarded() || !j.is_object() || !j.contains("nodes") || !j["nodes"].is_array()) return "";
+  if (j.is_discarded() || !j.is_object()) return "";
+  if (std::string why = gltf_data_problem(j, fs::path(path).parent_path(), std::filesystem::file_size(path)); !why.empty())
+    return why;
+  if (!j.contains("nodes") || !j["nodes"].is_array()) return "";
   const nlohmann::json& nodes = j["nodes"];
   std::vector<long> parent(nodes.size(), -1);
   for (size_t i = 0; i < nodes.size(); ++i) {
