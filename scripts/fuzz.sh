@@ -55,7 +55,16 @@ for t in "${targets[@]}"; do
   printf '%-14s %8s %12s %8s %8s %8s  %s\n' "$t" "$seconds" "${runs:--}" "${rate:--}" "${edges:--}" "${units:--}" "$result"
   if (( rc != 0 )); then
     cat "$report".* >>"$log" 2>/dev/null
-    grep -E 'ERROR|fuzz finding|runtime error|SUMMARY|Test unit written' "$log" | head -n 8 | sed 's/^/    /' >&2
+    grep -E 'ERROR|fuzz finding|runtime error|SUMMARY|Test unit written' "$log" | head -n 8 | sed 's/^/    /' >&2 || true
+    # Where it happened and what did it, in the log itself: a CI machine's files are gone
+    # once it ends, and a finding must be reproducible from what it printed.
+    grep -E '^ *#[0-9]+ 0x' "$log" | grep -vE 'fuzzer::|__sanitizer|__asan|__interceptor|MallocHook' | head -n 16 \
+      | sed 's/^ */    /; s/ (BuildId: [0-9a-f]*)//' >&2 || true  # (a timeout prints no frames)
+    input="$findings/$(ls -t "$findings" | head -n 1)"
+    if [[ -f "$input" ]] && (( $(stat -c %s "$input") <= 16384 )); then
+      echo "    the input ($(stat -c %s "$input") bytes), base64 (decode with base64 -d):" >&2
+      base64 -w 100 "$input" | sed 's/^/    /' >&2
+    fi
   fi
 done
 if (( ${#failed[@]} )); then
