@@ -29,6 +29,12 @@ void add_render_flags(CLI::App& app, render_params& p, unsigned groups) {
   if (groups & flags_trace) {
     app.add_option("--seed", p.seed, "Seed of the ray positions")->capture_default_str();
     app.add_flag("--no-shadows", [&p](int64_t) { p.shadows = false; }, "Skip shadow rays");
+    add_label_option(app, "--integrator", p.method, integrator_labels,
+                     "How a ray's colour is found: direct (the light at the first hit plus an ambient term) or path "
+                     "(path tracing: the light at every vertex, the environment and emission by bounces)");
+    app.add_option("--bounces", p.bounces, "With --integrator path: bounces after the first hit")
+        ->check(CLI::Range(0u, max_bounces))
+        ->capture_default_str();
     add_label_option(app, "--texture-footprint", p.footprint, texture_footprint_labels,
                      "Foveated rays filter textures over their share of the point's disc (disc: the thesis's "
                      "prefilter) or of a pixel (pixel: sharper, cheaper, aliased periphery)");

@@ -391,9 +391,14 @@ std::string render_settings_label(const render_params& p) {
   // before it existed still resume.
   const std::string disc = p.disc_sampler == pixel_sampler::random ? "" : std::string(" disc_sampler=") +
                                                                              label_of(pixel_sampler_labels, p.disc_sampler);
-  return fmt::format("seed={} sampler={}{} exposure={:g} sun_dir={} sun_irradiance={} shadows={} renka={} rbf_kernel={} "
+  // The integrator is always named: glTF materials shade by the metallic-roughness model
+  // since it came, so references and results of glTF scenes made before it do not resume.
+  const std::string integrator = p.method == integrator::path
+                                     ? fmt::format("integrator=path bounces={}", p.bounces)
+                                     : std::string("integrator=direct");
+  return fmt::format("seed={} sampler={}{} {} exposure={:g} sun_dir={} sun_irradiance={} shadows={} renka={} rbf_kernel={} "
                      "rbf_shape={:g} hfov={:g} eye={} look_at={} up={}",
-                     p.seed, label_of(pixel_sampler_labels, p.reference_sampler), disc, p.exposure_ev, point(p.sun_direction),
+                     p.seed, label_of(pixel_sampler_labels, p.reference_sampler), disc, integrator, p.exposure_ev, point(p.sun_direction),
                      point(p.sun_irradiance), p.shadows ? 1 : 0, p.reconstruct.renka ? 1 : 0, label_of(rbf_kernel_labels, p.reconstruct.kernel),
                      p.reconstruct.shape, p.view.hfov_deg, point(p.view.eye), point(p.view.target), point(p.view.up));
 }

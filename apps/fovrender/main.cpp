@@ -205,6 +205,8 @@ int main(int argc, char** argv) {
     }
 
     json j;
+    j["integrator"] = fov::label_of(fov::integrator_labels, p.method);
+    if (p.method == fov::integrator::path) j["bounces"] = p.bounces;
     const auto loading = std::chrono::steady_clock::now();
     std::shared_ptr<const fov::scene> scene = fov::load_scene(o.scene);
     j["scene_load_ms"] = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - loading).count();

@@ -25,7 +25,8 @@ bool same_trace(const render_params& a, const render_params& b) {
   return a.spp == b.spp && a.seed == b.seed && a.shadows == b.shadows && a.footprint == b.footprint &&
          a.reconstruct.k == b.reconstruct.k && a.taa == b.taa && a.pattern == b.pattern && a.exposure_ev == b.exposure_ev && a.disc_sampler == b.disc_sampler &&
          a.sun_direction == b.sun_direction && a.sun_irradiance == b.sun_irradiance &&
-         a.reference_sampler == b.reference_sampler && a.ray_floor == b.ray_floor;
+         a.reference_sampler == b.reference_sampler && a.ray_floor == b.ray_floor && a.method == b.method &&
+         a.bounces == b.bounces;
 }
 
 // The tracing half of the params, without a frame's pattern.
@@ -38,6 +39,8 @@ trace_params base_trace(const render_params& p) {
   tp.sampler = p.reference_sampler;
   tp.disc_sampler = p.disc_sampler;
   tp.exposure_ev = p.exposure_ev;
+  tp.method = p.method;
+  tp.bounces = p.bounces;
   if (p.sun_direction || p.sun_irradiance) {
     light sun;
     if (p.sun_direction) sun.direction = glm::normalize(*p.sun_direction);
@@ -61,6 +64,7 @@ std::string validate(const render_params& p, const pointset* set) {
   if (!(p.reconstruct.shape > 0 && std::isfinite(p.reconstruct.shape)))
     return fmt::format("--rbf-shape must be positive (got {})", p.reconstruct.shape);
   if (!(std::fabs(p.exposure_ev) <= 20)) return fmt::format("--exposure must lie in -20..20 EV (got {})", p.exposure_ev);
+  if (p.bounces > max_bounces) return fmt::format("--bounces must lie in 0..{} (got {})", max_bounces, p.bounces);
   if (p.sun_direction && !(glm::length(*p.sun_direction) > 1e-6f && std::isfinite(glm::length(*p.sun_direction))))
     return "--sun-dir must be a finite, non-zero direction";
   if (p.sun_irradiance && !(std::isfinite(glm::length(*p.sun_irradiance)) && glm::all(glm::greaterThanEqual(*p.sun_irradiance, glm::vec3(0))) &&

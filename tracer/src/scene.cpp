@@ -137,6 +137,20 @@ glm::vec4 scene::impl::base_colour(const material& mat, glm::vec2 uv, float duv)
   return c;
 }
 
+glm::vec2 scene::impl::metallic_roughness(const material& mat, glm::vec2 uv, float duv) const {
+  glm::vec2 mr(mat.metallic, mat.roughness);
+  float t[4];
+  if (!mat.metallic_roughness_texture.file.empty() && texture4(handles_of(mat).metallic_roughness, uv, duv, t))
+    mr *= glm::vec2(t[2], t[1]);
+  return glm::clamp(mr, 0.0f, 1.0f);
+}
+
+float scene::impl::occlusion(const material& mat, glm::vec2 uv, float duv) const {
+  float t[4];
+  if (mat.occlusion_texture.file.empty() || !texture4(handles_of(mat).occlusion, uv, duv, t)) return 1;
+  return std::clamp(1 + mat.occlusion_strength * (t[0] - 1), 0.0f, 1.0f);
+}
+
 glm::vec3 scene::impl::emission(const material& mat, glm::vec2 uv, float duv) const {
   glm::vec3 e = mat.emissive;
   if (!mat.emissive_texture.file.empty() && e != glm::vec3(0)) {
@@ -312,7 +326,8 @@ scene::scene(scene_description description) : impl_(std::make_unique<impl>()) {
     return d.textures->get_texture_handle(OIIO::ustring(t.file));
   };
   for (const material& m : d.desc.materials)
-    d.handles.push_back({resolve(m.base_texture), resolve(m.emissive_texture), resolve(m.normal_texture)});
+    d.handles.push_back({resolve(m.base_texture), resolve(m.emissive_texture), resolve(m.normal_texture),
+                         resolve(m.metallic_roughness_texture), resolve(m.occlusion_texture)});
   if (!d.desc.env.latlong_file.empty()) {
     d.env_map = load_env_pyramid(d.desc.env.latlong_file);
     if (d.env_map.non_finite)

@@ -33,6 +33,8 @@ struct texture_handles {
   OIIO::TextureSystem::TextureHandle* base = nullptr;
   OIIO::TextureSystem::TextureHandle* emissive = nullptr;
   OIIO::TextureSystem::TextureHandle* normal = nullptr;
+  OIIO::TextureSystem::TextureHandle* metallic_roughness = nullptr;
+  OIIO::TextureSystem::TextureHandle* occlusion = nullptr;
 };
 
 // A lat-long environment image as a MIP pyramid in memory (levels built by OpenImageIO's
@@ -72,6 +74,10 @@ struct scene::impl {
   // Base colour (linear RGB, alpha) at uv filtered over duv UV units.
   glm::vec4 base_colour(const material& mat, glm::vec2 uv, float duv) const;
   glm::vec3 emission(const material& mat, glm::vec2 uv, float duv) const;
+  // (metallic, roughness) of a metallic_roughness material: factors times texture.
+  glm::vec2 metallic_roughness(const material& mat, glm::vec2 uv, float duv) const;
+  // Ambient occlusion in [0, 1] (1: none): 1 + strength (texture red - 1).
+  float occlusion(const material& mat, glm::vec2 uv, float duv) const;
   // Tangent-space normal map value in [-1, 1]^3, or (0, 0, 1) without a map.
   glm::vec3 normal_map(const material& mat, glm::vec2 uv, float duv) const;
   // Environment radiance seen along `dir`, filtered over `angle` radians.

@@ -323,14 +323,27 @@ material convert_material(const aiMaterial* m, texture_resolver& textures) {
   if (m->Get(AI_MATKEY_COLOR_EMISSIVE, e) == AI_SUCCESS) out.emissive = {e.r, e.g, e.b};
   out.emissive_texture = textures.find(m, aiTextureType_EMISSIVE, true);
   out.normal_texture = textures.find(m, aiTextureType_NORMALS, false);
+  // glTF's metallic-roughness model: Assimp's glTF 2.0 reader sets the metallic factor on
+  // every material it makes (OBJ materials have none and stay Lambertian).
+  if (m->Get(AI_MATKEY_METALLIC_FACTOR, out.metallic) == AI_SUCCESS) {
+    out.model = shading_model::metallic_roughness;
+    m->Get(AI_MATKEY_ROUGHNESS_FACTOR, out.roughness);
+    out.metallic = std::isfinite(out.metallic) ? std::clamp(out.metallic, 0.0f, 1.0f) : 1.0f;
+    out.roughness = std::isfinite(out.roughness) ? std::clamp(out.roughness, 0.0f, 1.0f) : 1.0f;
+    out.metallic_roughness_texture = textures.find(m, aiTextureType_UNKNOWN, false);  // (Assimp's glTF slot)
+    out.occlusion_texture = textures.find(m, aiTextureType_LIGHTMAP, false);
+    if (!out.occlusion_texture.file.empty()) {
+      m->Get(AI_MATKEY_GLTF_TEXTURE_STRENGTH(aiTextureType_LIGHTMAP, 0), out.occlusion_strength);
+      out.occlusion_strength = std::isfinite(out.occlusion_strength) ? std::clamp(out.occlusion_strength, 0.0f, 1.0f) : 1.0f;
+    }
+  }
   aiString mode;
   if (m->Get(AI_MATKEY_GLTF_ALPHAMODE, mode) == AI_SUCCESS && std::string(mode.C_Str()) == "MASK") {
     out.alpha_mask = true;
     m->Get(AI_MATKEY_GLTF_ALPHACUTOFF, out.alpha_cutoff);
   }
   if (textures.find(m, aiTextureType_OPACITY, false).file.size()) out.alpha_mask = true;  // OBJ map_d
-  // Every other texture the file names is checked too, so each missing file is reported
-  // (occlusion, roughness and metalness are not shaded: see docs/tracer.md).
+  // Every other texture the file names is checked too, so each missing file is reported.
   for (int type = aiTextureType_NONE + 1; type <= AI_TEXTURE_TYPE_MAX; ++type)
     for (unsigned i = 0; i < m->GetTextureCount(aiTextureType(type)); ++i) textures.check(m, aiTextureType(type), i);
   return out;

@@ -4,6 +4,7 @@
 #include <iterator>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <mutex>
 #include <stdexcept>
@@ -13,6 +14,7 @@
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_invoke.h>
 
+#include "fov/brdf.h"
 #include "fov/random.h"
 #include "scene_impl.h"
 
@@ -50,7 +52,7 @@ struct task_timing {
     static std::mutex lock;
     std::lock_guard<std::mutex> guard(lock);
     total->setup += local.setup, total->intersect += local.intersect;
-    total->shade += local.shade, total->shadow += local.shadow;
+    total->shade += local.shade, total->shadow += local.shadow, total->bounce += local.bounce;
   }
 };
 
@@ -69,16 +71,84 @@ struct shaded {
   float depth = infinity;  // camera-space depth, +inf on a miss
 };
 
+// What a surface point reflects with: its normals (the shading one facing the viewer's side
+// of the geometric one) and BRDF inputs.
+struct hit_material {
+  glm::vec3 position{0}, n{0}, ng{0};
+  brdf_inputs brdf;
+  bool lambert = true;
+  float occlusion = 1;
+};
+
+// The light's direction and irradiance at `p` (its distance, +inf for a directional light).
+struct light_at {
+  glm::vec3 to_light{0}, irradiance{0};
+  float distance = infinity;
+};
+light_at sample_light(const light& l, const glm::vec3& p) {
+  light_at out;
+  out.irradiance = l.colour;
+  if (l.type == light::kind::directional) {
+    out.to_light = glm::normalize(l.direction);
+  } else {
+    const glm::vec3 v = l.position - p;
+    out.distance = glm::length(v);
+    out.to_light = v / std::max(out.distance, 1e-6f);
+    out.irradiance /= std::max(out.distance * out.distance, 1e-6f);
+  }
+  return out;
+}
+
+// The light's unshadowed contribution towards wo: pi f(wo, wi) E cos, so that a white
+// Lambertian surface facing the light reflects E (the light's colour is what such a surface
+// shows, docs/tracer.md). Lambert keeps the form it always had, albedo E cos, bit for bit.
+glm::vec3 reflected_light(const hit_material& h, const glm::vec3& wo, const light_at& l) {
+  const float cos_n = glm::dot(h.n, l.to_light);
+  if (cos_n <= 0 || glm::dot(h.ng, l.to_light) <= 0) return glm::vec3(0);
+  if (h.lambert) return h.brdf.base_colour * l.irradiance * cos_n;
+  return 3.14159265358979f * brdf_eval(h.brdf, h.n, wo, l.to_light) * l.irradiance * cos_n;
+}
+
+// What the direct integrator's ambient term reflects: the albedo for Lambert; for the
+// metallic-roughness model the diffuse colour plus the specular reflectance at normal
+// incidence (an approximation that ignores roughness), times the occlusion texture.
+glm::vec3 ambient_albedo(const hit_material& h) {
+  if (h.lambert) return h.brdf.base_colour;
+  const glm::vec3 f0 = glm::mix(glm::vec3(0.04f), h.brdf.base_colour, h.brdf.metallic);
+  return (h.brdf.base_colour * (1 - h.brdf.metallic) * 0.96f + f0) * h.occlusion;
+}
+
+// A shading normal bent by the normal map, facing the side of the geometric normal `ng`
+// that `dir` arrives from; ng flipped to that side too.
+void orient(const glm::vec3& dir, glm::vec3& ng, glm::vec3& n) {
+  if (glm::dot(ng, dir) > 0) ng = -ng;
+  if (glm::dot(n, ng) < 0) n = -n;
+}
+glm::vec3 mapped_normal(const scene::impl& d, const surface& s, float duv) {
+  if (s.tangent.w == 0 || s.mat->normal_texture.file.empty()) return s.normal;
+  const glm::vec3 tn = d.normal_map(*s.mat, s.uv, duv);
+  const glm::vec3 n = s.normal;
+  const glm::vec3 tangent = glm::normalize(glm::vec3(s.tangent) - n * glm::dot(n, glm::vec3(s.tangent)));
+  const glm::vec3 bitangent = glm::cross(n, tangent) * s.tangent.w;
+  return glm::normalize(tn.x * tangent + tn.y * bitangent + tn.z * n);
+}
+// A shadow or bounce ray's origin: off the surface along its geometric normal.
+glm::vec3 offset_origin(const glm::vec3& p, const glm::vec3& ng) {
+  const float scale = 1 + std::max({std::fabs(p.x), std::fabs(p.y), std::fabs(p.z)});
+  return p + ng * (1e-4f * scale);
+}
+
 // Shades the hit lanes of a packet. Texture by texture across the lanes (every base
 // colour, then every normal map, then every emission), so that consecutive lookups read
 // the same texture near the same texels: OpenImageIO's per-thread tile cache then hits,
-// where a lane-by-lane order cycled through three textures' tiles.
+// where a lane-by-lane order cycled through three textures' tiles. The direct integrator
+// adds the ambient term; the path integrator leaves it to the bounces (mat[] keeps what they
+// start from).
 void shade_hits(const scene::impl& d, const light& l, const camera_frame& f, const RTCRayHit16& rh, const bool* hit,
-                const glm::vec3* dirs, const float* radius_px, shaded* out) {
+                const glm::vec3* dirs, const float* radius_px, bool ambient, shaded* out, hit_material* mat) {
   surface s[16];
   float duv[16];
   glm::vec4 base[16];
-  glm::vec3 normal[16];
   for (int i = 0; i < 16; ++i) {
     if (!hit[i]) continue;
     d.surface_at(rh.hit.instID[0][i], rh.hit.primID[i], rh.hit.u[i], rh.hit.v[i], s[i]);
@@ -88,48 +158,120 @@ void shade_hits(const scene::impl& d, const light& l, const camera_frame& f, con
   }
   for (int i = 0; i < 16; ++i)
     if (hit[i]) base[i] = d.base_colour(*s[i].mat, s[i].uv, duv[i]);
-  for (int i = 0; i < 16; ++i) {
-    if (!hit[i]) continue;
-    normal[i] = s[i].normal;
-    if (s[i].tangent.w == 0 || s[i].mat->normal_texture.file.empty()) continue;
-    const glm::vec3 tn = d.normal_map(*s[i].mat, s[i].uv, duv[i]);
-    const glm::vec3 n = s[i].normal;
-    const glm::vec3 tangent = glm::normalize(glm::vec3(s[i].tangent) - n * glm::dot(n, glm::vec3(s[i].tangent)));
-    const glm::vec3 bitangent = glm::cross(n, tangent) * s[i].tangent.w;
-    normal[i] = glm::normalize(tn.x * tangent + tn.y * bitangent + tn.z * n);
-  }
+  for (int i = 0; i < 16; ++i)
+    if (hit[i]) mat[i].n = mapped_normal(d, s[i], duv[i]);
   for (int i = 0; i < 16; ++i)
     if (hit[i]) out[i].colour = d.emission(*s[i].mat, s[i].uv, duv[i]);
   for (int i = 0; i < 16; ++i) {
-    if (!hit[i]) continue;
-    glm::vec3 ng = s[i].geometric_normal, n = normal[i];
-    if (glm::dot(ng, dirs[i]) > 0) ng = -ng;
-    if (glm::dot(n, ng) < 0) n = -n;
-    const glm::vec3 albedo(base[i]);
-    shaded& o = out[i];
-    o.colour += albedo * d.env_mean * d.desc.env.ambient;
-    glm::vec3 irradiance = l.colour;
-    if (l.type == light::kind::directional) {
-      o.to_light = glm::normalize(l.direction);
-      o.light_distance = infinity;
-    } else {
-      const glm::vec3 v = l.position - s[i].position;
-      o.light_distance = glm::length(v);
-      o.to_light = v / std::max(o.light_distance, 1e-6f);
-      irradiance /= std::max(o.light_distance * o.light_distance, 1e-6f);
-    }
-    const float cos_n = glm::dot(n, o.to_light);
-    if (cos_n > 0 && glm::dot(ng, o.to_light) > 0) o.direct = albedo * irradiance * cos_n;
-    const glm::vec3& pos = s[i].position;
-    const float scale = 1 + std::max({std::fabs(pos.x), std::fabs(pos.y), std::fabs(pos.z)});
-    o.origin = pos + ng * (1e-4f * scale);
+    if (!hit[i] || s[i].mat->model == shading_model::lambert) continue;
+    const glm::vec2 mr = d.metallic_roughness(*s[i].mat, s[i].uv, duv[i]);
+    mat[i].brdf.metallic = mr.x, mat[i].brdf.roughness = mr.y, mat[i].lambert = false;
+    if (ambient) mat[i].occlusion = d.occlusion(*s[i].mat, s[i].uv, duv[i]);
   }
+  for (int i = 0; i < 16; ++i) {
+    if (!hit[i]) continue;
+    hit_material& h = mat[i];
+    h.position = s[i].position;
+    h.ng = s[i].geometric_normal;
+    orient(dirs[i], h.ng, h.n);
+    h.brdf.base_colour = glm::vec3(base[i]);
+    shaded& o = out[i];
+    if (ambient) o.colour += ambient_albedo(h) * d.env_mean * d.desc.env.ambient;
+    const light_at at = sample_light(l, h.position);
+    o.to_light = at.to_light;
+    o.light_distance = at.distance;
+    o.direct = reflected_light(h, -dirs[i], at);
+    o.origin = offset_origin(h.position, h.ng);
+  }
+}
+
+// A ray's own random numbers for its bounces: drawn from the seed and the ray (its owner
+// and screen position), the same whichever thread traces it.
+rng path_rng(uint64_t seed, const sample_ray& r) {
+  uint32_t x, y;
+  std::memcpy(&x, &r.sx, 4), std::memcpy(&y, &r.sy, 4);
+  return rng(stream_seed(seed ^ 0x70617468ull, r.owner, (uint64_t(x) << 32) | y));
+}
+
+// The path integrator past the first hit `h` (seen along -wo with throughput 1): up to
+// `bounces` BRDF-sampled bounces, each vertex lit by the light through a shadow ray, misses
+// seeing the environment and hits adding their emission; Russian roulette from the third
+// bounce on. Returns what the bounces add to the first hit's emission and direct light.
+glm::vec3 bounce_radiance(const scene::impl& d, const light& l, hit_material h, glm::vec3 wo, uint32_t bounces,
+                          bool shadows, rng& r) {
+  glm::vec3 sum(0), throughput(1);
+  RTCIntersectContext context;
+  for (uint32_t bounce = 1; bounce <= bounces; ++bounce) {
+    const glm::vec3 u(float(r.uniform()), float(r.uniform()), float(r.uniform()));
+    glm::vec3 wi, weight;
+    if (h.lambert) {  // cosine-weighted: weight = albedo
+      const float radius = std::sqrt(u.x), phi = 6.28318530718f * u.y;
+      const glm::vec3 t = glm::normalize(glm::cross(h.n, std::fabs(h.n.x) < 0.9f ? glm::vec3(1, 0, 0) : glm::vec3(0, 1, 0)));
+      wi = radius * std::cos(phi) * t + radius * std::sin(phi) * glm::cross(h.n, t) +
+           std::sqrt(std::max(0.0f, 1 - u.x)) * h.n;
+      weight = h.brdf.base_colour;
+    } else {
+      const brdf_sample b = sample_brdf(h.brdf, h.n, wo, u);
+      wi = b.wi, weight = b.weight;
+    }
+    if (weight == glm::vec3(0) || glm::dot(wi, h.ng) <= 0) break;  // below the geometric surface: lost
+    throughput *= weight;
+    if (bounce > 3) {  // Russian roulette
+      const float keep = std::min(0.95f, std::max({throughput.r, throughput.g, throughput.b}));
+      if (float(r.uniform()) >= keep) break;
+      throughput /= keep;
+    }
+    RTCRayHit ray;
+    const glm::vec3 o = offset_origin(h.position, h.ng);
+    ray.ray.org_x = o.x, ray.ray.org_y = o.y, ray.ray.org_z = o.z;
+    ray.ray.dir_x = wi.x, ray.ray.dir_y = wi.y, ray.ray.dir_z = wi.z;
+    ray.ray.tnear = 0, ray.ray.tfar = infinity, ray.ray.time = 0;
+    ray.ray.mask = 0xFFFFFFFFu, ray.ray.id = 0, ray.ray.flags = 0;
+    ray.hit.geomID = ray.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    rtcInitIntersectContext(&context);
+    rtcIntersect1(d.top, &context, &ray);
+    if (ray.hit.geomID == RTC_INVALID_GEOMETRY_ID) {
+      sum += throughput * d.environment_radiance(wi, 0);
+      break;
+    }
+    surface s;
+    d.surface_at(ray.hit.instID[0], ray.hit.primID, ray.hit.u, ray.hit.v, s);
+    const float duv = 0.0f;  // the finest texture level: a bounce's footprint is not tracked
+    h = hit_material();
+    h.position = s.position, h.ng = s.geometric_normal, h.n = mapped_normal(d, s, duv);
+    orient(wi, h.ng, h.n);
+    h.brdf.base_colour = glm::vec3(d.base_colour(*s.mat, s.uv, duv));
+    if (s.mat->model == shading_model::metallic_roughness) {
+      const glm::vec2 mr = d.metallic_roughness(*s.mat, s.uv, duv);
+      h.brdf.metallic = mr.x, h.brdf.roughness = mr.y, h.lambert = false;
+    }
+    wo = -wi;
+    sum += throughput * d.emission(*s.mat, s.uv, duv);
+    const light_at at = sample_light(l, h.position);
+    const glm::vec3 direct = reflected_light(h, wo, at);
+    if (direct == glm::vec3(0)) continue;
+    if (shadows) {
+      RTCRay shadow;
+      const glm::vec3 so = offset_origin(h.position, h.ng);
+      shadow.org_x = so.x, shadow.org_y = so.y, shadow.org_z = so.z;
+      shadow.dir_x = at.to_light.x, shadow.dir_y = at.to_light.y, shadow.dir_z = at.to_light.z;
+      shadow.tnear = 0, shadow.tfar = at.distance, shadow.time = 0;
+      shadow.mask = 0xFFFFFFFFu, shadow.id = 0, shadow.flags = 0;
+      rtcInitIntersectContext(&context);
+      rtcOccluded1(d.top, &context, &shadow);
+      if (shadow.tfar < 0) continue;  // occluded
+    }
+    sum += throughput * direct;
+  }
+  return sum;
 }
 
 // Traces rays[begin, end) in packets of 16 and hands each result to sink(ray, colour, depth, hit).
 template <class Sink>
-void trace_rays(const scene::impl& d, const light& sun, const camera_frame& f, const sample_ray* rays, size_t count,
-                bool shadows, task_timing& timing, Sink&& sink) {
+void trace_rays(const scene::impl& d, const trace_params& params, const camera_frame& f, const sample_ray* rays,
+                size_t count, task_timing& timing, Sink&& sink) {
+  const light& sun = params.sun ? *params.sun : d.desc.sun;
+  const bool shadows = params.shadows, path = params.method == integrator::path;
   trace_timing& t = timing.local;
   RTCIntersectContext context;
   for (size_t base = 0; base < count; base += 16) {
@@ -159,13 +301,14 @@ void trace_rays(const scene::impl& d, const light& sun, const camera_frame& f, c
     timing.timer.mark(t.intersect);
 
     shaded result[16];
+    hit_material mat[16];
     bool hit[16];
     float radius[16];
     for (int i = 0; i < 16; ++i) {
       hit[i] = i < n && rh.hit.geomID[i] != RTC_INVALID_GEOMETRY_ID;
       radius[i] = rays[base + std::min(i, n - 1)].radius_px;
     }
-    shade_hits(d, sun, f, rh, hit, dirs, radius, result);
+    shade_hits(d, sun, f, rh, hit, dirs, radius, !path, result, mat);
     alignas(64) int shadow_valid[16];
     alignas(64) RTCRay16 shadow;
     bool any_shadow = false;
@@ -205,6 +348,14 @@ void trace_rays(const scene::impl& d, const light& sun, const camera_frame& f, c
       for (int i = 0; i < n; ++i)
         if (shadow_valid[i] == -1 && shadow.tfar[i] >= 0) result[i].colour += result[i].direct;  // tfar = -inf when occluded
       timing.timer.mark(t.shadow);
+    }
+    if (path && params.bounces > 0) {
+      for (int i = 0; i < n; ++i) {
+        if (!hit[i]) continue;
+        rng r = path_rng(params.seed, rays[base + i]);
+        result[i].colour += bounce_radiance(d, sun, mat[i], -dirs[i], params.bounces, shadows, r);
+      }
+      timing.timer.mark(t.bounce);
     }
     for (int i = 0; i < n; ++i)
       sink(rays[base + i], result[i].colour, result[i].depth, result[i].depth != infinity);
@@ -428,7 +579,7 @@ uint64_t cast_points(const scene::impl& d, const camera_frame& f, const pointset
       point_rays(set, grid_point, i, out.offset, params, rays_here,
                  [&](float x, float y) { rays.push_back({x, y, radius, uint32_t(k)}); });
     }
-    trace_rays(d, params.sun ? *params.sun : d.desc.sun, f, rays.data(), rays.size(), params.shadows, timing,
+    trace_rays(d, params, f, rays.data(), rays.size(), timing,
                per_owner_mean_by([&](uint32_t k) { return uint32_t(rays_of[k]); }, exposure_factor(params),
                                  [&](uint32_t k, glm::vec3 c, float depth, uint32_t hits) {
                                    const uint32_t i = points[k];
@@ -589,7 +740,7 @@ reference_trace trace_reference(const scene& sc, const camera& cam, int width, i
           pixel_rays(x, y, width, params, pattern * n, n,
                      [&](float sx, float sy) { rays.push_back({sx, sy, radius, pixel}); });
         }
-      trace_rays(d, params.sun ? *params.sun : d.desc.sun, f, rays.data(), rays.size(), params.shadows, timing,
+      trace_rays(d, params, f, rays.data(), rays.size(), timing,
                  per_owner_mean_by([&](uint32_t pixel) { return rays_of.empty() ? spp : uint32_t(rays_of[pixel]); },
                                    exposure_factor(params), [&](uint32_t pixel, glm::vec3 c, float depth, uint32_t) {
                                      out.rgb[pixel] = c;

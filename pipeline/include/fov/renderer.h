@@ -47,6 +47,10 @@ struct render_params {
   // (trace_params::ray_floor, point_ray_rule); 0 = spp at every point (the thesis).
   uint32_t ray_floor = 0;
   float exposure_ev = 0;  // every colour times 2^exposure_ev (trace_params::exposure_ev)
+  // How a ray's colour is found (trace_params::method) and, for the path integrator, the
+  // bounces after the first hit (0..max_bounces).
+  integrator method = integrator::direct;
+  uint32_t bounces = 2;
   // A directional sun replacing the scene's light when either is set (the other part
   // then the default light's): direction towards the light, irradiance per channel.
   std::optional<glm::vec3> sun_direction, sun_irradiance;

@@ -24,10 +24,22 @@ struct texture_ref {
 // filtered analytically by the ray footprint.
 enum class pattern : uint8_t { none, checker, glyphs, leaf };
 
+// How a material reflects light: Lambert (the base colour alone; OBJ files and the built-in
+// scene) or glTF 2.0's metallic-roughness model (fov/brdf.h; glTF files).
+enum class shading_model : uint8_t { lambert, metallic_roughness };
+
 struct material {
   std::string name;
+  shading_model model = shading_model::lambert;
   glm::vec4 base_colour{0.8f, 0.8f, 0.8f, 1};  // linear RGB + alpha, times base_texture
   texture_ref base_texture;
+  // metallic_roughness only: the factors (glTF's defaults), times the texture's blue
+  // (metallic) and green (roughness) channels; the occlusion texture's red channel darkens
+  // the ambient term of the direct integrator (a path tracer finds occlusion itself).
+  float metallic = 1, roughness = 1;
+  texture_ref metallic_roughness_texture;  // linear
+  texture_ref occlusion_texture;           // linear
+  float occlusion_strength = 1;
   glm::vec3 emissive{0, 0, 0};
   texture_ref emissive_texture;
   texture_ref normal_texture;  // tangent space, linear

@@ -23,8 +23,24 @@ struct trace_timing {
   double intersect = 0;  // rtcIntersect16 of primary rays
   double shade = 0;      // surface attributes, textures, environment
   double shadow = 0;     // rtcOccluded16 of shadow rays
-  double total() const { return setup + intersect + shade + shadow; }
+  double bounce = 0;     // the path integrator's bounces: their rays, shading and shadow rays
+  double total() const { return setup + intersect + shade + shadow + bounce; }
 };
+
+// How a ray's colour is found (docs/tracer.md, "Materials and integrators").
+enum class integrator {
+  direct,  // the scene's light at the first hit (a hard shadow) plus an ambient term: the
+           // environment's mean colour times environment::ambient times the surface's albedo
+           // (and occlusion texture); no bounce (default: what fovray always did)
+  path,    // path tracing: the first hit and up to trace_params::bounces more, each vertex
+           // lit by the light through a shadow ray (next-event estimation), the environment
+           // and emissive surfaces reached by BRDF-sampled bounces; Russian roulette from the
+           // fourth bounce on; no ambient term
+};
+inline constexpr std::pair<const char*, integrator> integrator_labels[] = {{"direct", integrator::direct},
+                                                                          {"path", integrator::path}};
+// The most bounces a path may take (trace_params::bounces).
+constexpr uint32_t max_bounces = 64;
 
 // The filter width of a traced point's ray for texture and environment lookups.
 enum class texture_footprint {
@@ -77,8 +93,10 @@ falloff_rule make_falloff_rule(const ray_falloff& f, uint32_t spp);
 
 struct trace_params {
   uint32_t spp = 32;     // rays per point (foveated) or per pixel (reference)
-  uint64_t seed = 1;     // fixes the ray positions: the same every frame
+  uint64_t seed = 1;     // fixes the ray positions (and a path's bounces): the same every frame
   bool shadows = true;   // hard shadows from the scene's light
+  integrator method = integrator::direct;
+  uint32_t bounces = 2;  // path only: bounces after the first hit, 0..max_bounces
   // The TAA pattern m = mirror_x + 2 mirror_y (thesis Sec. 3.3: four patterns from one set,
   // so TAA can blend frames with different samples). Foveated: the point set mirrored
   // left-right and/or top-bottom (a grid point casts its pixel's samples m n .. (m + 1) n - 1).
