@@ -19,6 +19,12 @@ check "spp zero"           2 -- "$fovrender" "${set[@]}" --spp 0 -o "$dir/a.png"
 check "gaze off screen"    2 -- "$fovrender" "${set[@]}" --gaze 100,10 -o "$dir/a.png"
 check "bad rbf kernel"     2 -- "$fovrender" "${set[@]}" --method rbf --rbf-kernel cubic -o "$dir/a.png"
 check "bad rbf shape"      2 -- "$fovrender" "${set[@]}" --method rbf --rbf-shape -1 -o "$dir/a.png"
+check "unknown integrator" 2 -- "$fovrender" "${set[@]}" --integrator photon -o "$dir/a.png"
+check "bounces past 64"    2 -- "$fovrender" "${set[@]}" --integrator path --bounces 65 -o "$dir/a.png"
+check "env light missing"  2 -- "$fovrender" "${set[@]}" --env-light "$dir/none.exr" -o "$dir/a.png"
+check "env light not an image" 2 -- "$fovrender" "${set[@]}" --env-light "$0" -o "$dir/a.png"
+[[ "$("$fovrender" "${set[@]}" --env-light "$dir/none.exr" -o "$dir/a.png" 2>&1)" == "fovrender: --env-light: $dir/none.exr: cannot open"* ]] \
+  || fail "a missing --env-light image is not named with the flag"
 check "rbf"                0 -- "$fovrender" "${set[@]}" --spp 2 --method rbf --k 8 -o "$dir/rbf.png"
 # The Delaunay methods: at k = 8 they run; at k = 1 every pixel off a point falls back to
 # Shepard's weights, which fovrender says in one line naming the method and the remedy.

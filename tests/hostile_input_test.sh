@@ -29,7 +29,7 @@ check "eye overflows"         2 -- "${R[@]}" --eye 3e38,0,0 --look-at -3e38,0,0 
 err=$("${R[@]}" --eye 3e38,0,0 --look-at -3e38,0,0 -o "$dir/x.png" 2>&1)
 [[ "$err" == *"--eye: a coordinate beyond"* ]] || fail "--eye 3e38 said: $err"
 check "scene fine"            0 -- "${R[@]}" --scene "$dir/ok.gltf" -o "$dir/ok.png"
-for bad in deep-nodes deep-json inf-vertex huge-vertex tiny-scale fifo-buffer empty-buffer sparse-huge long-buffer; do
+for bad in deep-nodes deep-json inf-vertex huge-vertex tiny-scale fifo-buffer empty-buffer sparse-huge long-buffer infinite-light; do
   check "scene $bad"          1 -- "${R[@]}" --scene "$dir/$bad.gltf" -o "$dir/x.png"
   err=$("${R[@]}" --scene "$dir/$bad.gltf" -o "$dir/x.png" 2>&1)
   [[ "$err" == "fovrender: $dir/$bad.gltf: "* ]] || fail "$bad: the message does not begin with the scene: $err"
@@ -43,6 +43,8 @@ check "glb chunk past the end" 1 -- "${R[@]}" --scene "$dir/chunk-past-end.glb" 
   || fail "a 3.4 GB sparse accessor is not refused with its size"
 [[ "$("${R[@]}" --scene "$dir/long-buffer.gltf" -o "$dir/x.png" 2>&1)" == *"buffer 0: claims 2000000000 bytes, more than the "*" bytes of "*"tex.png (refused)" ]] \
   || fail "a buffer longer than its file is not refused with both lengths"
+[[ "$("${R[@]}" --scene "$dir/infinite-light.gltf" -o "$dir/x.png" 2>&1)" == *"infinite-light.gltf: light '"*"': a colour, intensity"* ]] \
+  || fail "a light of infinite intensity is not refused naming the light"
 [[ "$("${R[@]}" --scene "$dir/fifo-buffer.gltf" -o "$dir/x.png" 2>&1)" == *"fifo.bin: not a regular file"* ]] \
   || fail "a FIFO buffer is not named"
 [[ "$("${R[@]}" --scene "$dir/empty-buffer.gltf" -o "$dir/x.png" 2>&1)" == *"empty.bin: is empty"* ]] \

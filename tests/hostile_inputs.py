@@ -8,13 +8,14 @@ import base64, json, math, os, struct, sys, zlib
 
 
 def gltf(positions=None, depth=1, buffer_uri=None, scale=None, json_nesting=0, image_uri=None, buffer_length=None,
-         sparse_uv_count=None):
+         sparse_uv_count=None, light_intensity=None):
     """A glTF 2.0 scene (JSON text, and the buffer's bytes): one mesh of the given vertex
     positions (x, y, z, ...; indices 0, 1, 2, ...), placed by a chain of `depth` nested nodes
     whose last one has `scale`; the buffer inline (data: URI) unless `buffer_uri` names a
     file, its stated length `buffer_length` when given; `json_nesting` brackets nested inside
     an "extras" array; a base-colour texture when `image_uri` is given; texture coordinates
-    from a sparse accessor of `sparse_uv_count` elements without a bufferView when given."""
+    from a sparse accessor of `sparse_uv_count` elements without a bufferView when given; a
+    KHR_lights_punctual point light of `light_intensity` (a number, written as given) when given."""
     pos = positions or [0, 0, 0, 1, 0, 0, 1, 1, 0]
     count = len(pos) // 3
     uvs = [0.0] * (2 * count)
@@ -51,6 +52,12 @@ def gltf(positions=None, depth=1, buffer_uri=None, scale=None, json_nesting=0, i
                              "sparse": {"count": 1, "indices": {"bufferView": 1, "componentType": 5123},
                                         "values": {"bufferView": 2}}}
     text = json.dumps(g)
+    if light_intensity is not None:  # as text: json.dumps writes no number past a double's range
+        g["extensionsUsed"] = ["KHR_lights_punctual"]
+        g["extensions"] = {"KHR_lights_punctual": {"lights": [{"type": "point", "intensity": 12345}]}}
+        g["nodes"].append({"translation": [0, 2, 0], "extensions": {"KHR_lights_punctual": {"light": 0}}})
+        g["scenes"][0]["nodes"].append(len(g["nodes"]) - 1)
+        text = json.dumps(g).replace("12345", str(light_intensity))
     if json_nesting:
         text = text[:-1] + ', "extras": ' + "[" * json_nesting + "]" * json_nesting + "}"
     return text, blob
@@ -111,6 +118,7 @@ def write_test_files(out):
         # and a buffer longer than its file.
         "sparse-huge": {"sparse_uv_count": 430309376},
         "long-buffer": {"buffer_uri": "tex.png", "buffer_length": 2000000000},
+        "infinite-light": {"light_intensity": "1e39"},
     }.items():
         text, _ = gltf(**kwargs)
         put(name + ".gltf", text)

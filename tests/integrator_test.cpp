@@ -2,9 +2,12 @@
 // material emits, the direct integrator's Lambert shading unchanged by the path integrator's
 // shared parts, and the determinism of bounces.
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <cstdio>
 
 #include <gtest/gtest.h>
+#include <OpenImageIO/imageio.h>
 
 #include "fov/scene.h"
 #include "fov/trace.h"
@@ -54,7 +57,7 @@ scene_description furnace(material mat, float env, bool with_ground = false) {
     d.meshes.push_back(ground(-1, 50, 0));
     d.instances.push_back({1, glm::mat4(1.0f), ""});
   }
-  d.sun.colour = glm::vec3(0);
+  d.lights.at(0).colour = glm::vec3(0);
   d.env.colour = glm::vec3(env);
   return d;
 }
@@ -166,7 +169,7 @@ TEST(Integrator, EmissionComesOnlyFromEmissiveMaterials) {
 TEST(Integrator, PathWithoutBouncesIsDirectWithoutAmbient) {
   for (const material& m : {lambert(0.7f), metal(0.4f)}) {
     scene_description d = furnace(m, 0.6f, true);
-    d.sun.colour = glm::vec3(0.9f, 0.8f, 0.7f);
+    d.lights.at(0).colour = glm::vec3(0.9f, 0.8f, 0.7f);
     d.env.ambient = 0;
     const scene s(d);
     trace_params direct;
@@ -189,4 +192,217 @@ TEST(Integrator, BouncesAreDeterministic) {
   const frame c = trace_reference(s, look_at({0, 0, 3}, {0, 0, 0}, 50), 32, 32, other).image;
   EXPECT_EQ(a.rgb, b.rgb);
   EXPECT_NE(a.rgb, c.rgb);
+}
+
+// A spot light lights what lies within its cone: fully within the inner angle (its
+// intensity over the squared distance, times the cosine), nothing beyond the outer one.
+// A spot 2 units above a white ground, pointing down, seen from straight above.
+TEST(Lights, ASpotLightsItsConeAndNothingBeyond) {
+  scene_description d;
+  d.materials.push_back(lambert(1));
+  d.meshes.push_back(ground(0, 20, 0));
+  d.instances.push_back({0, glm::mat4(1.0f), ""});
+  light spot;
+  spot.type = light::kind::spot;
+  spot.position = {0, 2, 0};
+  spot.axis = {0, -1, 0};
+  spot.inner_cone = 0.3f, spot.outer_cone = 0.5f;
+  spot.colour = glm::vec3(4);
+  d.lights = {spot};
+  d.env.colour = glm::vec3(0);
+  const scene s(d);
+  const int size = 200;
+  const camera cam = look_at({0, 10, 0}, {0, 0, 0}, 40, {0, 0, -1});
+  trace_params tp;
+  tp.spp = 1;
+  const frame f = trace_reference(s, cam, size, size, tp).image;
+  const camera_frame cf = make_frame(cam, size, size);
+  int inside = 0, outside = 0;
+  for (int y = 0; y < size; ++y)
+    for (int x = 0; x < size; ++x) {
+      // Where the pixel's centre meets the ground, and its angle from the spot's axis.
+      const glm::vec3 dir = ray_direction(cf, float(x) + 0.5f, float(y) + 0.5f);
+      const glm::vec3 p = cf.origin + dir * (cf.origin.y / -dir.y);
+      const float r = std::hypot(p.x, p.z), angle = std::atan2(r, 2.0f);
+      const float value = f.rgb[size_t(y) * size + x].g;
+      if (angle < spot.inner_cone - 0.02f) {  // (a pixel spans about 0.01 rad here)
+        const float d2 = r * r + 4, cosine = 2 / std::sqrt(d2);
+        EXPECT_NEAR(value, 4 * cosine / d2, 0.02f * 4 * cosine / d2) << x << "," << y;
+        ++inside;
+      } else if (angle > spot.outer_cone + 0.02f) {
+        EXPECT_EQ(value, 0.0f) << x << "," << y;
+        ++outside;
+      }
+    }
+  EXPECT_GT(inside, 600);
+  EXPECT_GT(outside, 1000);
+}
+
+// Every light lights the scene: two lights give the sum of what each gives alone (the
+// ambient term counted once), within float rounding.
+TEST(Lights, EveryLightAdds) {
+  scene_description d = furnace(lambert(0.8f), 0.5f, true);
+  light a, b;
+  a.direction = glm::normalize(glm::vec3(1, 1, 0.5f)), a.colour = {0.5f, 0.4f, 0.3f};
+  b.type = light::kind::point, b.position = {-2, 3, 2}, b.colour = {2, 3, 4};
+  const camera cam = look_at({0, 1, 4}, {0, -0.5f, 0}, 60);
+  trace_params tp;
+  tp.spp = 2;
+  auto render = [&](std::vector<light> lights, float ambient) {
+    d.lights = std::move(lights);
+    d.env.ambient = ambient;
+    const scene s(d);
+    return trace_reference(s, cam, 48, 36, tp).image;
+  };
+  const frame both = render({a, b}, 0.35f), only_a = render({a}, 0.35f), only_b = render({b}, 0), none = render({}, 0);
+  int lit_by_b = 0;
+  size_t edge = 0;
+  for (size_t i = 0; i < both.rgb.size(); ++i) {
+    // Pixels all of whose rays hit: unlit, they are black (where some rays see the
+    // environment, it would be counted twice in the sum).
+    if (!std::isfinite(both.depth[i])) continue;
+    if (none.rgb[i] != glm::vec3(0)) {
+      ++edge;
+      continue;
+    }
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(both.rgb[i][c], only_a.rgb[i][c] + only_b.rgb[i][c], 1e-5f) << i;
+    lit_by_b += only_b.rgb[i].g > 0;
+  }
+  EXPECT_LT(edge, both.rgb.size() / 10);
+  EXPECT_GT(lit_by_b, 100);
+}
+
+// A glTF file's KHR_lights_punctual lights, every one: placed by their nodes (a spot shines
+// along its node's -Z), cone half-angles as the file gives them, glTF's intensity times
+// colour divided by pi (fovray's light colour is what a white Lambertian surface facing
+// the light shows); a light with a non-finite value refuses the file, naming it.
+TEST(Lights, GltfPunctualLightsAreReadEveryOne) {
+  const std::filesystem::path dir = std::filesystem::path(::testing::TempDir()) / "lights";
+  std::filesystem::create_directories(dir);
+  auto file = [&](const std::string& name, const std::string& intensity) {
+    const std::string text =
+        R"({"asset": {"version": "2.0"}, "extensionsUsed": ["KHR_lights_punctual"], "extensions": {"KHR_lights_punctual": {"lights": [{"type": "directional", "color": [1, 0.5, 0.25], "intensity": 3.14159265}, {"type": "spot", "color": [1, 1, 1], "intensity": )" +
+        intensity +
+        R"(, "spot": {"innerConeAngle": 0.2, "outerConeAngle": 0.6}}]}}, "scene": 0, "scenes": [{"nodes": [0, 1, 2]}], "nodes": [{"mesh": 0}, {"extensions": {"KHR_lights_punctual": {"light": 0}}}, {"translation": [1, 2, 3], "rotation": [-0.7071068, 0, 0, 0.7071068], "extensions": {"KHR_lights_punctual": {"light": 1}}}], "meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}], "buffers": [{"byteLength": 36, "uri": "data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAA"}], "bufferViews": [{"buffer": 0, "byteLength": 36}], "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 0]}]})";
+    std::ofstream((dir / name).string()) << text;
+    return (dir / name).string();
+  };
+  const std::unique_ptr<scene> s = load_scene(file("lights.gltf", "6.28318531"));
+  const std::vector<light>& lights = s->description().lights;
+  ASSERT_EQ(lights.size(), 2u);
+  EXPECT_EQ(lights[0].type, light::kind::directional);
+  EXPECT_NEAR(lights[0].colour.r, 1, 1e-5f);
+  EXPECT_NEAR(lights[0].colour.b, 0.25f, 1e-5f);
+  EXPECT_NEAR(lights[0].direction.z, 1, 1e-5f) << "a directional light shines along its node's -Z: towards it is +Z";
+  const light& spot = lights[1];
+  EXPECT_EQ(spot.type, light::kind::spot);
+  EXPECT_NEAR(spot.colour.g, 2, 1e-5f);
+  EXPECT_NEAR(spot.inner_cone, 0.2f, 1e-5f);
+  EXPECT_NEAR(spot.outer_cone, 0.6f, 1e-5f);
+  EXPECT_NEAR(glm::distance(spot.position, glm::vec3(1, 2, 3)), 0, 1e-5f);
+  EXPECT_NEAR(glm::distance(spot.axis, glm::vec3(0, -1, 0)), 0, 1e-4f) << "-Z turned -90 degrees about X: down";
+  const std::string bad = file("bad-light.gltf", "1e39");
+  try {
+    load_scene(bad);
+    ADD_FAILURE() << "an infinite intensity was accepted";
+  } catch (const std::runtime_error& e) {
+    EXPECT_EQ(std::string(e.what()).rfind(bad + ": light '", 0), 0u) << e.what();
+  }
+}
+
+namespace {
+
+// A lat-long EXR of w x h texels, colour(s, t) at each texel centre (s, t in [0, 1]).
+template <class F>
+std::string write_env(const std::string& name, int w, int h, F&& colour) {
+  std::vector<float> px(size_t(w) * h * 3);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const glm::vec3 c = colour((float(x) + 0.5f) / float(w), (float(y) + 0.5f) / float(h));
+      for (int k = 0; k < 3; ++k) px[(size_t(y) * w + x) * 3 + k] = c[k];
+    }
+  const std::string file = (std::filesystem::path(::testing::TempDir()) / name).string();
+  auto out = OIIO::ImageOutput::create(file);
+  out->open(file, OIIO::ImageSpec(w, h, 3, OIIO::TypeDesc::FLOAT));
+  out->write_image(OIIO::TypeDesc::FLOAT, px.data());
+  out->close();
+  return file;
+}
+
+// A sky (brighter towards the top) with a small, bright sun: the case BRDF sampling alone
+// finds noisy.
+std::string sky_with_sun() {
+  return write_env("sky.exr", 256, 128, [](float s, float t) {
+    const bool sun = std::hypot(s - 0.42f, t - 0.3f) < 0.02f;
+    return sun ? glm::vec3(400, 380, 350) : glm::vec3(0.3f, 0.4f, 0.6f) * (1.2f - t);
+  });
+}
+
+}  // namespace
+
+// Sampling the environment image as a light (by luminance, with MIS) changes the noise,
+// not the answer: a grey sphere on a ground under a sky with a small sun has the same mean
+// either way (bounces alone need many rays to find the sun: 2048 per pixel against 64), and
+// at equal rays far less noise between two seeds with it.
+TEST(EnvironmentLight, SamplingItAgreesWithBouncesAndIsLessNoisy) {
+  scene_description d = furnace(lambert(0.5f), 0, true);
+  d.lights.clear();
+  d.env.latlong_file = sky_with_sun();
+  d.env.colour = glm::vec3(0);
+  const scene s(d);
+  auto render = [&](bool sample, uint32_t spp, uint64_t seed) {
+    trace_params tp = path(1, spp);
+    tp.sample_environment = sample, tp.seed = seed;
+    return trace_reference(s, look_at({0, 0.5f, 3}, {0, -0.3f, 0}, 60), 32, 24, tp).image;
+  };
+  // Over the pixels that see geometry: the mean of two seeds' frames, the standard error of
+  // that mean (from the seeds' differences: each has twice one frame's variance), and the
+  // mean squared difference between the seeds.
+  struct stats {
+    double mean = 0, error = 0, noise = 0;
+  };
+  auto measure = [&](bool sample, uint32_t spp) {
+    const frame a = render(sample, spp, 1), b = render(sample, spp, 2);
+    stats out;
+    size_t n = 0;
+    for (size_t i = 0; i < a.rgb.size(); ++i) {
+      if (!std::isfinite(a.depth[i])) continue;
+      out.mean += a.rgb[i].g + b.rgb[i].g, out.noise += std::pow(a.rgb[i].g - b.rgb[i].g, 2), ++n;
+    }
+    out.mean /= 2.0 * double(n), out.noise /= double(n);
+    out.error = std::sqrt(out.noise / 2 / (2.0 * double(n)));
+    return out;
+  };
+  const stats with = measure(true, 64), without = measure(false, 2048), without_equal = measure(false, 64);
+  EXPECT_NEAR(with.mean, without.mean, 4 * std::hypot(with.error, without.error));
+  EXPECT_LT(with.noise, 0.25 * without_equal.noise) << "sampling the sun should cut the noise";
+  std::printf("environment light: mean %.4f +- %.4f with (64 rays), %.4f +- %.4f without (2048); noise at 64 rays %.3f "
+              "of bounces alone\n",
+              with.mean, with.error, without.mean, without.error, with.noise / without_equal.noise);
+}
+
+// A mirror reflects the environment: the centre of a sphere seen along -z reflects +z,
+// the image's left and right edges (u = 0 or 1, the middle row), which are red; rays that
+// graze the sphere's rim reflect towards -z, the image's blue centre.
+TEST(EnvironmentLight, AMirrorReflectsTheExpectedTexel) {
+  scene_description d = furnace(metal(0), 0);
+  d.lights.clear();
+  d.meshes[0] = sphere({0, 0, 0}, 1, 0, 96, 192);
+  d.env.latlong_file = write_env("halves.exr", 64, 32, [](float s, float) {
+    return s < 0.25f || s > 0.75f ? glm::vec3(1, 0, 0) : glm::vec3(0, 0, 1);
+  });
+  const scene s(d);
+  const int size = 41;
+  const frame f = trace_reference(s, look_at({0, 0, 6}, {0, 0, 0}, 30), size, size, path(1, 4)).image;
+  const glm::vec3 centre = f.rgb[size_t(size / 2) * size + size / 2];
+  EXPECT_GT(centre.r, 0.9f);
+  EXPECT_LT(centre.b, 0.05f);
+  // Where the normal turns more than 45 degrees from the view (the outer part of the
+  // disc), the reflection points behind the sphere: blue.
+  int blue_rim = 0;
+  for (int x = 0; x < size; ++x) {
+    const glm::vec3 c = f.rgb[size_t(size / 2) * size + x];
+    if (std::isfinite(f.depth[size_t(size / 2) * size + x]) && c.b > 0.9f) ++blue_rim;
+  }
+  EXPECT_GT(blue_rim, 0) << "the rim reflects what lies behind the sphere";
 }

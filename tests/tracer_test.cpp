@@ -42,7 +42,7 @@ scene_description emitter(std::vector<glm::vec3> corners, glm::vec3 colour, mate
   for (uint32_t i = 2; i < m.positions.size(); ++i) m.triangles.push_back({0, i - 1, i});
   d.meshes.push_back(m);
   d.instances.push_back({0, glm::mat4(1.0f), ""});
-  d.sun.colour = glm::vec3(0);
+  d.lights.at(0).colour = glm::vec3(0);
   d.env.colour = glm::vec3(0);
   return d;
 }
@@ -421,7 +421,7 @@ TEST(Lighting, DefaultLightDoesNotClipWhiteAndExposureScales) {
   m.triangles = {{0, 1, 2}, {0, 2, 3}};
   d.meshes.push_back(m);
   d.instances.push_back({0, glm::mat4(1.0f), ""});
-  d.sun.direction = {0, 0, 1};  // straight at the quad: the brightest it can be
+  d.lights.at(0).direction = {0, 0, 1};  // straight at the quad: the brightest it can be
   const scene s(d);
   const camera cam = look_at({0, 0, 0}, {0, 0, -1}, 60);
   trace_params tp;
@@ -437,11 +437,11 @@ TEST(Lighting, DefaultLightDoesNotClipWhiteAndExposureScales) {
   tp.exposure_ev = 0;
   light sideways;
   sideways.direction = glm::normalize(glm::vec3(1, 0, 1));  // 45 degrees off the normal
-  sideways.colour = d.sun.colour;
+  sideways.colour = d.lights.at(0).colour;
   tp.sun = sideways;
   const frame lit = trace_reference(s, cam, 4, 4, tp).image;
-  const glm::vec3 ambient = plain.rgb[0] - d.sun.colour;  // direct light at normal incidence is the irradiance
-  EXPECT_NEAR(lit.rgb[0].r, ambient.r + d.sun.colour.r * std::sqrt(0.5f), 1e-4f);
+  const glm::vec3 ambient = plain.rgb[0] - d.lights.at(0).colour;  // direct light at normal incidence is the irradiance
+  EXPECT_NEAR(lit.rgb[0].r, ambient.r + d.lights.at(0).colour.r * std::sqrt(0.5f), 1e-4f);
   tp.exposure_ev = 21;
   EXPECT_THROW(trace_reference(s, cam, 4, 4, tp), std::invalid_argument);
 }

@@ -35,6 +35,15 @@ void add_render_flags(CLI::App& app, render_params& p, unsigned groups) {
     app.add_option("--bounces", p.bounces, "With --integrator path: bounces after the first hit")
         ->check(CLI::Range(0u, max_bounces))
         ->capture_default_str();
+    app.add_option("--env-light", p.env_light,
+                   "A lat-long environment image that surrounds and lights the scene (the path integrator samples it as "
+                   "a light; the direct one uses its mean as ambient light)")
+        ->check(CLI::Validator(
+            [](std::string& file) {
+              const std::string why = env_image_problem(file);
+              return why.empty() ? why : file + ": " + why;
+            },
+            "IMAGE"));
     add_label_option(app, "--texture-footprint", p.footprint, texture_footprint_labels,
                      "Foveated rays filter textures over their share of the point's disc (disc: the thesis's "
                      "prefilter) or of a pixel (pixel: sharper, cheaper, aliased periphery)");
@@ -42,7 +51,7 @@ void add_render_flags(CLI::App& app, render_params& p, unsigned groups) {
         ->capture_default_str();
     app.add_option_function<std::string>(
         "--sun-dir", [&p](const std::string& t) { p.sun_direction = parse_triple("--sun-dir", t); },
-        "Replace the scene's light by a sun in direction X,Y,Z (towards the light)");
+        "Replace the scene's lights by a sun in direction X,Y,Z (towards the light)");
     app.add_option_function<std::string>(
         "--sun-irradiance",
         [&p](const std::string& t) {
@@ -55,7 +64,7 @@ void add_render_flags(CLI::App& app, render_params& p, unsigned groups) {
           if (t.empty() || *end) throw CLI::ValidationError("--sun-irradiance", "expected V or R,G,B (got '" + t + "')");
           p.sun_irradiance = glm::vec3(float(v));
         },
-        "Replace the scene's light by a sun of this irradiance (V or R,G,B; white albedo facing it: V + ambient)");
+        "Replace the scene's lights by a sun of this irradiance (V or R,G,B; white albedo facing it: V + ambient)");
     add_label_option(app, "--disc-sampler", p.disc_sampler, pixel_sampler_labels,
                      "Foveated rays inside each point's disc: random (independent uniform positions, the thesis's) or "
                      "sobol (scrambled Sobol, concentric map: stratified)");

@@ -15,7 +15,7 @@ namespace fov {
 // CLI11 (one line, exit 2); what depends on the point set (k) by fov::validate.
 enum render_flags : unsigned {
   flags_spp = 1,           // --spp
-  flags_trace = 2,         // --seed, --no-shadows, --integrator, --bounces, --texture-footprint, --exposure, --sun-dir, --sun-irradiance, --disc-sampler, --reference-sampler
+  flags_trace = 2,         // --seed, --no-shadows, --integrator, --bounces, --env-light, --texture-footprint, --exposure, --sun-dir, --sun-irradiance, --disc-sampler, --reference-sampler
   flags_method = 4,        // --method, --k
   flags_reconstruct = 8,   // --renka, --rbf-kernel, --rbf-shape
   flags_pattern = 16,      // --pattern

@@ -393,9 +393,9 @@ std::string render_settings_label(const render_params& p) {
                                                                              label_of(pixel_sampler_labels, p.disc_sampler);
   // The integrator is always named: glTF materials shade by the metallic-roughness model
   // since it came, so references and results of glTF scenes made before it do not resume.
-  const std::string integrator = p.method == integrator::path
-                                     ? fmt::format("integrator=path bounces={}", p.bounces)
-                                     : std::string("integrator=direct");
+  std::string integrator = p.method == integrator::path ? fmt::format("integrator=path bounces={}", p.bounces)
+                                                         : std::string("integrator=direct");
+  if (!p.env_light.empty()) integrator += " env_light=" + p.env_light;
   return fmt::format("seed={} sampler={}{} {} exposure={:g} sun_dir={} sun_irradiance={} shadows={} renka={} rbf_kernel={} "
                      "rbf_shape={:g} hfov={:g} eye={} look_at={} up={}",
                      p.seed, label_of(pixel_sampler_labels, p.reference_sampler), disc, integrator, p.exposure_ev, point(p.sun_direction),
@@ -657,7 +657,7 @@ std::vector<std::shared_ptr<const scene>> load_needed_scenes(const sweep_state& 
   for (size_t sc = 0; sc < st.o.scenes.size(); ++sc) {
     if (!st.needed([&](const config& c) { return c.scene == sc; })) continue;
     st.say("loading " + st.o.scenes[sc]);
-    scenes[sc] = load_scene(st.o.scenes[sc]);
+    scenes[sc] = load_scene(st.o.scenes[sc], st.o.render.env_light);
     for (const std::string& w : scenes[sc]->warnings()) st.report.line("warning: " + w);
     setup_camera(*scenes[sc], st.o.render.view);
   }

@@ -70,7 +70,7 @@ std::vector<yardstick_row> run_yardstick(const bench_options& o, const bench_rep
   still.yaw_deg_per_frame = 0, still.gaze_px_per_frame = 0;
   auto say = [&](const std::string& what) { report.progress(rows.size(), 0, what); };
   for (const std::string& scene_name : o.scenes) {
-    std::shared_ptr<const scene> scn = load_scene(scene_name);
+    std::shared_ptr<const scene> scn = load_scene(scene_name, o.render.env_light);
     renderer r(scn, o.render);
     r.warm_up_reference(display.width, display.height, o.render);
     for (uint32_t spp : o.spps) {

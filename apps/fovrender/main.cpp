@@ -208,7 +208,7 @@ int main(int argc, char** argv) {
     j["integrator"] = fov::label_of(fov::integrator_labels, p.method);
     if (p.method == fov::integrator::path) j["bounces"] = p.bounces;
     const auto loading = std::chrono::steady_clock::now();
-    std::shared_ptr<const fov::scene> scene = fov::load_scene(o.scene);
+    std::shared_ptr<const fov::scene> scene = fov::load_scene(o.scene, p.env_light);
     j["scene_load_ms"] = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - loading).count();
     for (const auto& [flag, out] : outputs)  // the rest was checked above: only the files the scene was read from
       if (!out.empty())

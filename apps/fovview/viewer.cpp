@@ -146,7 +146,7 @@ int run_viewer(const viewer_options& o, render_params settings) {
   const uint32_t spp = settings.spp;
   const int w = display.width, h = display.height;
 
-  std::shared_ptr<const fov::scene> scn = fov::load_scene(scene_spec);
+  std::shared_ptr<const fov::scene> scn = fov::load_scene(scene_spec, settings.env_light);
   for (const std::string& warning : scn->warnings()) std::cerr << "fovview: warning: " << warning << "\n";
   std::optional<fov::camera_path> path;
   if (!camera_path_file.empty()) path = fov::load_camera_path(camera_path_file);

@@ -203,6 +203,76 @@ glm::vec3 env_pyramid::lookup(float s, float t, float ds, float dt) const {
   return l1 == l0 ? a : glm::mix(a, bilinear(levels[size_t(l1)]), lod - float(l0));
 }
 
+env_sampler make_env_sampler(const env_pyramid& p) {
+  env_sampler out;
+  size_t l = 0;
+  while (l + 1 < p.levels.size() && p.levels[l].width > 1024) ++l;
+  const env_pyramid::level& m = p.levels[l];
+  out.width = m.width, out.height = m.height;
+  const size_t w = size_t(m.width), h = size_t(m.height);
+  out.texel.resize(w * h);
+  double total = 0;
+  for (size_t y = 0; y < h; ++y) {
+    const float sin_theta = std::sin(pi * (float(y) + 0.5f) / float(h));
+    for (size_t x = 0; x < w; ++x) {
+      const glm::vec3 c = m.texels[y * w + x];
+      out.texel[y * w + x] = std::max(0.0f, 0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b) * sin_theta;
+      total += out.texel[y * w + x];
+    }
+  }
+  const float floor = total > 0 ? float(0.01 * total / double(w * h)) : 1.0f;
+  total = 0;
+  for (float& t : out.texel) total += (t += floor);
+  out.rows.assign(h + 1, 0);
+  out.columns.assign(h * (w + 1), 0);
+  double running = 0;
+  for (size_t y = 0; y < h; ++y) {
+    double row = 0;
+    for (size_t x = 0; x < w; ++x) row += out.texel[y * w + x];
+    double in_row = 0;
+    for (size_t x = 0; x < w; ++x) {
+      in_row += out.texel[y * w + x];
+      out.columns[y * (w + 1) + x + 1] = float(in_row / row);
+    }
+    out.columns[y * (w + 1) + w] = 1;
+    running += row;
+    out.rows[y + 1] = float(running / total);
+  }
+  out.rows[h] = 1;
+  for (float& t : out.texel) t = float(t / total);
+  return out;
+}
+
+glm::vec3 env_sampler::sample(float u1, float u2, float& density) const {
+  // The row, then the column within it, by their cumulative probabilities; then a uniform
+  // position in the texel.
+  const auto row_it = std::upper_bound(rows.begin() + 1, rows.end(), u1);
+  const int y = std::clamp(int(row_it - rows.begin()) - 1, 0, height - 1);
+  const float row_lo = rows[size_t(y)], row_hi = rows[size_t(y) + 1];
+  const float fy = row_hi > row_lo ? (u1 - row_lo) / (row_hi - row_lo) : 0.5f;
+  const auto c0 = columns.begin() + std::ptrdiff_t(size_t(y) * size_t(width + 1));
+  const auto col_it = std::upper_bound(c0 + 1, c0 + width + 1, u2);
+  const int x = std::clamp(int(col_it - c0) - 1, 0, width - 1);
+  const float col_lo = c0[x], col_hi = c0[x + 1];
+  const float fx = col_hi > col_lo ? (u2 - col_lo) / (col_hi - col_lo) : 0.5f;
+  const float s = (float(x) + std::clamp(fx, 0.0f, 1.0f)) / float(width);
+  const float t = (float(y) + std::clamp(fy, 0.0f, 1.0f)) / float(height);
+  // The lookup's mapping inverted: s = 0.5 + atan2(x, -z) / 2 pi, t = acos(y) / pi.
+  const float phi = (s - 0.5f) * 2 * pi, theta = t * pi;
+  const glm::vec3 dir(std::sin(theta) * std::sin(phi), std::cos(theta), -std::sin(theta) * std::cos(phi));
+  density = pdf(dir);
+  return dir;
+}
+
+float env_sampler::pdf(const glm::vec3& dir) const {
+  const float s = 0.5f + std::atan2(dir.x, -dir.z) / (2 * pi);
+  const float t = std::acos(std::clamp(dir.y, -1.0f, 1.0f)) / pi;
+  const int x = std::clamp(int(s * float(width)), 0, width - 1), y = std::clamp(int(t * float(height)), 0, height - 1);
+  const float sin_theta = std::sin(t * pi);
+  if (sin_theta <= 0) return 0;
+  return texel[size_t(y) * size_t(width) + size_t(x)] * float(width) * float(height) / (2 * pi * pi * sin_theta);
+}
+
 env_pyramid load_env_pyramid(const std::string& file) {
   // Read through an ImageInput of its own, never OpenImageIO's shared image cache: the cache
   // keeps a file's header by name, so an image rewritten with another size in the same
@@ -408,6 +478,7 @@ scene::scene(scene_description description) : impl_(std::make_unique<impl>()) {
         weight += std::sin(theta);
       }
     d.env_mean = sum / weight;
+    d.env_light = make_env_sampler(d.env_map);
   } else {
     d.env_mean = d.desc.env.colour * d.desc.env.intensity;
   }

@@ -143,10 +143,10 @@ scene_description builtin_scene() {
 
   add(d, quad({2.0f, 2.6f, -10}, {1.6f, 0, 0}, {0, 0.5f, 0}, sign_m));
 
-  d.sun.direction = glm::normalize(glm::vec3(0.5f, 1.0f, 0.4f));
+  d.lights.at(0).direction = glm::normalize(glm::vec3(0.5f, 1.0f, 0.4f));
   // Brighter than the default light: the test pattern's whites clip on screen
   // (docs/tracer.md); --exposure or --sun-irradiance bring them back.
-  d.sun.colour = {2.5f, 2.4f, 2.2f};
+  d.lights.at(0).colour = {2.5f, 2.4f, 2.2f};
   d.env.colour = {0.35f, 0.45f, 0.65f};
   d.scene_camera = look_at({0, 1.6f, 4}, {0, 0.6f, -10}, 90);
   return d;

@@ -57,6 +57,22 @@ struct env_pyramid {
 // Reads `file` (float formats as linear; 8-bit formats sRGB-decoded). Throws std::runtime_error.
 env_pyramid load_env_pyramid(const std::string& file);
 
+// Directions drawn in proportion to a lat-long environment's luminance times sin(theta)
+// (a texel's solid angle), over the first level of its pyramid at most 1024 texels wide,
+// uniformly within a texel; each texel's weight has a floor of 1 % of the mean, so every
+// direction can be drawn (the lookup's filter reaches past a black texel).
+struct env_sampler {
+  int width = 0, height = 0;
+  std::vector<float> rows;     // cumulative row probabilities, height + 1 entries
+  std::vector<float> columns;  // per row, its cumulative column probabilities: width + 1 entries each
+  std::vector<float> texel;    // each texel's probability
+  bool empty() const { return texel.empty(); }
+  // A direction from two uniform numbers in [0, 1), and its density per steradian.
+  glm::vec3 sample(float u1, float u2, float& pdf) const;
+  float pdf(const glm::vec3& dir) const;
+};
+env_sampler make_env_sampler(const env_pyramid& p);
+
 struct scene::impl {
   scene_description desc;
   RTCDevice device = nullptr;
@@ -67,6 +83,7 @@ struct scene::impl {
   OIIO::TextureSystem* textures = nullptr;  // OpenImageIO's shared system, not owned
   std::vector<texture_handles> handles;      // per material
   env_pyramid env_map;
+  env_sampler env_light;  // when has_env_map
   glm::vec3 bmin{0}, bmax{0};
   glm::vec3 env_mean{0};
   bool has_env_map = false;

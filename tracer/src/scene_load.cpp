@@ -497,21 +497,47 @@ scene_description load_file(const std::string& path) {
       d.scene_camera.reset();
     }
   }
+  // Every directional, point and spot light (KHR_lights_punctual; Assimp gives glTF's
+  // colour x intensity in lux or candela), divided by pi: fovray's light colour is what a
+  // white Lambertian surface facing it shows. A file with lights replaces the default sun.
+  std::vector<light> lights;
+  const bool from_gltf = extension == ".gltf" || extension == ".glb";
   for (unsigned i = 0; i < ai->mNumLights; ++i) {
     const aiLight* l = ai->mLights[i];
-    if (l->mType != aiLightSource_DIRECTIONAL && l->mType != aiLightSource_POINT) continue;
-    const glm::mat4 t = world_transform(find_node(ai->mRootNode, l->mName));
-    d.sun.colour = {l->mColorDiffuse.r, l->mColorDiffuse.g, l->mColorDiffuse.b};
-    if (l->mType == aiLightSource_DIRECTIONAL) {
-      d.sun.type = light::kind::directional;
-      d.sun.direction = -glm::normalize(glm::mat3(t) * glm::vec3(l->mDirection.x, l->mDirection.y, l->mDirection.z));
-    } else {
-      d.sun.type = light::kind::point;
-      d.sun.position = glm::vec3(t * glm::vec4(l->mPosition.x, l->mPosition.y, l->mPosition.z, 1));
+    const std::string name = printable(l->mName.C_Str());
+    if (l->mType != aiLightSource_DIRECTIONAL && l->mType != aiLightSource_POINT && l->mType != aiLightSource_SPOT) {
+      d.warnings.push_back(fmt::format("light '{}': not a directional, point or spot light; skipped", name));
+      continue;
     }
-    if (ai->mNumLights > 1) d.warnings.push_back(fmt::format("{} lights in the file; using '{}' only", ai->mNumLights, l->mName.C_Str()));
-    break;
+    const glm::mat4 t = world_transform(find_node(ai->mRootNode, l->mName));
+    light out;
+    out.colour = glm::vec3(l->mColorDiffuse.r, l->mColorDiffuse.g, l->mColorDiffuse.b) * (from_gltf ? 0.318309886f : 1.0f);
+    const glm::vec3 towards = glm::mat3(t) * glm::vec3(l->mDirection.x, l->mDirection.y, l->mDirection.z);
+    out.position = glm::vec3(t * glm::vec4(l->mPosition.x, l->mPosition.y, l->mPosition.z, 1));
+    if (l->mType == aiLightSource_DIRECTIONAL) {
+      out.type = light::kind::directional;
+      out.direction = -glm::normalize(towards);
+    } else if (l->mType == aiLightSource_POINT) {
+      out.type = light::kind::point;
+    } else {
+      out.type = light::kind::spot;
+      out.axis = glm::normalize(towards);
+      out.inner_cone = l->mAngleInnerCone, out.outer_cone = l->mAngleOuterCone;
+    }
+    const bool finite = std::isfinite(glm::dot(out.colour, out.colour)) && std::isfinite(glm::dot(out.position, out.position)) &&
+                        std::isfinite(glm::dot(out.direction, out.direction)) && std::isfinite(glm::dot(out.axis, out.axis));
+    if (!finite || glm::any(glm::lessThan(out.colour, glm::vec3(0))) ||
+        !world_point_problem(out.position.x, out.position.y, out.position.z).empty())
+      throw std::runtime_error(fmt::format("{}: light '{}': a colour, intensity, position or direction that is not finite, "
+                                           "negative or out of range (refused)", path, name));
+    if (out.type == light::kind::spot &&
+        !(std::isfinite(out.inner_cone) && std::isfinite(out.outer_cone) && out.inner_cone >= 0 &&
+          out.outer_cone > out.inner_cone && out.outer_cone <= 1.5707964f))
+      throw std::runtime_error(fmt::format("{}: light '{}': spot cone angles {:g} and {:g} not within 0 <= inner < outer <= "
+                                           "pi/2 (refused)", path, name, out.inner_cone, out.outer_cone));
+    lights.push_back(out);
   }
+  if (!lights.empty()) d.lights = std::move(lights);
   return d;
 }
 
@@ -519,19 +545,14 @@ scene_description load_file(const std::string& path) {
 
 namespace {
 
-std::unique_ptr<scene> load_scene_checked(const std::string& spec) {
-  if (spec == "builtin") return std::make_unique<scene>(builtin_scene());
+// The description of `spec` (see load_scene); the env: checks are env_image_problem's.
+scene_description load_description(const std::string& spec) {
+  if (spec == "builtin") return builtin_scene();
   if (spec.rfind("env:", 0) == 0) {
     const std::string file = spec.substr(4);
-    if (const std::string why = input_file_problem(file); !why.empty()) throw std::runtime_error(fmt::format("{}: {}", file, why));
+    if (const std::string why = env_image_problem(file); !why.empty()) throw std::runtime_error(fmt::format("{}: {}", file, why));
     auto in = OIIO::ImageInput::open(file);
-    if (!in)
-      throw std::runtime_error(fmt::format("{}: cannot read environment image: {}", file, first_line(OIIO::geterror())));
     const OIIO::ImageSpec& s = in->spec();
-    if (s.width < 2 || s.height < 1) throw std::runtime_error(fmt::format("{}: image too small", file));
-    if (uint64_t(s.width) * uint64_t(s.height) > max_env_pixels)
-      throw std::runtime_error(fmt::format("{}: {}x{} is larger than an environment image may be ({} pixels, e.g. {}x{})",
-                                           file, s.width, s.height, max_env_pixels, 2 * max_env_height, max_env_height));
     scene_description d;
     d.env.latlong_file = file;
     d.files = {file};
@@ -539,10 +560,22 @@ std::unique_ptr<scene> load_scene_checked(const std::string& spec) {
     if (std::abs(s.width - 2 * s.height) > s.height / 8)
       d.warnings.push_back(fmt::format("{}: {}x{} is not 2:1; reading it as lat-long anyway", file, s.width, s.height));
     d.scene_camera = look_at({0, 0, 0}, {0, 0, -1}, 90);
-    return std::make_unique<scene>(std::move(d));
+    return d;
+  }
+  return load_file(spec);
+}
+
+std::unique_ptr<scene> load_scene_checked(const std::string& spec, const std::string& env_light) {
+  scene_description d = load_description(spec);
+  if (!env_light.empty()) {
+    if (const std::string why = env_image_problem(env_light); !why.empty())
+      throw std::runtime_error(fmt::format("{}: {}", env_light, why));
+    d.env.latlong_file = env_light;
+    d.env.intensity = 1;
+    d.files.push_back(env_light);
   }
   try {
-    return std::make_unique<scene>(load_file(spec));
+    return std::make_unique<scene>(std::move(d));
   } catch (const std::invalid_argument& e) {  // the scene refuses geometry Embree must not see (geometry_problem)
     throw std::runtime_error(fmt::format("{}: {}", spec, e.what()));
   }
@@ -550,12 +583,26 @@ std::unique_ptr<scene> load_scene_checked(const std::string& spec) {
 
 }  // namespace
 
-std::unique_ptr<scene> load_scene(const std::string& spec) {
+std::string env_image_problem(const std::string& file) {
+  if (std::string why = input_file_problem(file); !why.empty()) return why;
+  auto in = OIIO::ImageInput::open(file);
+  if (!in) return fmt::format("cannot read environment image: {}", first_line(OIIO::geterror()));
+  const OIIO::ImageSpec& s = in->spec();
+  if (s.width < 2 || s.height < 1) return "image too small";
+  if (uint64_t(s.width) * uint64_t(s.height) > max_env_pixels)
+    return fmt::format("{}x{} is larger than an environment image may be ({} pixels, e.g. {}x{})", s.width, s.height,
+                       max_env_pixels, 2 * max_env_height, max_env_height);
+  return "";
+}
+
+std::unique_ptr<scene> load_scene(const std::string& spec, const std::string& env_light) {
   try {
-    return load_scene_checked(spec);
+    return load_scene_checked(spec, env_light);
   } catch (const std::bad_alloc&) {  // what no size check foresaw (a process limit): the file named
     throw std::runtime_error(fmt::format("{}: out of memory while loading the scene", spec));
   }
 }
+
+std::unique_ptr<scene> load_scene(const std::string& spec) { return load_scene(spec, ""); }
 
 }  // namespace fov

@@ -63,11 +63,8 @@ struct sample_ray {
 };
 
 struct shaded {
-  glm::vec3 colour{0};     // everything but the light's direct contribution
-  glm::vec3 direct{0};     // the light's contribution if unshadowed
-  glm::vec3 to_light{0};   // shadow-ray direction
+  glm::vec3 colour{0};     // everything but the lights' direct contributions
   glm::vec3 origin{0};     // shadow-ray origin
-  float light_distance = 0;
   float depth = infinity;  // camera-space depth, +inf on a miss
 };
 
@@ -95,6 +92,11 @@ light_at sample_light(const light& l, const glm::vec3& p) {
     out.distance = glm::length(v);
     out.to_light = v / std::max(out.distance, 1e-6f);
     out.irradiance /= std::max(out.distance * out.distance, 1e-6f);
+    if (l.type == light::kind::spot) {  // KHR_lights_punctual's falloff between the cones
+      const float inner = std::cos(l.inner_cone), outer = std::cos(l.outer_cone);
+      const float ramp = std::clamp((glm::dot(l.axis, -out.to_light) - outer) / std::max(inner - outer, 1e-4f), 0.0f, 1.0f);
+      out.irradiance *= ramp * ramp;
+    }
   }
   return out;
 }
@@ -144,7 +146,7 @@ glm::vec3 offset_origin(const glm::vec3& p, const glm::vec3& ng) {
 // where a lane-by-lane order cycled through three textures' tiles. The direct integrator
 // adds the ambient term; the path integrator leaves it to the bounces (mat[] keeps what they
 // start from).
-void shade_hits(const scene::impl& d, const light& l, const camera_frame& f, const RTCRayHit16& rh, const bool* hit,
+void shade_hits(const scene::impl& d, const camera_frame& f, const RTCRayHit16& rh, const bool* hit,
                 const glm::vec3* dirs, const float* radius_px, bool ambient, shaded* out, hit_material* mat) {
   surface s[16];
   float duv[16];
@@ -177,10 +179,6 @@ void shade_hits(const scene::impl& d, const light& l, const camera_frame& f, con
     h.brdf.base_colour = glm::vec3(base[i]);
     shaded& o = out[i];
     if (ambient) o.colour += ambient_albedo(h) * d.env_mean * d.desc.env.ambient;
-    const light_at at = sample_light(l, h.position);
-    o.to_light = at.to_light;
-    o.light_distance = at.distance;
-    o.direct = reflected_light(h, -dirs[i], at);
     o.origin = offset_origin(h.position, h.ng);
   }
 }
@@ -193,26 +191,72 @@ rng path_rng(uint64_t seed, const sample_ray& r) {
   return rng(stream_seed(seed ^ 0x70617468ull, r.owner, (uint64_t(x) << 32) | y));
 }
 
+// Power-heuristic weight of a technique drawing with density a against one drawing with b.
+float power_heuristic(float a, float b) { return a * a / std::max(a * a + b * b, 1e-30f); }
+
+// The BRDF's value at h (1/sr) and the density the path integrator draws wi with.
+glm::vec3 brdf_at(const hit_material& h, const glm::vec3& wo, const glm::vec3& wi, float& density) {
+  if (h.lambert) {
+    density = std::max(0.0f, glm::dot(h.n, wi)) * 0.318309886f;
+    return h.brdf.base_colour * 0.318309886f;
+  }
+  density = brdf_pdf(h.brdf, h.n, wo, wi);
+  return brdf_eval(h.brdf, h.n, wo, wi);
+}
+
+// The environment image as a light at vertex h (seen along -wo): one direction drawn by its
+// luminance (env_sampler), through a shadow ray to infinity, weighted against the BRDF's
+// own sampling by the power heuristic. Always draws two numbers from r.
+glm::vec3 environment_light(const scene::impl& d, const hit_material& h, const glm::vec3& wo, bool shadows, rng& r,
+                            RTCIntersectContext& context) {
+  float pdf_env = 0;
+  const float u1 = float(r.uniform()), u2 = float(r.uniform());
+  const glm::vec3 wi = d.env_light.sample(u1, u2, pdf_env);
+  const float cos_n = glm::dot(h.n, wi);
+  if (!(pdf_env > 0) || cos_n <= 0 || glm::dot(h.ng, wi) <= 0) return glm::vec3(0);
+  float pdf_brdf = 0;
+  const glm::vec3 f = brdf_at(h, wo, wi, pdf_brdf);
+  if (f == glm::vec3(0)) return glm::vec3(0);
+  if (shadows) {
+    RTCRay shadow;
+    const glm::vec3 o = offset_origin(h.position, h.ng);
+    shadow.org_x = o.x, shadow.org_y = o.y, shadow.org_z = o.z;
+    shadow.dir_x = wi.x, shadow.dir_y = wi.y, shadow.dir_z = wi.z;
+    shadow.tnear = 0, shadow.tfar = infinity, shadow.time = 0;
+    shadow.mask = 0xFFFFFFFFu, shadow.id = 0, shadow.flags = 0;
+    rtcInitIntersectContext(&context);
+    rtcOccluded1(d.top, &context, &shadow);
+    if (shadow.tfar < 0) return glm::vec3(0);
+  }
+  return f * cos_n * d.environment_radiance(wi, 0) * (power_heuristic(pdf_env, pdf_brdf) / pdf_env);
+}
+
 // The path integrator past the first hit `h` (seen along -wo with throughput 1): up to
-// `bounces` BRDF-sampled bounces, each vertex lit by the light through a shadow ray, misses
-// seeing the environment and hits adding their emission; Russian roulette from the third
-// bounce on. Returns what the bounces add to the first hit's emission and direct light.
-glm::vec3 bounce_radiance(const scene::impl& d, const light& l, hit_material h, glm::vec3 wo, uint32_t bounces,
-                          bool shadows, rng& r) {
+// `bounces` BRDF-sampled bounces, each vertex lit by the lights through shadow rays, misses
+// seeing the environment and hits adding their emission; Russian roulette from the fourth
+// bounce on. With `sample_env`, every vertex a bounce leaves (the first too) also samples
+// the environment image as a light, and misses count with multiple importance sampling's
+// weight. Returns what this adds to the first hit's emission and lights.
+glm::vec3 bounce_radiance(const scene::impl& d, const std::vector<light>& lights, hit_material h, glm::vec3 wo,
+                          uint32_t bounces, bool shadows, bool sample_env, rng& r) {
   glm::vec3 sum(0), throughput(1);
   RTCIntersectContext context;
   for (uint32_t bounce = 1; bounce <= bounces; ++bounce) {
+    // The environment light is sampled where a bounce also leaves the vertex, so that the
+    // two techniques' weights add to one.
+    if (sample_env) sum += throughput * environment_light(d, h, wo, shadows, r, context);
     const glm::vec3 u(float(r.uniform()), float(r.uniform()), float(r.uniform()));
     glm::vec3 wi, weight;
+    float pdf_brdf = 0;
     if (h.lambert) {  // cosine-weighted: weight = albedo
-      const float radius = std::sqrt(u.x), phi = 6.28318530718f * u.y;
+      const float radius = std::sqrt(u.x), phi = 6.28318530718f * u.y, cos_n = std::sqrt(std::max(0.0f, 1 - u.x));
       const glm::vec3 t = glm::normalize(glm::cross(h.n, std::fabs(h.n.x) < 0.9f ? glm::vec3(1, 0, 0) : glm::vec3(0, 1, 0)));
-      wi = radius * std::cos(phi) * t + radius * std::sin(phi) * glm::cross(h.n, t) +
-           std::sqrt(std::max(0.0f, 1 - u.x)) * h.n;
+      wi = radius * std::cos(phi) * t + radius * std::sin(phi) * glm::cross(h.n, t) + cos_n * h.n;
       weight = h.brdf.base_colour;
+      pdf_brdf = cos_n * 0.318309886f;
     } else {
       const brdf_sample b = sample_brdf(h.brdf, h.n, wo, u);
-      wi = b.wi, weight = b.weight;
+      wi = b.wi, weight = b.weight, pdf_brdf = b.pdf;
     }
     if (weight == glm::vec3(0) || glm::dot(wi, h.ng) <= 0) break;  // below the geometric surface: lost
     throughput *= weight;
@@ -231,7 +275,8 @@ glm::vec3 bounce_radiance(const scene::impl& d, const light& l, hit_material h, 
     rtcInitIntersectContext(&context);
     rtcIntersect1(d.top, &context, &ray);
     if (ray.hit.geomID == RTC_INVALID_GEOMETRY_ID) {
-      sum += throughput * d.environment_radiance(wi, 0);
+      const float mis = sample_env ? power_heuristic(pdf_brdf, d.env_light.pdf(wi)) : 1.0f;
+      sum += throughput * d.environment_radiance(wi, 0) * mis;
       break;
     }
     surface s;
@@ -247,31 +292,76 @@ glm::vec3 bounce_radiance(const scene::impl& d, const light& l, hit_material h, 
     }
     wo = -wi;
     sum += throughput * d.emission(*s.mat, s.uv, duv);
-    const light_at at = sample_light(l, h.position);
-    const glm::vec3 direct = reflected_light(h, wo, at);
-    if (direct == glm::vec3(0)) continue;
-    if (shadows) {
-      RTCRay shadow;
-      const glm::vec3 so = offset_origin(h.position, h.ng);
-      shadow.org_x = so.x, shadow.org_y = so.y, shadow.org_z = so.z;
-      shadow.dir_x = at.to_light.x, shadow.dir_y = at.to_light.y, shadow.dir_z = at.to_light.z;
-      shadow.tnear = 0, shadow.tfar = at.distance, shadow.time = 0;
-      shadow.mask = 0xFFFFFFFFu, shadow.id = 0, shadow.flags = 0;
-      rtcInitIntersectContext(&context);
-      rtcOccluded1(d.top, &context, &shadow);
-      if (shadow.tfar < 0) continue;  // occluded
+    for (const light& l : lights) {
+      const light_at at = sample_light(l, h.position);
+      const glm::vec3 direct = reflected_light(h, wo, at);
+      if (direct == glm::vec3(0)) continue;
+      if (shadows) {
+        RTCRay shadow;
+        const glm::vec3 so = offset_origin(h.position, h.ng);
+        shadow.org_x = so.x, shadow.org_y = so.y, shadow.org_z = so.z;
+        shadow.dir_x = at.to_light.x, shadow.dir_y = at.to_light.y, shadow.dir_z = at.to_light.z;
+        shadow.tnear = 0, shadow.tfar = at.distance, shadow.time = 0;
+        shadow.mask = 0xFFFFFFFFu, shadow.id = 0, shadow.flags = 0;
+        rtcInitIntersectContext(&context);
+        rtcOccluded1(d.top, &context, &shadow);
+        if (shadow.tfar < 0) continue;  // occluded
+      }
+      sum += throughput * direct;
     }
-    sum += throughput * direct;
   }
   return sum;
+}
+
+// Adds one light's direct contribution to a packet's hit lanes, each through its shadow ray
+// (a packet of them) unless shadows are off.
+void add_light(const scene::impl& d, const light& l, const hit_material* mat, const bool* hit, const glm::vec3* dirs,
+               int n, bool shadows, RTCIntersectContext& context, task_timing& timing, shaded* result) {
+  trace_timing& t = timing.local;
+  glm::vec3 direct[16];
+  alignas(64) int shadow_valid[16];
+  alignas(64) RTCRay16 shadow;
+  bool any_shadow = false;
+  for (int i = 0; i < 16; ++i) {
+    // Every lane holds a well-formed ray, active or not: Debian's Embree checks the
+    // lanes of its 8-wide halves with assertions on (an unset lane aborted on AVX2).
+    shadow_valid[i] = 0;
+    shadow.org_x[i] = shadow.org_y[i] = shadow.org_z[i] = 0;
+    shadow.dir_x[i] = shadow.dir_y[i] = 0, shadow.dir_z[i] = 1;
+    shadow.tnear[i] = 0, shadow.tfar[i] = 0, shadow.time[i] = 0;
+    shadow.mask[i] = 0xFFFFFFFFu, shadow.id[i] = unsigned(i), shadow.flags[i] = 0;
+    direct[i] = glm::vec3(0);
+    if (i >= n || !hit[i]) continue;
+    const light_at at = sample_light(l, mat[i].position);
+    direct[i] = reflected_light(mat[i], -dirs[i], at);
+    if (direct[i] == glm::vec3(0)) continue;
+    if (!shadows) {
+      result[i].colour += direct[i];
+      continue;
+    }
+    shadow_valid[i] = -1;
+    any_shadow = true;
+    shadow.org_x[i] = result[i].origin.x, shadow.org_y[i] = result[i].origin.y, shadow.org_z[i] = result[i].origin.z;
+    shadow.dir_x[i] = at.to_light.x, shadow.dir_y[i] = at.to_light.y, shadow.dir_z[i] = at.to_light.z;
+    shadow.tfar[i] = at.distance;
+  }
+  timing.timer.mark(t.shade);
+  if (!any_shadow) return;
+  rtcInitIntersectContext(&context);
+  rtcOccluded16(shadow_valid, d.top, &context, &shadow);
+  for (int i = 0; i < n; ++i)
+    if (shadow_valid[i] == -1 && shadow.tfar[i] >= 0) result[i].colour += direct[i];  // tfar = -inf when occluded
+  timing.timer.mark(t.shadow);
 }
 
 // Traces rays[begin, end) in packets of 16 and hands each result to sink(ray, colour, depth, hit).
 template <class Sink>
 void trace_rays(const scene::impl& d, const trace_params& params, const camera_frame& f, const sample_ray* rays,
                 size_t count, task_timing& timing, Sink&& sink) {
-  const light& sun = params.sun ? *params.sun : d.desc.sun;
+  const std::vector<light> one_sun = params.sun ? std::vector<light>{*params.sun} : std::vector<light>();
+  const std::vector<light>& lights = params.sun ? one_sun : d.desc.lights;
   const bool shadows = params.shadows, path = params.method == integrator::path;
+  const bool sample_env = path && params.sample_environment && !d.env_light.empty();
   trace_timing& t = timing.local;
   RTCIntersectContext context;
   for (size_t base = 0; base < count; base += 16) {
@@ -308,52 +398,16 @@ void trace_rays(const scene::impl& d, const trace_params& params, const camera_f
       hit[i] = i < n && rh.hit.geomID[i] != RTC_INVALID_GEOMETRY_ID;
       radius[i] = rays[base + std::min(i, n - 1)].radius_px;
     }
-    shade_hits(d, sun, f, rh, hit, dirs, radius, !path, result, mat);
-    alignas(64) int shadow_valid[16];
-    alignas(64) RTCRay16 shadow;
-    bool any_shadow = false;
-    for (int i = 0; i < 16; ++i) {
-      // Every lane holds a well-formed ray, active or not: Debian's Embree checks the
-      // lanes of its 8-wide halves with assertions on (an unset lane aborted on AVX2).
-      shadow_valid[i] = 0;
-      shadow.org_x[i] = shadow.org_y[i] = shadow.org_z[i] = 0;
-      shadow.dir_x[i] = shadow.dir_y[i] = 0, shadow.dir_z[i] = 1;
-      shadow.tnear[i] = 0, shadow.tfar[i] = 0, shadow.time[i] = 0;
-      shadow.mask[i] = 0xFFFFFFFFu, shadow.id[i] = unsigned(i), shadow.flags[i] = 0;
-      if (i >= n) continue;
-      if (!hit[i]) {
-        result[i].colour = d.environment_radiance(dirs[i], 2 * radius[i] * f.pixel_angle);
-        continue;
-      }
-      if (result[i].direct == glm::vec3(0)) continue;
-      if (!shadows) {
-        result[i].colour += result[i].direct;
-        continue;
-      }
-      shadow_valid[i] = -1;
-      any_shadow = true;
-      shadow.org_x[i] = result[i].origin.x, shadow.org_y[i] = result[i].origin.y, shadow.org_z[i] = result[i].origin.z;
-      shadow.dir_x[i] = result[i].to_light.x, shadow.dir_y[i] = result[i].to_light.y, shadow.dir_z[i] = result[i].to_light.z;
-      shadow.tnear[i] = 0;
-      shadow.tfar[i] = result[i].light_distance;
-      shadow.time[i] = 0;
-      shadow.mask[i] = 0xFFFFFFFFu;
-      shadow.id[i] = unsigned(i);
-      shadow.flags[i] = 0;
-    }
+    shade_hits(d, f, rh, hit, dirs, radius, !path, result, mat);
+    for (int i = 0; i < n; ++i)
+      if (!hit[i]) result[i].colour = d.environment_radiance(dirs[i], 2 * radius[i] * f.pixel_angle);
     timing.timer.mark(t.shade);
-    if (any_shadow) {
-      rtcInitIntersectContext(&context);
-      rtcOccluded16(shadow_valid, d.top, &context, &shadow);
-      for (int i = 0; i < n; ++i)
-        if (shadow_valid[i] == -1 && shadow.tfar[i] >= 0) result[i].colour += result[i].direct;  // tfar = -inf when occluded
-      timing.timer.mark(t.shadow);
-    }
+    for (const light& l : lights) add_light(d, l, mat, hit, dirs, n, shadows, context, timing, result);
     if (path && params.bounces > 0) {
       for (int i = 0; i < n; ++i) {
         if (!hit[i]) continue;
         rng r = path_rng(params.seed, rays[base + i]);
-        result[i].colour += bounce_radiance(d, sun, mat[i], -dirs[i], params.bounces, shadows, r);
+        result[i].colour += bounce_radiance(d, lights, mat[i], -dirs[i], params.bounces, shadows, sample_env, r);
       }
       timing.timer.mark(t.bounce);
     }

@@ -51,6 +51,9 @@ struct render_params {
   // bounces after the first hit (0..max_bounces).
   integrator method = integrator::direct;
   uint32_t bounces = 2;
+  // A lat-long image that surrounds and lights the scene (load_scene's env_light; read when
+  // the tools load their scenes); "" for the scene's own environment.
+  std::string env_light;
   // A directional sun replacing the scene's light when either is set (the other part
   // then the default light's): direction towards the light, irradiance per channel.
   std::optional<glm::vec3> sun_direction, sun_irradiance;

@@ -66,11 +66,18 @@ struct instance {
 };
 
 struct light {
-  enum class kind { directional, point } type = kind::directional;
-  glm::vec3 direction = glm::normalize(glm::vec3(0.4f, 1.0f, 0.3f));  // towards the light
-  glm::vec3 position{0, 10, 0};
-  // Irradiance (directional) or intensity (point). The default keeps white albedo facing
-  // it, plus the default ambient (0.35 x the mean sky, about 0.16), below 1: no clipping.
+  enum class kind { directional, point, spot } type = kind::directional;
+  glm::vec3 direction = glm::normalize(glm::vec3(0.4f, 1.0f, 0.3f));  // directional: towards the light
+  glm::vec3 position{0, 10, 0};  // point and spot
+  // Spot: the unit direction it shines in, and the half-angles (radians) of its cone:
+  // full intensity within `inner_cone`, none beyond `outer_cone`, between them glTF's
+  // KHR_lights_punctual falloff (a clamped linear ramp in the cosine, squared).
+  glm::vec3 axis{0, -1, 0};
+  float inner_cone = 0, outer_cone = 0.785398163f;
+  // Irradiance (directional) or intensity (point, spot), scaled so that a white Lambertian
+  // surface facing the light shows it (glTF's lux and candela divided by pi). The default
+  // keeps white albedo facing it, plus the default ambient (0.35 x the mean sky, about
+  // 0.16), below 1: no clipping.
   glm::vec3 colour{0.8f, 0.77f, 0.7f};
 };
 
@@ -86,7 +93,7 @@ struct scene_description {
   std::vector<mesh> meshes;
   std::vector<instance> instances;
   std::vector<material> materials;
-  light sun;
+  std::vector<light> lights{light()};  // every one lights every surface (the default: one sun)
   environment env;
   std::optional<camera> scene_camera;  // from the file, when it has one
   std::vector<std::string> warnings;   // one per problem item, in load order
@@ -156,6 +163,13 @@ camera setup_camera(const scene& s, const camera_overrides& o = {});
 // Meshes a node scales below 1 / max_transform_scale are skipped with a warning; the
 // geometry must pass geometry_problem.
 std::unique_ptr<scene> load_scene(const std::string& spec);
+// The same scene lit and surrounded by a lat-long environment image (`env_light`, read as
+// an env: scene's; "" for the scene's own environment): misses see it, the direct
+// integrator's ambient term is its mean, the path integrator samples it as a light.
+std::unique_ptr<scene> load_scene(const std::string& spec, const std::string& env_light);
+// "" when `file` can be an environment image (a regular file OpenImageIO reads, at least
+// 2x1 and at most max_env_pixels), else why not.
+std::string env_image_problem(const std::string& file);
 
 constexpr uintmax_t max_scene_file_bytes = uintmax_t(4) << 30;
 constexpr int max_gltf_json_depth = 64;

@@ -97,6 +97,10 @@ struct trace_params {
   bool shadows = true;   // hard shadows from the scene's light
   integrator method = integrator::direct;
   uint32_t bounces = 2;  // path only: bounces after the first hit, 0..max_bounces
+  // Path only: a lat-long environment image is also sampled as a light at every vertex (by
+  // luminance, weighted against BRDF sampling by multiple importance sampling); off, it is
+  // reached by BRDF-sampled bounces alone (a constant environment always is).
+  bool sample_environment = true;
   // The TAA pattern m = mirror_x + 2 mirror_y (thesis Sec. 3.3: four patterns from one set,
   // so TAA can blend frames with different samples). Foveated: the point set mirrored
   // left-right and/or top-bottom (a grid point casts its pixel's samples m n .. (m + 1) n - 1).
