@@ -56,7 +56,7 @@ put("scene", "quad.obj", b"\2" + b"v 0 0 -2\nv 1 0 -2\nv 1 1 -2\nv 0 1 -2\nvt 0 
 # Structure the byte-level mutations seldom reach (issue 30): a node chain past the depth
 # bound, JSON nested past its bound, non-finite and huge vertices, a node scaling its mesh
 # to nothing, buffers that are a device or missing, a camera placed far away, sparse
-# accessors (one of 3.4 GB: a fuzz finding), a buffer claiming more than its file.
+# accessors (one of 3.4 GB: a fuzz finding), a buffer claiming more than its file, a light.
 flat = [0, 0, 0, 1, 0, 0, 1, 1, 0]
 for name, kwargs in {"deep-nodes": {"depth": 300}, "deep-json": {"json_nesting": 100},
                      "inf-vertex": {"positions": flat + [0, 0, 0, math.inf, 0, 0, 1, 1, 0]},
@@ -65,7 +65,8 @@ for name, kwargs in {"deep-nodes": {"depth": 300}, "deep-json": {"json_nesting":
                      "missing-buffer": {"buffer_uri": "absent.bin"},
                      "device-texture": {"image_uri": "/dev/zero"}, "sparse": {"sparse_uv_count": 3},
                      "sparse-huge": {"sparse_uv_count": 430309376},
-                     "long-buffer": {"buffer_uri": "tex.png", "buffer_length": 2000000000}}.items():
+                     "long-buffer": {"buffer_uri": "tex.png", "buffer_length": 2000000000},
+                     "light": {"light_intensity": "3"}}.items():
     put("scene", "structure-" + name + ".gltf", b"\0" + structured_gltf(**kwargs)[0].encode())
 far = json.loads(structured_gltf()[0])
 far["nodes"].append({"camera": 0, "translation": [1e30, 0, 0]})
