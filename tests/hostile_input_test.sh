@@ -39,8 +39,8 @@ check "glb chunk past the end" 1 -- "${R[@]}" --scene "$dir/chunk-past-end.glb" 
   "fovrender: $dir/chunk-past-end.glb: its JSON chunk claims 3808429344 bytes, more than the 49-byte file holds (refused)" ]] \
   || fail "a glb chunk past the end is not refused with its length"
 [[ "$("${R[@]}" --scene "$dir/sparse-huge.gltf" -o "$dir/x.png" 2>&1)" == \
-  *": accessor 2: a sparse accessor of 430309376 elements of 8 bytes is larger than the "*" bytes of data the scene holds (refused)" ]] \
-  || fail "a 3.4 GB sparse accessor is not refused with its size"
+  *": accessor 2: sparse accessors are not supported (refused: Assimp writes where their indices point without a check)" ]] \
+  || fail "a 3.4 GB sparse accessor is not refused naming the accessor"
 [[ "$("${R[@]}" --scene "$dir/long-buffer.gltf" -o "$dir/x.png" 2>&1)" == *"buffer 0: claims 2000000000 bytes, more than the "*" bytes of "*"tex.png (refused)" ]] \
   || fail "a buffer longer than its file is not refused with both lengths"
 [[ "$("${R[@]}" --scene "$dir/infinite-light.gltf" -o "$dir/x.png" 2>&1)" == *"infinite-light.gltf: light '"*"': a colour, intensity"* ]] \

@@ -155,11 +155,12 @@ camera setup_camera(const scene& s, const camera_overrides& o = {});
 // file (through Assimp). Missing textures and degenerate triangles are warned about
 // once each and skipped; an unreadable file throws std::runtime_error naming it. Every
 // file a scene reads (the scene, its buffers, its images) must be a regular file of at most
-// max_scene_file_bytes; a glTF's JSON is refused before Assimp parses it when it nests
+// max_scene_file_bytes; a glTF's JSON is refused before Assimp parses it when it does not
+// parse, repeats a key in an object (Assimp's reader would read it otherwise), nests
 // deeper than max_gltf_json_depth or its node tree is deeper than max_node_depth, cyclic,
 // or shares a node between parents (Assimp recurses once per level and crashed at 20,000),
-// and when a buffer claims more bytes than its file or a sparse accessor's dense array is
-// larger than the scene's data (Assimp allocates what they claim before reading).
+// when a buffer claims more bytes than its file (Assimp allocates what it claims before
+// reading), and when it has sparse accessors (Assimp writes their values unchecked).
 // Meshes a node scales below 1 / max_transform_scale are skipped with a warning; the
 // geometry must pass geometry_problem.
 std::unique_ptr<scene> load_scene(const std::string& spec);
