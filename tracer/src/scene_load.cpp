@@ -543,14 +543,26 @@ scene_description load_file(const std::string& path) {
 
 namespace {
 
-// The description of `spec` (see load_scene); the env: checks are env_image_problem's.
+// env_image_problem, keeping the header it read in `spec`.
+std::string env_image_header(const std::string& file, OIIO::ImageSpec& spec) {
+  if (std::string why = input_file_problem(file); !why.empty()) return why;
+  auto in = OIIO::ImageInput::open(file);
+  if (!in) return fmt::format("cannot read environment image: {}", first_line(OIIO::geterror()));
+  spec = in->spec();
+  if (spec.width < 2 || spec.height < 1) return "image too small";
+  if (uint64_t(spec.width) * uint64_t(spec.height) > max_env_pixels)
+    return fmt::format("{}x{} is larger than an environment image may be ({} pixels, e.g. {}x{})", spec.width, spec.height,
+                       max_env_pixels, 2 * max_env_height, max_env_height);
+  return "";
+}
+
+// The description of `spec` (see load_scene).
 scene_description load_description(const std::string& spec) {
   if (spec == "builtin") return builtin_scene();
   if (spec.rfind("env:", 0) == 0) {
     const std::string file = spec.substr(4);
-    if (const std::string why = env_image_problem(file); !why.empty()) throw std::runtime_error(fmt::format("{}: {}", file, why));
-    auto in = OIIO::ImageInput::open(file);
-    const OIIO::ImageSpec& s = in->spec();
+    OIIO::ImageSpec s;
+    if (const std::string why = env_image_header(file, s); !why.empty()) throw std::runtime_error(fmt::format("{}: {}", file, why));
     scene_description d;
     d.env.latlong_file = file;
     d.files = {file};
@@ -582,15 +594,8 @@ std::unique_ptr<scene> load_scene_checked(const std::string& spec, const std::st
 }  // namespace
 
 std::string env_image_problem(const std::string& file) {
-  if (std::string why = input_file_problem(file); !why.empty()) return why;
-  auto in = OIIO::ImageInput::open(file);
-  if (!in) return fmt::format("cannot read environment image: {}", first_line(OIIO::geterror()));
-  const OIIO::ImageSpec& s = in->spec();
-  if (s.width < 2 || s.height < 1) return "image too small";
-  if (uint64_t(s.width) * uint64_t(s.height) > max_env_pixels)
-    return fmt::format("{}x{} is larger than an environment image may be ({} pixels, e.g. {}x{})", s.width, s.height,
-                       max_env_pixels, 2 * max_env_height, max_env_height);
-  return "";
+  OIIO::ImageSpec spec;
+  return env_image_header(file, spec);
 }
 
 std::unique_ptr<scene> load_scene(const std::string& spec, const std::string& env_light) {

@@ -23,6 +23,8 @@ namespace fov {
 namespace {
 
 constexpr float infinity = std::numeric_limits<float>::infinity();
+constexpr float pi = 3.14159265358979323846f;
+constexpr float inv_pi = 1 / pi;
 
 // Adds the time since the previous mark to a stage, when timing is on.
 class stage_timer {
@@ -108,7 +110,7 @@ glm::vec3 reflected_light(const hit_material& h, const glm::vec3& wo, const ligh
   const float cos_n = glm::dot(h.n, l.to_light);
   if (cos_n <= 0 || glm::dot(h.ng, l.to_light) <= 0) return glm::vec3(0);
   if (h.lambert) return h.brdf.base_colour * l.irradiance * cos_n;
-  return 3.14159265358979f * brdf_eval(h.brdf, h.n, wo, l.to_light) * l.irradiance * cos_n;
+  return pi * brdf_eval(h.brdf, h.n, wo, l.to_light) * l.irradiance * cos_n;
 }
 
 // What the direct integrator's ambient term reflects: the albedo for Lambert; for the
@@ -191,14 +193,27 @@ rng path_rng(uint64_t seed, const sample_ray& r) {
   return rng(stream_seed(seed ^ 0x70617468ull, r.owner, (uint64_t(x) << 32) | y));
 }
 
+// Whether nothing lies between `origin` and `tfar` along `dir` (one shadow ray).
+bool unoccluded(const scene::impl& d, const glm::vec3& origin, const glm::vec3& dir, float tfar,
+                RTCIntersectContext& context) {
+  RTCRay shadow;
+  shadow.org_x = origin.x, shadow.org_y = origin.y, shadow.org_z = origin.z;
+  shadow.dir_x = dir.x, shadow.dir_y = dir.y, shadow.dir_z = dir.z;
+  shadow.tnear = 0, shadow.tfar = tfar, shadow.time = 0;
+  shadow.mask = 0xFFFFFFFFu, shadow.id = 0, shadow.flags = 0;
+  rtcInitIntersectContext(&context);
+  rtcOccluded1(d.top, &context, &shadow);
+  return shadow.tfar >= 0;  // -inf when occluded
+}
+
 // Power-heuristic weight of a technique drawing with density a against one drawing with b.
 float power_heuristic(float a, float b) { return a * a / std::max(a * a + b * b, 1e-30f); }
 
 // The BRDF's value at h (1/sr) and the density the path integrator draws wi with.
 glm::vec3 brdf_at(const hit_material& h, const glm::vec3& wo, const glm::vec3& wi, float& density) {
   if (h.lambert) {
-    density = std::max(0.0f, glm::dot(h.n, wi)) * 0.318309886f;
-    return h.brdf.base_colour * 0.318309886f;
+    density = std::max(0.0f, glm::dot(h.n, wi)) * inv_pi;
+    return h.brdf.base_colour * inv_pi;
   }
   density = brdf_pdf(h.brdf, h.n, wo, wi);
   return brdf_eval(h.brdf, h.n, wo, wi);
@@ -217,17 +232,7 @@ glm::vec3 environment_light(const scene::impl& d, const hit_material& h, const g
   float pdf_brdf = 0;
   const glm::vec3 f = brdf_at(h, wo, wi, pdf_brdf);
   if (f == glm::vec3(0)) return glm::vec3(0);
-  if (shadows) {
-    RTCRay shadow;
-    const glm::vec3 o = offset_origin(h.position, h.ng);
-    shadow.org_x = o.x, shadow.org_y = o.y, shadow.org_z = o.z;
-    shadow.dir_x = wi.x, shadow.dir_y = wi.y, shadow.dir_z = wi.z;
-    shadow.tnear = 0, shadow.tfar = infinity, shadow.time = 0;
-    shadow.mask = 0xFFFFFFFFu, shadow.id = 0, shadow.flags = 0;
-    rtcInitIntersectContext(&context);
-    rtcOccluded1(d.top, &context, &shadow);
-    if (shadow.tfar < 0) return glm::vec3(0);
-  }
+  if (shadows && !unoccluded(d, offset_origin(h.position, h.ng), wi, infinity, context)) return glm::vec3(0);
   return f * cos_n * d.environment_radiance(wi, 0) * (power_heuristic(pdf_env, pdf_brdf) / pdf_env);
 }
 
@@ -249,11 +254,11 @@ glm::vec3 bounce_radiance(const scene::impl& d, const std::vector<light>& lights
     glm::vec3 wi, weight;
     float pdf_brdf = 0;
     if (h.lambert) {  // cosine-weighted: weight = albedo
-      const float radius = std::sqrt(u.x), phi = 6.28318530718f * u.y, cos_n = std::sqrt(std::max(0.0f, 1 - u.x));
+      const float radius = std::sqrt(u.x), phi = 2 * pi * u.y, cos_n = std::sqrt(std::max(0.0f, 1 - u.x));
       const glm::vec3 t = glm::normalize(glm::cross(h.n, std::fabs(h.n.x) < 0.9f ? glm::vec3(1, 0, 0) : glm::vec3(0, 1, 0)));
       wi = radius * std::cos(phi) * t + radius * std::sin(phi) * glm::cross(h.n, t) + cos_n * h.n;
       weight = h.brdf.base_colour;
-      pdf_brdf = cos_n * 0.318309886f;
+      pdf_brdf = cos_n * inv_pi;
     } else {
       const brdf_sample b = sample_brdf(h.brdf, h.n, wo, u);
       wi = b.wi, weight = b.weight, pdf_brdf = b.pdf;
@@ -296,17 +301,7 @@ glm::vec3 bounce_radiance(const scene::impl& d, const std::vector<light>& lights
       const light_at at = sample_light(l, h.position);
       const glm::vec3 direct = reflected_light(h, wo, at);
       if (direct == glm::vec3(0)) continue;
-      if (shadows) {
-        RTCRay shadow;
-        const glm::vec3 so = offset_origin(h.position, h.ng);
-        shadow.org_x = so.x, shadow.org_y = so.y, shadow.org_z = so.z;
-        shadow.dir_x = at.to_light.x, shadow.dir_y = at.to_light.y, shadow.dir_z = at.to_light.z;
-        shadow.tnear = 0, shadow.tfar = at.distance, shadow.time = 0;
-        shadow.mask = 0xFFFFFFFFu, shadow.id = 0, shadow.flags = 0;
-        rtcInitIntersectContext(&context);
-        rtcOccluded1(d.top, &context, &shadow);
-        if (shadow.tfar < 0) continue;  // occluded
-      }
+      if (shadows && !unoccluded(d, offset_origin(h.position, h.ng), at.to_light, at.distance, context)) continue;
       sum += throughput * direct;
     }
   }
