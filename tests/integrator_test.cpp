@@ -406,3 +406,35 @@ TEST(EnvironmentLight, AMirrorReflectsTheExpectedTexel) {
   }
   EXPECT_GT(blue_rim, 0) << "the rim reflects what lies behind the sphere";
 }
+
+// The built-in room ("builtin:cornell", docs/tracer.md) is where bounces matter: its one
+// downlight shines below the ceiling, so the direct integrator leaves the ceiling black
+// (a black environment gives no ambient) and only light the room reflects reaches it;
+// each bounce adds some.
+TEST(Integrator, TheRoomsCeilingIsLitOnlyByBounces) {
+  const auto s = load_scene("builtin:cornell");
+  EXPECT_TRUE(s->warnings().empty());
+  const camera cam = setup_camera(*s, {});
+  const int w = 64, h = 72;
+  // Pixels seeing the ceiling (y = 2, between the front edge at z = 1 and the back wall)
+  // lie in rows 10-21 of 72 at the room's default 53-degree camera; rows 13-18, columns
+  // 24-40 are well inside it.
+  auto ceiling = [&](const frame& f) {
+    double sum = 0;
+    for (int y = 13; y <= 18; ++y)
+      for (int x = 24; x <= 40; ++x) {
+        const size_t i = size_t(y) * w + x;
+        EXPECT_TRUE(std::isfinite(f.depth[i])) << x << "," << y;
+        sum += f.rgb[i].g;
+      }
+    return sum / (6 * 17);
+  };
+  trace_params direct;
+  direct.spp = 4;
+  const double dark = ceiling(trace_reference(*s, cam, w, h, direct).image);
+  const double one = ceiling(trace_reference(*s, cam, w, h, path(1, 64)).image);
+  const double three = ceiling(trace_reference(*s, cam, w, h, path(3, 64)).image);
+  EXPECT_EQ(dark, 0.0);
+  EXPECT_GT(one, 0.02);
+  EXPECT_GT(three, 1.1 * one);
+}

@@ -95,7 +95,7 @@ int main(int argc, char** argv) {
   CLI::App app{"fovrender: render one frame foveated (or at full resolution) and measure it"};
   render_options o;
   fov::render_params p;
-  app.add_option("--scene", o.scene, "builtin, a glTF/OBJ file, or env:IMAGE");
+  app.add_option("--scene", o.scene, "builtin, builtin:cornell (a room where bounces matter), a glTF/OBJ file, or env:IMAGE");
   app.add_option("--points", o.points, "Point set (.fovset); gives the screen size");
   app.add_option("--gaze", o.gaze, "X,Y in screen pixels, centre or corner");
   fov::add_render_flags(app, p);

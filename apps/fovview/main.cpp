@@ -25,7 +25,7 @@ int main(int argc, char** argv) {
   settings.spp = 4;  // live: the most --target-fps may use
   settings.taa = true;
   std::vector<std::string> screenshot_at;
-  app.add_option("--scene", o.scene, "builtin, a glTF/OBJ file, or env:IMAGE");
+  app.add_option("--scene", o.scene, "builtin, builtin:cornell (a room where bounces matter), a glTF/OBJ file, or env:IMAGE");
   app.add_option("--points", o.points, "A point set (.fovset)");
   app.add_option("--points-dir", o.points_dir, "A family of point sets to switch between with [ and ]");
   app.add_option("--scale", o.scale, "With --points-dir: the scale to start at (default the smallest)");

@@ -152,4 +152,54 @@ scene_description builtin_scene() {
   return d;
 }
 
+scene_description cornell_scene() {
+  scene_description d;
+  auto lambert = [&](const char* name, glm::vec3 c) {
+    material m;
+    m.name = name;
+    m.base_colour = glm::vec4(c, 1);
+    return add_material(d, m);
+  };
+  const uint32_t white = lambert("white", {0.73f, 0.73f, 0.73f}), red = lambert("red", {0.63f, 0.065f, 0.05f});
+  const uint32_t green = lambert("green", {0.14f, 0.45f, 0.09f});
+  material floor = d.materials[white];
+  floor.name = "checker floor";
+  floor.procedural = pattern::checker;
+  floor.pattern_repeats = 4;  // 25 cm squares, as the built-in scene's ground
+  floor.pattern_colour = {0.08f, 0.08f, 0.08f};
+  const uint32_t floor_m = add_material(d, floor);
+  material metal;
+  metal.name = "brushed metal";
+  metal.model = shading_model::metallic_roughness;
+  metal.base_colour = {0.95f, 0.93f, 0.88f, 1};
+  metal.metallic = 1;
+  metal.roughness = 0.45f;
+  const uint32_t metal_m = add_material(d, metal);
+
+  // A 2 m room open towards the camera: floor y = 0, ceiling y = 2, walls at x = -1 (red),
+  // x = 1 (green) and z = -1; every face's normal points into the room.
+  add(d, quad({-1, 0, 1}, {2, 0, 0}, {0, 0, -2}, floor_m));
+  add(d, quad({-1, 2, -1}, {2, 0, 0}, {0, 0, 2}, white));
+  add(d, quad({-1, 0, -1}, {2, 0, 0}, {0, 2, 0}, white));
+  add(d, quad({-1, 0, 1}, {0, 0, -2}, {0, 2, 0}, red));
+  add(d, quad({1, 0, -1}, {0, 0, 2}, {0, 2, 0}, green));
+  // A short white box and a tall glossy metal one.
+  add(d, box({0.6f, 0.6f, 0.6f}, white), glm::rotate(glm::translate(glm::mat4(1), {0.38f, 0.3f, 0.3f}), -0.3f, {0, 1, 0}));
+  add(d, box({0.6f, 1.2f, 0.6f}, metal_m), glm::rotate(glm::translate(glm::mat4(1), {-0.35f, 0.6f, -0.35f}), 0.35f, {0, 1, 0}));
+
+  // One downlight at the ceiling's centre (a spot: the ceiling is lit only by what the
+  // room reflects), nothing outside: the direct integrator (no ambient from a black
+  // environment) shows only what the light reaches straight.
+  light lamp;
+  lamp.type = light::kind::spot;
+  lamp.position = {0, 1.98f, 0};
+  lamp.axis = {0, -1, 0};
+  lamp.inner_cone = 1.0f, lamp.outer_cone = 1.3f;
+  lamp.colour = {2.4f, 2.3f, 2.15f};  // about 0.6 on the floor below it
+  d.lights = {lamp};
+  d.env.colour = {0, 0, 0};
+  d.scene_camera = look_at({0, 1, 3.4f}, {0, 1, 0}, 53);
+  return d;
+}
+
 }  // namespace fov

@@ -559,6 +559,7 @@ std::string env_image_header(const std::string& file, OIIO::ImageSpec& spec) {
 // The description of `spec` (see load_scene).
 scene_description load_description(const std::string& spec) {
   if (spec == "builtin") return builtin_scene();
+  if (spec == "builtin:cornell") return cornell_scene();
   if (spec.rfind("env:", 0) == 0) {
     const std::string file = spec.substr(4);
     OIIO::ImageSpec s;

@@ -151,7 +151,7 @@ std::string validate(const camera_overrides& o);
 // usage_error (fov/usage_error.h) naming the flag when the overrides cannot be used.
 camera setup_camera(const scene& s, const camera_overrides& o = {});
 
-// "builtin", "env:FILE" (an environment image and no geometry) or a glTF 2.0 / OBJ
+// "builtin", "builtin:cornell", "env:FILE" (an environment image and no geometry) or a glTF 2.0 / OBJ
 // file (through Assimp). Missing textures and degenerate triangles are warned about
 // once each and skipped; an unreadable file throws std::runtime_error naming it. Every
 // file a scene reads (the scene, its buffers, its images) must be a regular file of at most
@@ -185,7 +185,12 @@ constexpr uint64_t max_env_pixels = uint64_t(2 * max_env_height) * max_env_heigh
 // counted in one warning naming the file.
 constexpr float max_env_value = 65504.0f;
 
-// The built-in procedural scene (no files): see docs/tracer.md.
+// The built-in procedural scene (no files; "builtin"): see docs/tracer.md.
 scene_description builtin_scene();
+// A Cornell-like room lit by one point light ("builtin:cornell"): coloured walls, a checker
+// floor, a white box and a glossy metal one; where bounces matter (docs/tracer.md).
+scene_description cornell_scene();
+// Whether `spec` names a built-in scene (no file to check).
+inline bool is_builtin_scene(const std::string& spec) { return spec == "builtin" || spec == "builtin:cornell"; }
 
 }  // namespace fov
