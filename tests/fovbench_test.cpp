@@ -48,6 +48,7 @@ result_row sample_row(const std::string& method, const std::string& spp) {
   r.cells["acuity"] = "csf";
   r.cells["sampler"] = "poisson";
   r.cells["adaptive_threshold"] = r.cells["levels"] = r.cells["level_rays"] = "";
+  r.cells["integrator"] = "direct", r.cells["bounces"] = "";
   return r;
 }
 
@@ -151,6 +152,8 @@ TEST(ResultsCsv, CorruptRowsAreRefusedAndCrlfIsRead) {
            {"kind", "bogus", "kind 'bogus' is not foveated, uniform, full or falloff"},
            {"acuity", "wang_csf", "acuity 'wang_csf' is not csf, linear-mar or piecewise-mar"},
            {"sampler", "grid", "sampler 'grid' is not poisson, polar or log-polar"},
+           {"integrator", "whitted", "integrator 'whitted' is not direct or path"},
+           {"bounces", "2", "a path row names its bounces; no other row does"},
            {"scale", "1e308", "scale 1e308 lies outside (0, 10]"},
            {"ssim", "1.5", "ssim 1.5 lies outside [-1, 1]"},
            {"method", "full", "method 'full' is not one a foveated row has"},
@@ -181,6 +184,16 @@ TEST(ResultsCsv, CorruptRowsAreRefusedAndCrlfIsRead) {
     result_row r = sample_row("nn", "1");
     r.cells["taa_frames"] = frames, r.cells["taa_pattern"] = pattern;
     EXPECT_EQ(result_row_problem(r), why) << frames << " " << pattern;
+  }
+  // The integrator (issue 29): a path row names its bounces, a whole number 0..max_bounces.
+  result_row traced = sample_row("nn", "1");
+  traced.cells["integrator"] = "path", traced.cells["bounces"] = "3";
+  EXPECT_EQ(result_row_problem(traced), "");
+  EXPECT_EQ(integrator_text(traced), "path, 3 bounces");
+  EXPECT_EQ(integrator_text(sample_row("nn", "1")), "direct");
+  for (const std::string bounces : {"", "65", "1.5", "-1", "x"}) {
+    traced.cells["bounces"] = bounces;
+    EXPECT_NE(result_row_problem(traced), "") << bounces;
   }
   // Density (issue 26): a foveated row's fixed or adaptive; an adaptive row names its
   // threshold and levels (increasing scales) and no scale, its rays per level counts.
@@ -595,22 +608,64 @@ TEST(Summary, JoinsRunsAndRefusesOnesThatDisagree) {
   fs::remove_all(dir);
 }
 
+// The cost of a sample as a study axis (issue 29): runs of one scene and display traced by
+// other integrators are other questions, each answered against its own yardstick, not one
+// study that disagrees with itself.
+TEST(Summary, AnswersEachIntegratorOnItsOwn) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::path(::testing::TempDir()) / ("fovbench-summary-integrators-" + std::to_string(getpid()));
+  fs::remove_all(dir);
+  auto write_run = [&](const std::string& name, std::vector<result_row> rows) {
+    fs::create_directories(dir / name);
+    results_writer w((dir / name / "results.csv").string());
+    for (const result_row& r : rows) w.append(r);
+  };
+  std::vector<result_row> direct = full_rows(), path = full_rows();
+  direct.push_back(study_row("foveated", "1.00", "1", 9.7, "2;2;2"));  // 4x the 2-spp frame
+  path[1].cells["jod"] = "9.2";                                        // noisier: 4 spp is the yardstick
+  path.push_back(study_row("foveated", "1.00", "2", 9.85, "3;3;3"));   // 3x the 2-spp frame: 6x the 4-spp one
+  for (result_row& row : path) row.cells["integrator"] = "path", row.cells["bounces"] = "3";
+  write_run("direct", direct);
+  write_run("path", path);
+  char arg0[] = "fovbench";
+  char* argv[] = {arg0};
+  summary_options o;
+  o.inputs = {dir.string()};
+  o.out = (dir / "summary").string();
+  const summary_result r = write_summary(o, 1, argv);
+  ASSERT_EQ(r.answers.size(), 2u);
+  for (const scheme_answer& a : r.answers) {
+    ASSERT_TRUE(a.reached) << a.integrator;
+    const bool direct_run = a.integrator == "direct";
+    if (!direct_run) EXPECT_EQ(a.integrator, "path, 3 bounces");
+    EXPECT_EQ(a.yardstick_spp, direct_run ? 2.0 : 4.0) << a.integrator;
+    EXPECT_NEAR(a.speedup.estimate, direct_run ? 4.0 : 6.0, 1e-12) << a.integrator;
+  }
+  std::ifstream md(dir / "summary" / "summary.md");
+  const std::string text((std::istreambuf_iterator<char>(md)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("**builtin (path, 3 bounces)**"), std::string::npos) << text;
+  EXPECT_NE(text.find("**builtin**"), std::string::npos) << text;
+  fs::remove_all(dir);
+}
+
 // A results.csv from before the steady-state columns reads for a summary (single frames),
 // never for --resume.
-// Files of older fovbenches: before the acuity column, before the density columns too, and
-// before the steady-state ones too (their rows read as csf); a header missing only the
-// steady-state columns never existed and is refused.
+// Files of older fovbenches: before the integrator columns, before the acuity column too,
+// before the density columns too, and before the steady-state ones too (their rows read as
+// csf and direct); a header missing only later columns never existed and is refused.
 TEST(ResultsCsv, TheColumnsBeforeSteadyStateReadOnlyWhenAsked) {
   const std::string path = ::testing::TempDir() + "/results-before-steady-state.csv";
   const std::set<std::string> density = {"density", "adaptive_threshold", "levels", "level_rays"};
   const std::set<std::string> steady = {"taa_frames", "taa_pattern"}, acuity = {"acuity", "sampler"};
+  const std::set<std::string> traced = {"integrator", "bounces"};
   auto joined = [](std::set<std::string> a, const std::set<std::string>& b) {
     a.insert(b.begin(), b.end());
     return a;
   };
   for (const auto& [dropped, readable] : std::vector<std::pair<std::set<std::string>, bool>>{
-           {acuity, true}, {joined(acuity, density), true}, {joined(joined(acuity, density), steady), true},
-           {density, false}, {steady, false}}) {
+           {traced, true}, {joined(traced, acuity), true}, {joined(joined(traced, acuity), density), true},
+           {joined(joined(joined(traced, acuity), density), steady), true},
+           {acuity, false}, {density, false}, {steady, false}}) {
     std::vector<std::string> columns = result_columns();
     columns.erase(std::remove_if(columns.begin(), columns.end(), [&](const std::string& c) { return dropped.count(c) > 0; }),
                   columns.end());
@@ -619,6 +674,7 @@ TEST(ResultsCsv, TheColumnsBeforeSteadyStateReadOnlyWhenAsked) {
     row.cells["density"] = "fixed";                           // (an older foveated row's set is fixed)
     row.cells["acuity"] = "csf";                              // (and of the thesis's acuity model)
     row.cells["sampler"] = "poisson";                         // (and darts)
+    row.cells["integrator"] = "direct";                       // (and the direct integrator)
     {
       std::ofstream out(path);
       for (size_t i = 0; i < columns.size(); ++i) out << (i ? "," : "") << columns[i];
@@ -634,6 +690,7 @@ TEST(ResultsCsv, TheColumnsBeforeSteadyStateReadOnlyWhenAsked) {
     const std::vector<result_row> rows = read_results(path, true);
     ASSERT_EQ(rows.size(), 1u);
     EXPECT_EQ(rows[0].cells, row.cells);
+    EXPECT_EQ(integrator_text(rows[0]), "direct");
   }
   std::filesystem::remove(path);
 }

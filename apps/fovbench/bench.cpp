@@ -511,7 +511,7 @@ display_geometry check_bench_options(const bench_options& o) {
     throw usage_error(fmt::format("-o {}: {} is not a directory", o.out, refs.string()));
   for (const std::string& scene : o.scenes) {  // fail before any output, not an hour in
     const std::string file = scene.rfind("env:", 0) == 0 ? scene.substr(4) : scene;
-    if (scene == "builtin") continue;
+    if (is_builtin_scene(scene)) continue;
     if (const std::string why = input_file_problem(file); !why.empty())
       throw std::runtime_error(fmt::format("--scene {}: {}", scene, why));
   }
@@ -858,6 +858,8 @@ class scene_sweep {
                       {"device", r_.device()}, {"frames", std::to_string(o_.frames)},
                       {"neighbours", c.kind == row_kind::foveated || c.kind == row_kind::uniform ? neighbours_label() : ""},
                       {"render_settings", render_settings_label(o_.render)},
+                      {"integrator", label_of(integrator_labels, o_.render.method)},
+                      {"bounces", o_.render.method == integrator::path ? std::to_string(o_.render.bounces) : ""},
                       {"full_rays", std::to_string(uint64_t(st_.display.width) * st_.display.height * c.spp)}});
     put_floor(row, floor_at(c.gaze), o_.reference_spp);
     return row;

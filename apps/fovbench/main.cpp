@@ -50,7 +50,7 @@ int main(int argc, char** argv) {
   CLI::App app{"fovbench: the speed/accuracy trade of foveated ray tracing, measured"};
   fov::bench_options o;
   o.methods = {fov::method::shepard};
-  app.add_option("--scene", o.scenes, "Scene (repeat): builtin, a glTF/OBJ file, env:IMAGE")->take_all();
+  app.add_option("--scene", o.scenes, "Scene (repeat): builtin, builtin:cornell (a room where bounces matter), a glTF/OBJ file, env:IMAGE")->take_all();
   app.add_option("--display", o.display, fov::display_help());
   app.add_option("--viewing-distance", o.viewing_distance, "Eye-to-screen distance in display widths (replaces the display's)")
       ->check(CLI::Range(fov::min_viewing_distance, fov::max_viewing_distance));

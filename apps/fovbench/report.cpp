@@ -22,22 +22,24 @@ namespace {
 // does not throw on a subnormal.
 double to_number(const std::string& text) { return std::strtod(text.c_str(), nullptr); }
 
-// The report's unit: the rows of one scene, as single frames or in one steady state under
-// TAA (taa_frames and taa_pattern): each is judged on its own, against its own baselines.
+// The report's unit: the rows of one scene under one integrator (integrator_text), as single
+// frames or in one steady state under TAA (taa_frames and taa_pattern): each is judged on its
+// own, against its own baselines.
 struct sweep_part {
-  std::string scene, taa_frames, taa_pattern;
+  std::string scene, taa_frames, taa_pattern, integrator = "direct";
   bool operator==(const sweep_part& o) const {
-    return scene == o.scene && taa_frames == o.taa_frames && taa_pattern == o.taa_pattern;
+    return scene == o.scene && taa_frames == o.taa_frames && taa_pattern == o.taa_pattern && integrator == o.integrator;
   }
   bool holds(const result_row& r) const {
-    return r.text("scene") == scene && r.text("taa_frames") == taa_frames && r.text("taa_pattern") == taa_pattern;
+    return r.text("scene") == scene && r.text("taa_frames") == taa_frames && r.text("taa_pattern") == taa_pattern &&
+           integrator_text(r) == integrator;
   }
 };
 
 std::vector<sweep_part> scenes_of(const std::vector<result_row>& rows) {
   std::vector<sweep_part> out;
   for (const result_row& r : rows) {
-    const sweep_part part{r.text("scene"), r.text("taa_frames"), r.text("taa_pattern")};
+    const sweep_part part{r.text("scene"), r.text("taa_frames"), r.text("taa_pattern"), integrator_text(r)};
     if (std::find(out.begin(), out.end(), part) == out.end()) out.push_back(part);
   }
   return out;
@@ -172,8 +174,9 @@ std::vector<const result_row*> rows_of(const std::vector<result_row>& rows, cons
 
 // "builtin", or "builtin, TAA steady state (16 frames, mirror)".
 std::string part_title(const sweep_part& part) {
-  if (part.taa_frames.empty()) return short_scene(part.scene);
-  return fmt::format("{}, TAA steady state ({} frames, {})", short_scene(part.scene), part.taa_frames, part.taa_pattern);
+  const std::string scene = short_scene(part.scene) + (part.integrator == "direct" ? "" : " (" + part.integrator + ")");
+  if (part.taa_frames.empty()) return scene;
+  return fmt::format("{}, TAA steady state ({} frames, {})", scene, part.taa_frames, part.taa_pattern);
 }
 
 // The Pareto figure of one scene: every configuration's mean (frame time with its
@@ -490,7 +493,7 @@ double goal_speedup(double ppd) {
   return NAN;
 }
 
-std::string answer_title(const scheme_answer& a) { return part_title({a.scene, a.taa_frames, a.taa_pattern}); }
+std::string answer_title(const scheme_answer& a) { return part_title({a.scene, a.taa_frames, a.taa_pattern, a.integrator}); }
 
 std::vector<scheme_answer> scheme_answers_by_level(const std::vector<result_row>& rows) {
   std::vector<scheme_answer> out;
@@ -511,7 +514,7 @@ std::vector<scheme_answer> scheme_answers_by_level(const std::vector<result_row>
         const knob_mean* shown = r.best ? r.best : r.closest;
         if (!shown) continue;  // no configuration, or one reaching it unpriced (no ladder): no answer
         scheme_answer a;
-        a.scene = part.scene, a.taa_frames = part.taa_frames, a.taa_pattern = part.taa_pattern;
+        a.scene = part.scene, a.taa_frames = part.taa_frames, a.taa_pattern = part.taa_pattern, a.integrator = part.integrator;
         a.display = first.text("display"), a.ppd = first.number("ppd"), a.pixels = first.number("full_rays") / first.number("spp");
         a.noise_floor_jod = floor;
         a.target_jod = NAN;
@@ -532,9 +535,9 @@ std::vector<scheme_answer> scheme_answers_by_level(const std::vector<result_row>
 std::vector<scheme_answer> at_goal(const std::vector<scheme_answer>& by_level, double target_jod) {
   // Per scene, steady state and display: the fewest spp whose full frame reaches the target,
   // else the spp of the best full frame.
-  using place = std::tuple<std::string, std::string, std::string, std::string>;
+  using place = std::tuple<std::string, std::string, std::string, std::string, std::string>;
   std::map<place, std::pair<double, double>> yardstick;  // spp, JOD
-  auto place_of = [](const scheme_answer& a) { return place{a.scene, a.taa_frames, a.taa_pattern, a.display}; };
+  auto place_of = [](const scheme_answer& a) { return place{a.scene, a.taa_frames, a.taa_pattern, a.integrator, a.display}; };
   for (const scheme_answer& a : by_level) {
     const auto [it, added] = yardstick.emplace(place_of(a), std::make_pair(a.yardstick_spp, a.yardstick_jod));
     if (added) continue;
@@ -551,14 +554,14 @@ std::vector<scheme_answer> at_goal(const std::vector<scheme_answer>& by_level, d
 std::string scheme_answers_markdown(const std::vector<scheme_answer>& answers) {
   std::vector<sweep_part> parts;
   for (const scheme_answer& a : answers) {
-    const sweep_part p{a.scene, a.taa_frames, a.taa_pattern};
+    const sweep_part p{a.scene, a.taa_frames, a.taa_pattern, a.integrator};
     if (std::find(parts.begin(), parts.end(), p) == parts.end()) parts.push_back(p);
   }
   std::string md;
   for (const sweep_part& part : parts) {
     std::vector<const scheme_answer*> mine;
     for (const scheme_answer& a : answers)
-      if (sweep_part{a.scene, a.taa_frames, a.taa_pattern} == part) mine.push_back(&a);
+      if (sweep_part{a.scene, a.taa_frames, a.taa_pattern, a.integrator} == part) mine.push_back(&a);
     std::stable_sort(mine.begin(), mine.end(), [](const scheme_answer* a, const scheme_answer* b) { return a->ppd < b->ppd; });
     md += fmt::format("**{}**\n\n| display | ppd | pixels (M) | yardstick (JOD, ms, rays M) | reference floor (JOD) | goal |", part_title(part));
     for (const auto& [name, which] : scheme_labels) md += fmt::format(" {} |", name);

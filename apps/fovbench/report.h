@@ -135,6 +135,7 @@ inline constexpr std::pair<const char*, scheme> scheme_labels[] = {{"sparse", sc
                                                                    {"adaptive", scheme::adaptive}};
 struct scheme_answer {
   std::string scene, taa_frames, taa_pattern, display;  // where: the sweep part and its display
+  std::string integrator = "direct";                    // and how its rays were traced (integrator_text)
   double ppd = 0, pixels = 0;                           // the display's pixels per degree and pixel count
   double noise_floor_jod = 0;                           // the reference's own (a second reference against it)
   double target_jod = 0;

@@ -46,40 +46,41 @@ std::vector<std::string> results_files(const std::vector<std::string>& inputs) {
 }
 
 // What an answer is about, and the part of it every run must agree on.
-using answer_key = std::tuple<std::string, std::string, std::string, std::string, scheme>;
-answer_key key_of(const scheme_answer& a) { return {a.scene, a.taa_frames, a.taa_pattern, a.display, a.scheme}; }
+using answer_key = std::tuple<std::string, std::string, std::string, std::string, std::string, scheme>;
+answer_key key_of(const scheme_answer& a) { return {a.scene, a.taa_frames, a.taa_pattern, a.integrator, a.display, a.scheme}; }
 
 std::string summary_csv(const std::vector<scheme_answer>& answers) {
   std::string csv =
-      "scene,taa_frames,taa_pattern,display,ppd,pixels,noise_floor_jod,target_jod,yardstick_spp,yardstick_jod,yardstick_ms,"
+      "scene,taa_frames,taa_pattern,integrator,display,ppd,pixels,noise_floor_jod,target_jod,yardstick_spp,yardstick_jod,yardstick_ms,"
       "yardstick_rays,scheme,reached,best,best_jod,best_ms,best_rays,best_points,speedup,speedup_lo,speedup_hi,goal,source\n";
   auto num = [](double v) { return std::isnan(v) ? std::string() : fmt::format("{:g}", v); };
   for (const scheme_answer& a : answers)
-    csv += fmt::format("{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n", csv_cell(a.scene), a.taa_frames,
-                       a.taa_pattern, csv_cell(a.display), num(a.ppd), num(a.pixels), num(a.noise_floor_jod), num(a.target_jod),
+    csv += fmt::format("{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n", csv_cell(a.scene), a.taa_frames,
+                       a.taa_pattern, csv_cell(a.integrator), csv_cell(a.display), num(a.ppd), num(a.pixels), num(a.noise_floor_jod), num(a.target_jod),
                        num(a.yardstick_spp), num(a.yardstick_jod), num(a.yardstick_ms), num(a.yardstick_rays), label_of(scheme_labels, a.scheme),
                        a.reached ? 1 : 0, csv_cell(a.best), num(a.best_jod), num(a.best_ms), num(a.best_rays), num(a.best_points),
                        num(a.speedup.estimate), num(a.speedup.lo), num(a.speedup.hi), num(goal_speedup(a.ppd)), csv_cell(a.source));
   return csv;
 }
 
-// One panel per scene: per scheme, single frames (solid) and each steady state (dashed), the
+// One panel per scene and integrator: per scheme, single frames (solid) and each steady state (dashed), the
 // speedup where it reaches the yardstick (with the goal), or its best JOD against the
 // yardstick's (every answer), against pixels per degree.
 std::vector<plot_panel> panels(const std::vector<scheme_answer>& answers, bool speedup) {
-  std::vector<std::string> scenes;
+  std::vector<std::pair<std::string, std::string>> scenes;  // scene, integrator
   for (const scheme_answer& a : answers)
-    if (std::find(scenes.begin(), scenes.end(), a.scene) == scenes.end()) scenes.push_back(a.scene);
+    if (std::find(scenes.begin(), scenes.end(), std::make_pair(a.scene, a.integrator)) == scenes.end())
+      scenes.emplace_back(a.scene, a.integrator);
   std::vector<plot_panel> out;
-  for (const std::string& scene : scenes) {
+  for (const auto& [scene, traced] : scenes) {
     plot_panel p;
-    p.title = short_scene(scene);
+    p.title = short_scene(scene) + (traced == "direct" ? "" : " (" + traced + ")");
     p.x_label = "pixels per degree at the display's centre";
     p.y_label = speedup ? "speedup at the yardstick's JOD\n(95 % interval; log scale)" : "best JOD minus the yardstick's\n(>= 0: reaches it)";
     p.log_y = speedup;
     std::vector<const scheme_answer*> mine;
     for (const scheme_answer& a : answers)
-      if (a.scene == scene) mine.push_back(&a);
+      if (a.scene == scene && a.integrator == traced) mine.push_back(&a);
     std::stable_sort(mine.begin(), mine.end(), [](const scheme_answer* a, const scheme_answer* b) { return a->ppd < b->ppd; });
     std::vector<std::pair<std::string, std::string>> steady;  // single frames first, then each steady state
     for (const scheme_answer* a : mine)
@@ -133,14 +134,15 @@ summary_result write_summary(const summary_options& s, int argc, char** argv) {
   result.files = results_files(s.inputs);
   std::vector<scheme_answer> by_level;
   // The full frame at each spp must score alike in every run of a scene and display.
-  std::map<std::tuple<std::string, std::string, std::string, std::string, double>, const scheme_answer*> level_seen;
+  std::map<std::tuple<std::string, std::string, std::string, std::string, std::string, double>, const scheme_answer*> level_seen;
   for (const std::string& file : result.files) {
     const size_t before = by_level.size();
     for (scheme_answer& a : scheme_answers_by_level(read_results(file, true))) by_level.push_back(std::move(a));
     for (size_t i = before; i < by_level.size(); ++i) by_level[i].source = file;
   }
   for (const scheme_answer& a : by_level) {
-    const auto [it, added] = level_seen.emplace(std::make_tuple(a.scene, a.taa_frames, a.taa_pattern, a.display, a.yardstick_spp), &a);
+    const auto [it, added] =
+        level_seen.emplace(std::make_tuple(a.scene, a.taa_frames, a.taa_pattern, a.integrator, a.display, a.yardstick_spp), &a);
     if (!added && std::fabs(it->second->yardstick_jod - a.yardstick_jod) > 0.005)
       throw std::runtime_error(fmt::format("{}: full resolution at {} spp scores {:.3f} JOD, in {} {:.3f} (scene {}, display {}): "
                                            "not one study (other references or renders)",

@@ -33,6 +33,9 @@ const std::vector<std::string>& result_columns() {
       // set of these level scales, refined per frame at this threshold; `scale` empty), and
       // an adaptive frame's rays per level, coarsest first.
       "density", "adaptive_threshold", "levels", "level_rays",
+      // How a ray's colour is found (--integrator: direct or path) and, for path, the bounces
+      // after the first hit (issue 29): the cost of a sample.
+      "integrator", "bounces",
       // What it cost, timed interleaved with a full-resolution frame at the same spp.
       "points_traced", "rays", "full_rays", "trace_ms", "reconstruct_ms", "frame_ms", "frame_ms_lo", "frame_ms_hi",
       "full_ms", "full_ms_lo", "full_ms_hi", "speedup", "speedup_lo", "speedup_hi", "timing_flag",
@@ -144,6 +147,18 @@ std::string result_row_problem(const result_row& row) {
   point_sampler sampler{};
   if (!parse_label(point_sampler_labels, row.text("sampler"), sampler))
     return fmt::format("sampler '{}' is not {}", printable(row.text("sampler")), label_alternatives(point_sampler_labels));
+  // The integrator (empty in rows from before its column: direct); bounces only with path.
+  const std::string& how_traced = row.text("integrator");
+  integrator traced{};
+  if (!how_traced.empty() && !parse_label(integrator_labels, how_traced, traced))
+    return fmt::format("integrator '{}' is not {}", printable(how_traced), label_alternatives(integrator_labels));
+  const std::string& bounces = row.text("bounces");
+  if (bounces.empty() != (how_traced != "path")) return "a path row names its bounces; no other row does";
+  if (!bounces.empty()) {
+    const double n = row.number("bounces");
+    if (!(n >= 0 && n <= max_bounces && n == std::floor(n)))
+      return fmt::format("bounces '{}' is not a whole number in 0..{}", printable(bounces), max_bounces);
+  }
   // Density: a foveated row's fixed or adaptive; an adaptive one names its threshold and
   // levels (increasing scales joined by ';') and has no single scale.
   const std::string& density = row.text("density");
@@ -214,6 +229,12 @@ std::string result_row_problem(const result_row& row) {
   return "";
 }
 
+std::string integrator_text(const result_row& row) {
+  if (row.text("integrator") != "path") return "direct";
+  const std::string& n = row.text("bounces");
+  return fmt::format("path, {} bounce{}", n, n == "1" ? "" : "s");
+}
+
 std::vector<result_row> read_results(const std::string& path, bool older_ok) {
   std::istringstream in(read_input_file(path, max_results_bytes, "results.csv"));
   auto chomp = [](std::string& s) {  // a file saved with CRLF line ends reads the same
@@ -231,14 +252,16 @@ std::vector<result_row> read_results(const std::string& path, bool older_ok) {
                   columns.end());
     return columns;
   };
-  const bool older = older_ok && (header == without({"acuity", "sampler"}) ||
-                                  header == without({"acuity", "sampler", "density", "adaptive_threshold", "levels", "level_rays"}) ||
-                                  header == without({"acuity", "sampler", "density", "adaptive_threshold", "levels", "level_rays",
-                                                     "taa_frames", "taa_pattern"}));
+  const bool older = older_ok && (header == without({"integrator", "bounces"}) ||
+                                  header == without({"integrator", "bounces", "acuity", "sampler"}) ||
+                                  header == without({"integrator", "bounces", "acuity", "sampler", "density", "adaptive_threshold",
+                                                     "levels", "level_rays"}) ||
+                                  header == without({"integrator", "bounces", "acuity", "sampler", "density", "adaptive_threshold",
+                                                     "levels", "level_rays", "taa_frames", "taa_pattern"}));
   if (header != result_columns() && !older)
     throw std::runtime_error(fmt::format("{}:1: not a results.csv of this fovbench (columns differ); use another -o", path));
   static const std::set<std::string> text_columns = {"scene",  "gaze",         "kind",   "method",         "texture_footprint", "taa_pattern",
-                                                     "fovea",  "acuity", "sampler", "display", "timing_flag", "density", "levels", "level_rays",  "device", "neighbours", "render_settings", "error_profile",
+                                                     "fovea",  "acuity", "sampler", "display", "timing_flag", "density", "levels", "level_rays", "integrator",  "device", "neighbours", "render_settings", "error_profile",
                                                      "speedup_samples", "ladder_samples"};
   std::vector<result_row> rows;
   std::map<std::string, int> first_line;  // by key
@@ -268,6 +291,7 @@ std::vector<result_row> read_results(const std::string& path, bool older_ok) {
     if (older && !r.cells.count("density")) r.cells["density"] = r.text("kind") == "foveated" ? "fixed" : "";
     if (older && !r.cells.count("acuity")) r.cells["acuity"] = "csf";  // before acuity models: the thesis's
     if (older && !r.cells.count("sampler")) r.cells["sampler"] = "poisson";  // ... and its darts
+    if (older && !r.cells.count("integrator")) r.cells["integrator"] = "direct", r.cells["bounces"] = "";  // before path tracing
     if (const std::string why = result_row_problem(r); !why.empty())
       throw std::runtime_error(fmt::format("{}:{}: {} (not a row fovbench writes)", path, number, why));
     if (const auto [it, added] = first_line.emplace(r.key(), number); !added)

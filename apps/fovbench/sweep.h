@@ -47,6 +47,10 @@ const std::vector<std::string>& result_columns();
 // full-frame times, speedups, scale (<= 10), k (<= 32), spp and frames > 0.
 std::string result_row_problem(const result_row& row);
 
+// A row's integrator as titles say it: "direct" (also for rows from before the integrator
+// columns, which were all direct) or "path, N bounces".
+std::string integrator_text(const result_row& row);
+
 // The largest results.csv read back (about 300,000 rows).
 constexpr uintmax_t max_results_bytes = uintmax_t(256) << 20;
 
@@ -56,7 +60,8 @@ constexpr uintmax_t max_results_bytes = uintmax_t(256) << 20;
 // or empty; never nan), a row fails result_row_problem, or a row repeats an earlier row's
 // configuration (key()). A torn last line (no newline: an interrupted write) is ignored;
 // CRLF line ends read as LF. With older_ok (for reading only: fovbench summary), a results.csv
-// from before the density columns (density, adaptive_threshold, levels, level_rays), or also
+// from before the integrator columns (integrator, bounces: its rows direct), before that
+// without the acuity model's (acuity, sampler), before the density columns (density, adaptive_threshold, levels, level_rays), or also
 // before the steady-state ones (taa_frames, taa_pattern), reads too, its rows single frames of
 // fixed density; --resume refuses one, since its new rows would have more columns.
 std::vector<result_row> read_results(const std::string& path, bool older_ok = false);
