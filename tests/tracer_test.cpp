@@ -1169,5 +1169,39 @@ TEST(Tracer, CameraOverridesPlaceAndAimTheCamera) {
   EXPECT_NE(validate(o), "");
 }
 
+// Extensions a glTF file declares that fovray does not implement are warned about once
+// each, naming the file and the extension (material extensions saying how the material
+// shades instead); KHR_lights_punctual, which fovray reads, is not; past 16 the rest are
+// counted. The file still loads.
+TEST(Tracer, UnsupportedGltfExtensionsWarnOnceEach) {
+  const float facing_z[12] = {-1, -1, 0, 1, -1, 0, 1, 1, 0, -1, 1, 0};
+  const std::string plain = write_gltf("extensions-plain.gltf", facing_z, "{\"camera\":0,\"translation\":[0,0,4]}",
+                                       "{\"type\":\"perspective\",\"perspective\":{\"yfov\":1,\"znear\":0.1}}");
+  std::ifstream in(plain);
+  const std::string json((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  auto with = [&](const std::string& name, const std::string& used) {
+    const std::string file = (fs::path(::testing::TempDir()) / name).string();
+    std::ofstream(file) << "{\"extensionsUsed\":[" << used << "]," << json.substr(1);
+    return file;
+  };
+  auto count = [](const std::vector<std::string>& warnings, const std::string& part) {
+    return std::count_if(warnings.begin(), warnings.end(), [&](const std::string& w) { return w.find(part) != std::string::npos; });
+  };
+  const std::string some = with("extensions-some.gltf", R"("KHR_materials_clearcoat","KHR_lights_punctual","EXT_other","KHR_materials_clearcoat",7)");
+  const auto s = load_scene(some);
+  EXPECT_EQ(count(s->warnings(), some + ": uses the glTF extension KHR_materials_clearcoat, which fovray does not support: "
+                                        "ignored (its materials shade by the core metallic-roughness model)"), 1);
+  EXPECT_EQ(count(s->warnings(), some + ": uses the glTF extension EXT_other, which fovray does not support: ignored"), 1);
+  EXPECT_EQ(count(s->warnings(), "extension 7,"), 1);  // not a string: named as its JSON
+  EXPECT_EQ(count(s->warnings(), "KHR_lights_punctual"), 0);
+  EXPECT_EQ(s->warnings().size(), 3u);
+  EXPECT_TRUE(load_scene(plain)->warnings().empty());
+  std::string many;
+  for (int i = 0; i < 20; ++i) many += fmt::format("{}\"EXT_{}\"", i ? "," : "", i);
+  const auto m = load_scene(with("extensions-many.gltf", many));
+  EXPECT_EQ(count(m->warnings(), "uses the glTF extension EXT_"), 16);
+  EXPECT_EQ(count(m->warnings(), "uses 4 more glTF extensions fovray does not support: ignored"), 1);
+}
+
 }  // namespace
 }  // namespace fov

@@ -161,27 +161,50 @@ std::string gltf_data_problem(const nlohmann::json& j, const fs::path& dir) {
   return "";
 }
 
+// What the check of a glTF's JSON found: why it is refused ("" when it is not), and the
+// extensions it declares (extensionsUsed) that fovray does not implement.
+constexpr size_t max_extension_warnings = 16;
+
+struct gltf_check {
+  gltf_check(std::string why = "") : problem(std::move(why)) {}  // (every early return is a refusal)
+  std::string problem;
+  std::vector<std::string> unsupported;
+};
+
+// The glTF extensions fovray implements: only KHR_lights_punctual. Every other one a file
+// declares is warned about (KHR_materials_* change how a material shades; Debian's Assimp
+// reads none that fovray uses).
+std::vector<std::string> unsupported_extensions(const nlohmann::json& j) {
+  std::vector<std::string> out;
+  if (!j.contains("extensionsUsed") || !j["extensionsUsed"].is_array()) return out;
+  for (const nlohmann::json& e : j["extensionsUsed"]) {
+    const std::string name = e.is_string() ? e.get<std::string>() : e.dump();
+    if (name != "KHR_lights_punctual" && std::find(out.begin(), out.end(), name) == out.end()) out.push_back(name);
+  }
+  return out;
+}
+
 // A glTF's JSON (a .gltf file, a .glb's first chunk), checked before Assimp parses it:
 // nesting at most max_gltf_json_depth, and a node tree (children by index) at most
 // max_node_depth deep in which every node has at most one parent and no node is its own
-// ancestor; a .glb's chunks end within the file. "" when fine, or when the JSON does not parse
-// (Assimp's error then says why).
-std::string gltf_structure_problem(const std::string& path, const std::string& extension) {
+// ancestor; a .glb's chunks end within the file. No problem when fine, or when a .glb's
+// header cannot be read (Assimp's error then says why).
+gltf_check check_gltf(const std::string& path, const std::string& extension) {
   std::string text;
   if (extension == ".glb") {  // only the JSON chunk is read (the binary one follows it)
     std::ifstream in(path, std::ios::binary);  // (load_file has checked it is a regular file)
     char head[20] = {};
     uint32_t length = 0, type = 0;
-    if (!in.read(head, sizeof head)) return "";
+    if (!in.read(head, sizeof head)) return {};
     std::memcpy(&length, head + 12, 4), std::memcpy(&type, head + 16, 4);
-    if (type != 0x4E4F534Au) return "";
+    if (type != 0x4E4F534Au) return {};
     // Assimp allocates what a chunk's length says before reading it: a length past the
     // file's end would be an allocation of up to 4 GiB for a file of a few bytes.
     const uintmax_t size = std::filesystem::file_size(path);
     if (length > size - sizeof head)
       return fmt::format("its JSON chunk claims {} bytes, more than the {}-byte file holds (refused)", length, size);
     text.resize(length);
-    if (!in.read(text.data(), std::streamsize(length))) return "";
+    if (!in.read(text.data(), std::streamsize(length))) return {};
     // The binary chunk, when one follows: Assimp reads its header after padding the JSON
     // chunk to 4 bytes.
     const uintmax_t padding = (4 - length % 4) % 4;
@@ -221,10 +244,12 @@ std::string gltf_structure_problem(const std::string& path, const std::string& e
   if (!repeated.empty())
     return fmt::format("its JSON has an object with the key \"{}\" twice (refused: readers differ on which counts)",
                        printable(repeated));
-  if (!j.is_object()) return "";
+  if (!j.is_object()) return {};
   if (std::string why = gltf_data_problem(j, fs::path(path).parent_path()); !why.empty())
     return why;
-  if (!j.contains("nodes") || !j["nodes"].is_array()) return "";
+  gltf_check fine;
+  fine.unsupported = unsupported_extensions(j);
+  if (!j.contains("nodes") || !j["nodes"].is_array()) return fine;
   const nlohmann::json& nodes = j["nodes"];
   std::vector<long> parent(nodes.size(), -1);
   for (size_t i = 0; i < nodes.size(); ++i) {
@@ -253,7 +278,7 @@ std::string gltf_structure_problem(const std::string& path, const std::string& e
     for (size_t c = chain.size(); c-- > 0;) depth[chain[c]] = ++d;
     if (d > max_node_depth) return fmt::format("node {}: nested deeper than {} levels (refused)", i, max_node_depth);
   }
-  return "";
+  return fine;
 }
 
 class texture_resolver {
@@ -378,9 +403,11 @@ scene_description load_file(const std::string& path) {
   if (const std::string why = input_file_problem(path, max_scene_file_bytes, "scene file"); !why.empty())
     throw std::runtime_error(fmt::format("{}: {}", path, why));
   const std::string extension = lowercase(fs::path(path).extension().string());
-  if (extension == ".gltf" || extension == ".glb")
-    if (const std::string why = gltf_structure_problem(path, extension); !why.empty())
-      throw std::runtime_error(fmt::format("{}: {}", path, why));
+  gltf_check checked;
+  if (extension == ".gltf" || extension == ".glb") {
+    checked = check_gltf(path, extension);
+    if (!checked.problem.empty()) throw std::runtime_error(fmt::format("{}: {}", path, checked.problem));
+  }
   Assimp::Importer importer;
   auto* io = new checked_io;  // the importer owns it
   importer.SetIOHandler(io);
@@ -412,6 +439,17 @@ scene_description load_file(const std::string& path) {
 
   scene_description d;
   d.files = io->read;
+  // Extensions the file declares that fovray does not implement: one warning each (at
+  // most max_extension_warnings, then how many more).
+  for (size_t i = 0; i < checked.unsupported.size() && i < max_extension_warnings; ++i)
+    d.warnings.push_back(fmt::format("{}: uses the glTF extension {}, which fovray does not support: ignored{}", path,
+                                     printable(checked.unsupported[i], 80),
+                                     checked.unsupported[i].rfind("KHR_materials_", 0) == 0
+                                         ? " (its materials shade by the core metallic-roughness model)"
+                                         : ""));
+  if (checked.unsupported.size() > max_extension_warnings)
+    d.warnings.push_back(fmt::format("{}: uses {} more glTF extensions fovray does not support: ignored", path,
+                                     checked.unsupported.size() - max_extension_warnings));
   texture_resolver textures(fs::path(path).parent_path(), d.warnings);
   for (unsigned i = 0; i < ai->mNumMaterials; ++i) d.materials.push_back(convert_material(ai->mMaterials[i], textures));
 
