@@ -1,7 +1,8 @@
 # Sourced by the study scripts (hybrid-displays.sh, steady-state.sh, per-display.sh): the fovbench flags of
 # one of the study's scenes as the study renders it on a display. study_scene NAME DISPLAY
 # sets the array `scene`: builtin (whites unclipped, the display's field of view), helmet
-# (the close-up, 60°) or env (the forest map, the display's field of view); exits 2 on
+# (the close-up, 60°), env (the forest map, the display's field of view) or cornell (the
+# built-in room lit by one downlight, the display's field of view); exits 2 on
 # another NAME. Sourcing also sets the tools (FOV_BENCH, FOV_GEN; default build/apps/) and
 # the scene's name (SCENE; default builtin).
 bench=${FOV_BENCH:-build/apps/fovbench}
@@ -14,6 +15,7 @@ study_scene() {
     builtin) scene=(--scene builtin --sun-irradiance 0.8,0.77,0.7 --hfov "$hfov") ;;
     helmet) scene=(--scene ../shared/scenes/flight-helmet/FlightHelmet.gltf --eye 0.1,0.28,0.22 --look-at 0,0.3,0 --hfov 60) ;;
     env) scene=(--scene env:/usr/share/blender/datafiles/studiolights/world/forest.exr --hfov "$hfov") ;;
-    *) echo "SCENE must be builtin, helmet or env (got $name)" >&2; exit 2 ;;
+    cornell) scene=(--scene builtin:cornell --hfov "$hfov") ;;
+    *) echo "SCENE must be builtin, helmet, env or cornell (got $name)" >&2; exit 2 ;;
   esac
 }
