@@ -16,6 +16,14 @@ uint32_t add_material(scene_description& d, material m) {
   return uint32_t(d.materials.size() - 1);
 }
 
+// A Lambertian material of one colour.
+uint32_t add_plain(scene_description& d, const char* name, glm::vec3 c) {
+  material m;
+  m.name = name;
+  m.base_colour = glm::vec4(c, 1);
+  return add_material(d, m);
+}
+
 void add(scene_description& d, mesh m, const glm::mat4& transform = glm::mat4(1.0f)) {
   d.meshes.push_back(std::move(m));
   d.instances.push_back({uint32_t(d.meshes.size() - 1), transform, ""});
@@ -80,12 +88,7 @@ scene_description builtin_scene() {
   text.pattern_repeats = 4;  // 25 cm glyphs: about 20 px at 7 m
   const uint32_t poster_m = add_material(d, text);
 
-  auto plain = [&](const char* name, glm::vec3 c) {
-    material m;
-    m.name = name;
-    m.base_colour = glm::vec4(c, 1);
-    return add_material(d, m);
-  };
+  auto plain = [&](const char* name, glm::vec3 c) { return add_plain(d, name, c); };
   const uint32_t white = plain("white", {0.9f, 0.9f, 0.9f}), black = plain("black", {0.02f, 0.02f, 0.02f});
   const uint32_t red = plain("red", {0.8f, 0.05f, 0.03f}), blue = plain("blue", {0.05f, 0.1f, 0.7f});
   const uint32_t metal = plain("pole", {0.15f, 0.15f, 0.17f});
@@ -154,12 +157,7 @@ scene_description builtin_scene() {
 
 scene_description cornell_scene() {
   scene_description d;
-  auto lambert = [&](const char* name, glm::vec3 c) {
-    material m;
-    m.name = name;
-    m.base_colour = glm::vec4(c, 1);
-    return add_material(d, m);
-  };
+  auto lambert = [&](const char* name, glm::vec3 c) { return add_plain(d, name, c); };
   const uint32_t white = lambert("white", {0.73f, 0.73f, 0.73f}), red = lambert("red", {0.63f, 0.065f, 0.05f});
   const uint32_t green = lambert("green", {0.14f, 0.45f, 0.09f});
   material floor = d.materials[white];
