@@ -4,6 +4,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <cstdio>
 
 #include <gtest/gtest.h>
@@ -192,6 +193,62 @@ TEST(Integrator, BouncesAreDeterministic) {
   const frame c = trace_reference(s, look_at({0, 0, 3}, {0, 0, 0}, 50), 32, 32, other).image;
   EXPECT_EQ(a.rgb, b.rgb);
   EXPECT_NE(a.rgb, c.rgb);
+}
+
+// Every ray is counted by kind, and recorded when asked as it was cast. A white sphere lit
+// from the camera's side: every visible point faces the light, so the direct integrator casts
+// one shadow ray per hit; a bounce from a convex object always escapes, so one bounce adds
+// one bounce ray per hit and no further vertex (hence no further shadow ray).
+TEST(Integrator, CountsAndRecordsEveryRayItCasts) {
+  scene_description d = furnace(lambert(1), 1);
+  d.lights.at(0).colour = glm::vec3(0.5f);
+  d.lights.at(0).direction = glm::vec3(0, 0, 1);
+  const scene s(d);
+  const int size = 40;
+  const camera cam = look_at({0, 0, 3}, {0, 0, 0}, 50);
+  for (uint32_t bounces : {0u, 1u}) {
+    trace_params tp = path(bounces, 1);
+    if (bounces == 0) tp.method = integrator::direct;
+    tp.record_rays = true;
+    const reference_trace r = trace_reference(s, cam, size, size, tp);
+    uint64_t hits = 0;
+    for (float z : r.image.depth) hits += std::isfinite(z) ? 1 : 0;
+    ASSERT_GT(hits, 300u);
+    ASSERT_LT(hits, uint64_t(size * size));
+    const ray_counts& c = r.stats.cast;
+    EXPECT_EQ(c.primary, uint64_t(size * size));
+    EXPECT_EQ(c.primary, r.image.rays);
+    EXPECT_EQ(c.shadow, hits) << bounces << " bounces";
+    EXPECT_EQ(c.bounce, bounces * hits);
+    ray_counts recorded;
+    uint64_t packets = 0;
+    for (const std::vector<recorded_ray>& task : r.stats.recorded)
+      for (const recorded_ray& ray : task) {
+        EXPECT_NEAR(glm::length(ray.dir), 1.0f, 1e-5f);
+        if (ray.how == recorded_ray::kind::primary) {
+          ++recorded.primary, packets += ray.starts_packet ? 1 : 0;
+          EXPECT_EQ(ray.origin, glm::vec3(0, 0, 3));
+        } else if (ray.how == recorded_ray::kind::bounce) {
+          ++recorded.bounce;
+          // Leaves the sphere's surface (flat facets lie up to 1 % inside the unit sphere).
+          EXPECT_NEAR(glm::length(ray.origin), 0.995f, 6e-3f);
+        } else {
+          ++recorded.shadow;
+          EXPECT_EQ(ray.how, recorded_ray::kind::packet_shadow);  // only first hits meet the light
+          EXPECT_EQ(ray.dir, glm::vec3(0, 0, 1));
+          EXPECT_EQ(ray.tfar, std::numeric_limits<float>::infinity());
+        }
+      }
+    EXPECT_EQ(recorded.primary, c.primary);
+    EXPECT_EQ(recorded.shadow, c.shadow);
+    EXPECT_EQ(recorded.bounce, c.bounce);
+    EXPECT_EQ(packets, uint64_t(size * size / 16));  // 8x8-pixel tiles: four full packets each
+    // Without recording, the same counts and nothing kept.
+    tp.record_rays = false;
+    const reference_trace plain = trace_reference(s, cam, size, size, tp);
+    EXPECT_EQ(plain.stats.cast.total(), c.total());
+    EXPECT_TRUE(plain.stats.recorded.empty());
+  }
 }
 
 // A spot light lights what lies within its cone: fully within the inner angle (its

@@ -1,4 +1,6 @@
 // Tracer throughput (docs/benchmarks.md):
+//  - the tracer's rays per second against a bare Embree loop casting the same recorded rays
+//    in the same way (BM_TracerAgainstBareLoop: direct and path-traced, the room and the helmet);
 //  - the full tracer (ray generation, intersection, shading, shadow rays) against a
 //    bare Embree loop over pixel-centre rays at 1280x1440, and over the same foveated
 //    rays trace_points casts (BM_BareEmbreeSameRays);
@@ -54,11 +56,13 @@ std::string uniform_cost_envmap() {
   return "env:" + path;
 }
 
-// Scenes 0 = built-in, 1 = flight helmet (skipped when absent), 2 = uniform-cost env: image.
+// Scenes 0 = built-in, 1 = flight helmet (skipped when absent), 2 = uniform-cost env: image,
+// 3 = the built-in room (builtin:cornell).
 const std::vector<std::string>& scene_specs() {
   static const std::vector<std::string> specs = [] {
     const fs::path helmet = fs::path(FOV_SOURCE_DIR) / "../shared/scenes/flight-helmet/FlightHelmet.gltf";
-    return std::vector<std::string>{"builtin", fs::exists(helmet) ? helmet.string() : "", uniform_cost_envmap()};
+    return std::vector<std::string>{"builtin", fs::exists(helmet) ? helmet.string() : "", uniform_cost_envmap(),
+                                    "builtin:cornell"};
   }();
   return specs;
 }
@@ -305,6 +309,125 @@ void BM_ContentWeightedRatio(benchmark::State& state) {
   state.counters["ray_over_time"] = ray_ratio / time_ratio;
   state.counters["content_over_time"] = median(content) / time_ratio;
 }
+// Casts recorded rays (trace_params::record_rays) the way the tracer cast them and does
+// nothing else: primary rays in the same packets of 16 (coherent), a packet's shadow rays
+// towards a light as one packet, bounce and path-vertex shadow rays one at a time.
+void cast_recorded(RTCScene top, const std::vector<fov::recorded_ray>& rays) {
+  using kind = fov::recorded_ray::kind;
+  RTCIntersectContext ctx;
+  for (size_t i = 0; i < rays.size();) {
+    const fov::recorded_ray& r = rays[i];
+    if (r.how == kind::bounce || r.how == kind::shadow) {
+      RTCRayHit rh;
+      rh.ray.org_x = r.origin.x, rh.ray.org_y = r.origin.y, rh.ray.org_z = r.origin.z;
+      rh.ray.dir_x = r.dir.x, rh.ray.dir_y = r.dir.y, rh.ray.dir_z = r.dir.z;
+      rh.ray.tnear = 0, rh.ray.tfar = r.tfar, rh.ray.time = 0;
+      rh.ray.mask = ~0u, rh.ray.id = 0, rh.ray.flags = 0;
+      rh.hit.geomID = rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+      rtcInitIntersectContext(&ctx);
+      if (r.how == kind::bounce) {
+        rtcIntersect1(top, &ctx, &rh);
+        benchmark::DoNotOptimize(rh.hit.primID);
+      } else {
+        rtcOccluded1(top, &ctx, &rh.ray);
+        benchmark::DoNotOptimize(rh.ray.tfar);
+      }
+      ++i;
+      continue;
+    }
+    size_t n = 1;
+    while (i + n < rays.size() && n < 16 && rays[i + n].how == r.how && !rays[i + n].starts_packet) ++n;
+    alignas(64) RTCRayHit16 rh;
+    alignas(64) int valid[16];
+    for (size_t l = 0; l < 16; ++l) {
+      const fov::recorded_ray& q = rays[i + std::min(l, n - 1)];
+      valid[l] = l < n ? -1 : 0;
+      rh.ray.org_x[l] = q.origin.x, rh.ray.org_y[l] = q.origin.y, rh.ray.org_z[l] = q.origin.z;
+      rh.ray.dir_x[l] = q.dir.x, rh.ray.dir_y[l] = q.dir.y, rh.ray.dir_z[l] = q.dir.z;
+      rh.ray.tnear[l] = 0, rh.ray.tfar[l] = q.tfar, rh.ray.time[l] = 0;
+      rh.ray.mask[l] = ~0u, rh.ray.id[l] = unsigned(l), rh.ray.flags[l] = 0;
+      rh.hit.geomID[l] = rh.hit.instID[0][l] = RTC_INVALID_GEOMETRY_ID;
+    }
+    rtcInitIntersectContext(&ctx);
+    if (r.how == kind::primary) {
+      ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+      rtcIntersect16(valid, top, &ctx, &rh);
+      benchmark::DoNotOptimize(rh.hit.primID[0]);
+    } else {
+      rtcOccluded16(valid, top, &ctx, &rh.ray);
+      benchmark::DoNotOptimize(rh.ray.tfar[0]);
+    }
+    i += n;
+  }
+}
+
+// args: scene, integrator (0: direct; 1 + N: path with N bounces). The
+// tracer's rays per second against a bare Embree loop over the same rays (issue 29's speed
+// goal: path-traced rays at >= 70 % of the bare loop's rate). One full-resolution frame at
+// 1 spp is traced once with its rays recorded; then each iteration traces it again (not
+// recording) and casts the recorded rays in the bare loop, split over threads by the
+// tracer's own tasks, in turn. bare_share = bare time / trace time per iteration (the
+// tracer's rate as a share of the bare loop's, for the same rays): median, min and max.
+void BM_TracerAgainstBareLoop(benchmark::State& state) {
+  if (scene_specs().at(size_t(state.range(0))).empty()) return state.SkipWithError("scene absent");
+  const fov::scene& s = get_scene(size_t(state.range(0)));
+  fov::trace_params tp;
+  tp.spp = 1;
+  if (state.range(1) > 0) tp.method = fov::integrator::path, tp.bounces = uint32_t(state.range(1) - 1);
+  tp.record_rays = true;
+  const fov::reference_trace recorded = fov::trace_reference(s, bench_camera(s), width, height, tp);
+  tp.record_rays = false;
+  const std::vector<std::vector<fov::recorded_ray>>& tasks = recorded.stats.recorded;
+  RTCScene top = s.internals().top;
+  using clock = std::chrono::steady_clock;
+  auto ms_since = [](clock::time_point t) { return std::chrono::duration<double, std::milli>(clock::now() - t).count(); };
+  std::vector<double> trace_ms, bare_ms, share;
+  for (auto _ : state) {
+    auto t0 = clock::now();
+    benchmark::DoNotOptimize(fov::trace_reference(s, bench_camera(s), width, height, tp).image.rgb.data());
+    trace_ms.push_back(ms_since(t0));
+    t0 = clock::now();
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, tasks.size(), 1), [&](const tbb::blocked_range<size_t>& r) {
+      for (size_t t = r.begin(); t < r.end(); ++t) cast_recorded(top, tasks[t]);
+    });
+    bare_ms.push_back(ms_since(t0));
+    share.push_back(bare_ms.back() / trace_ms.back());
+  }
+  auto median = [](std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    return v[v.size() / 2];
+  };
+  const fov::ray_counts& c = recorded.stats.cast;
+  const double rays = double(c.total());
+  state.counters["rays_M"] = rays / 1e6;
+  state.counters["primary_share"] = double(c.primary) / rays;
+  state.counters["shadow_share"] = double(c.shadow) / rays;
+  state.counters["bounce_share"] = double(c.bounce) / rays;
+  state.counters["trace_ms"] = median(trace_ms);
+  state.counters["bare_ms"] = median(bare_ms);
+  state.counters["trace_Mrays_s"] = rays / 1e3 / median(trace_ms);
+  state.counters["bare_Mrays_s"] = rays / 1e3 / median(bare_ms);
+  state.counters["bare_share"] = median(share);
+  state.counters["bare_share_min"] = *std::min_element(share.begin(), share.end());
+  state.counters["bare_share_max"] = *std::max_element(share.begin(), share.end());
+  // Where the tracer's time goes (thread-ms of one more trace with stage timing on).
+  tp.time_stages = true;
+  const fov::trace_timing t = fov::trace_reference(s, bench_camera(s), width, height, tp).stats.timing;
+  state.counters["setup_tms"] = 1e3 * t.setup;
+  state.counters["intersect_tms"] = 1e3 * t.intersect;
+  state.counters["shade_tms"] = 1e3 * t.shade;
+  state.counters["shadow_tms"] = 1e3 * t.shadow;
+  state.counters["bounce_tms"] = 1e3 * t.bounce;
+  state.counters["bounce_rays_tms"] = 1e3 * t.bounce_rays;
+}
+// integrator argument: 0 = direct, 1 + N = path with N bounces.
+BENCHMARK(BM_TracerAgainstBareLoop)
+    ->ArgNames({"scene", "integrator"})
+    ->ArgsProduct({{3, 1}, {0, 1, 2, 4}})
+    ->Iterations(7)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+
 BENCHMARK(BM_ContentWeightedRatio)
     ->ArgNames({"scene", "spp", "s100", "pixel_footprint", "grid"})
     ->ArgsProduct({{0, 1, 2}, {1, 4, 32}, {100, 175}, {0}, {0, 1}})

@@ -31,6 +31,7 @@ class stage_timer {
  public:
   using clock = std::chrono::steady_clock;
   explicit stage_timer(bool on) : on_(on), last_(on ? clock::now() : clock::time_point()) {}
+  bool on() const { return on_; }
   void mark(double& stage) {
     if (!on_) return;
     const clock::time_point now = clock::now();
@@ -43,18 +44,52 @@ class stage_timer {
   clock::time_point last_;
 };
 
-// A task's stage times, added to the caller's totals once at the end of the task.
-struct task_timing {
+// The rays a task casts: counted, and kept when the trace records them.
+struct ray_tally {
+  ray_counts cast;
+  std::vector<recorded_ray>* record = nullptr;
+  bool timed = false;       // time the rays cast one at a time (trace_timing::bounce_rays)
+  double ray_seconds = 0;
+  // Casts one ray through cast(), timing it when asked.
+  template <class Cast>
+  void time(Cast&& cast) {
+    if (!timed) return cast();
+    const auto t0 = std::chrono::steady_clock::now();
+    cast();
+    ray_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  }
+  void add(recorded_ray::kind how, const glm::vec3& origin, const glm::vec3& dir, float tfar, bool starts_packet) {
+    switch (how) {
+      case recorded_ray::kind::primary: ++cast.primary; break;
+      case recorded_ray::kind::bounce: ++cast.bounce; break;
+      default: ++cast.shadow;
+    }
+    if (record) record->push_back({origin, dir, tfar, how, starts_packet});
+  }
+};
+
+// A task's stage times and rays, added to the trace's stats once at the end of the task.
+struct task_stats {
   trace_timing local;
   stage_timer timer;
-  trace_timing* total;
-  explicit task_timing(trace_timing* t) : timer(t != nullptr), total(t) {}
-  ~task_timing() {
-    if (!total) return;
+  ray_tally tally;
+  std::vector<recorded_ray> record;
+  trace_stats* total;
+  task_stats(trace_stats* t, const trace_params& p) : timer(p.time_stages), total(t) {
+    if (p.record_rays) tally.record = &record;
+    tally.timed = p.time_stages;
+  }
+  ~task_stats() {
     static std::mutex lock;
     std::lock_guard<std::mutex> guard(lock);
-    total->setup += local.setup, total->intersect += local.intersect;
-    total->shade += local.shade, total->shadow += local.shadow, total->bounce += local.bounce;
+    ray_counts& c = total->cast;
+    c.primary += tally.cast.primary, c.shadow += tally.cast.shadow, c.bounce += tally.cast.bounce;
+    if (tally.record) total->recorded.push_back(std::move(record));
+    if (!timer.on()) return;
+    trace_timing& t = total->timing;
+    t.setup += local.setup, t.intersect += local.intersect;
+    t.shade += local.shade, t.shadow += local.shadow, t.bounce += local.bounce;
+    t.bounce_rays += tally.ray_seconds;
   }
 };
 
@@ -84,7 +119,14 @@ struct light_at {
   glm::vec3 to_light{0}, irradiance{0};
   float distance = infinity;
 };
-light_at sample_light(const light& l, const glm::vec3& p) {
+// A light with its spot cone's cosines worked out once per task, not at every vertex.
+struct ready_light {
+  light l;
+  float cos_inner = 1, cos_outer = 0;
+  explicit ready_light(const light& from) : l(from), cos_inner(std::cos(from.inner_cone)), cos_outer(std::cos(from.outer_cone)) {}
+};
+light_at sample_light(const ready_light& rl, const glm::vec3& p) {
+  const light& l = rl.l;
   light_at out;
   out.irradiance = l.colour;
   if (l.type == light::kind::directional) {
@@ -95,7 +137,7 @@ light_at sample_light(const light& l, const glm::vec3& p) {
     out.to_light = v / std::max(out.distance, 1e-6f);
     out.irradiance /= std::max(out.distance * out.distance, 1e-6f);
     if (l.type == light::kind::spot) {  // KHR_lights_punctual's falloff between the cones
-      const float inner = std::cos(l.inner_cone), outer = std::cos(l.outer_cone);
+      const float inner = rl.cos_inner, outer = rl.cos_outer;
       const float ramp = std::clamp((glm::dot(l.axis, -out.to_light) - outer) / std::max(inner - outer, 1e-4f), 0.0f, 1.0f);
       out.irradiance *= ramp * ramp;
     }
@@ -195,14 +237,17 @@ rng path_rng(uint64_t seed, const sample_ray& r) {
 
 // Whether nothing lies between `origin` and `tfar` along `dir` (one shadow ray).
 bool unoccluded(const scene::impl& d, const glm::vec3& origin, const glm::vec3& dir, float tfar,
-                RTCIntersectContext& context) {
+                RTCIntersectContext& context, ray_tally& tally) {
+  tally.add(recorded_ray::kind::shadow, origin, dir, tfar, false);
   RTCRay shadow;
   shadow.org_x = origin.x, shadow.org_y = origin.y, shadow.org_z = origin.z;
   shadow.dir_x = dir.x, shadow.dir_y = dir.y, shadow.dir_z = dir.z;
   shadow.tnear = 0, shadow.tfar = tfar, shadow.time = 0;
   shadow.mask = 0xFFFFFFFFu, shadow.id = 0, shadow.flags = 0;
-  rtcInitIntersectContext(&context);
-  rtcOccluded1(d.top, &context, &shadow);
+  tally.time([&] {
+    rtcInitIntersectContext(&context);
+    rtcOccluded1(d.top, &context, &shadow);
+  });
   return shadow.tfar >= 0;  // -inf when occluded
 }
 
@@ -223,7 +268,7 @@ glm::vec3 brdf_at(const hit_material& h, const glm::vec3& wo, const glm::vec3& w
 // luminance (env_sampler), through a shadow ray to infinity, weighted against the BRDF's
 // own sampling by the power heuristic. Always draws two numbers from r.
 glm::vec3 environment_light(const scene::impl& d, const hit_material& h, const glm::vec3& wo, bool shadows, rng& r,
-                            RTCIntersectContext& context) {
+                            RTCIntersectContext& context, ray_tally& tally) {
   float pdf_env = 0;
   const float u1 = float(r.uniform()), u2 = float(r.uniform());
   const glm::vec3 wi = d.env_light.sample(u1, u2, pdf_env);
@@ -232,7 +277,7 @@ glm::vec3 environment_light(const scene::impl& d, const hit_material& h, const g
   float pdf_brdf = 0;
   const glm::vec3 f = brdf_at(h, wo, wi, pdf_brdf);
   if (f == glm::vec3(0)) return glm::vec3(0);
-  if (shadows && !unoccluded(d, offset_origin(h.position, h.ng), wi, infinity, context)) return glm::vec3(0);
+  if (shadows && !unoccluded(d, offset_origin(h.position, h.ng), wi, infinity, context, tally)) return glm::vec3(0);
   return f * cos_n * d.environment_radiance(wi, 0) * (power_heuristic(pdf_env, pdf_brdf) / pdf_env);
 }
 
@@ -242,14 +287,14 @@ glm::vec3 environment_light(const scene::impl& d, const hit_material& h, const g
 // bounce on. With `sample_env`, every vertex a bounce leaves (the first too) also samples
 // the environment image as a light, and misses count with multiple importance sampling's
 // weight. Returns what this adds to the first hit's emission and lights.
-glm::vec3 bounce_radiance(const scene::impl& d, const std::vector<light>& lights, hit_material h, glm::vec3 wo,
-                          uint32_t bounces, bool shadows, bool sample_env, rng& r) {
+glm::vec3 bounce_radiance(const scene::impl& d, const std::vector<ready_light>& lights, hit_material h, glm::vec3 wo,
+                          uint32_t bounces, bool shadows, bool sample_env, rng& r, ray_tally& tally) {
   glm::vec3 sum(0), throughput(1);
   RTCIntersectContext context;
   for (uint32_t bounce = 1; bounce <= bounces; ++bounce) {
     // The environment light is sampled where a bounce also leaves the vertex, so that the
     // two techniques' weights add to one.
-    if (sample_env) sum += throughput * environment_light(d, h, wo, shadows, r, context);
+    if (sample_env) sum += throughput * environment_light(d, h, wo, shadows, r, context, tally);
     const glm::vec3 u(float(r.uniform()), float(r.uniform()), float(r.uniform()));
     glm::vec3 wi, weight;
     float pdf_brdf = 0;
@@ -277,8 +322,11 @@ glm::vec3 bounce_radiance(const scene::impl& d, const std::vector<light>& lights
     ray.ray.tnear = 0, ray.ray.tfar = infinity, ray.ray.time = 0;
     ray.ray.mask = 0xFFFFFFFFu, ray.ray.id = 0, ray.ray.flags = 0;
     ray.hit.geomID = ray.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-    rtcInitIntersectContext(&context);
-    rtcIntersect1(d.top, &context, &ray);
+    tally.add(recorded_ray::kind::bounce, o, wi, infinity, false);
+    tally.time([&] {
+      rtcInitIntersectContext(&context);
+      rtcIntersect1(d.top, &context, &ray);
+    });
     if (ray.hit.geomID == RTC_INVALID_GEOMETRY_ID) {
       const float mis = sample_env ? power_heuristic(pdf_brdf, d.env_light.pdf(wi)) : 1.0f;
       sum += throughput * d.environment_radiance(wi, 0) * mis;
@@ -297,11 +345,11 @@ glm::vec3 bounce_radiance(const scene::impl& d, const std::vector<light>& lights
     }
     wo = -wi;
     sum += throughput * d.emission(*s.mat, s.uv, duv);
-    for (const light& l : lights) {
+    for (const ready_light& l : lights) {
       const light_at at = sample_light(l, h.position);
       const glm::vec3 direct = reflected_light(h, wo, at);
       if (direct == glm::vec3(0)) continue;
-      if (shadows && !unoccluded(d, offset_origin(h.position, h.ng), at.to_light, at.distance, context)) continue;
+      if (shadows && !unoccluded(d, offset_origin(h.position, h.ng), at.to_light, at.distance, context, tally)) continue;
       sum += throughput * direct;
     }
   }
@@ -310,8 +358,8 @@ glm::vec3 bounce_radiance(const scene::impl& d, const std::vector<light>& lights
 
 // Adds one light's direct contribution to a packet's hit lanes, each through its shadow ray
 // (a packet of them) unless shadows are off.
-void add_light(const scene::impl& d, const light& l, const hit_material* mat, const bool* hit, const glm::vec3* dirs,
-               int n, bool shadows, RTCIntersectContext& context, task_timing& timing, shaded* result) {
+void add_light(const scene::impl& d, const ready_light& l, const hit_material* mat, const bool* hit, const glm::vec3* dirs,
+               int n, bool shadows, RTCIntersectContext& context, task_stats& timing, shaded* result) {
   trace_timing& t = timing.local;
   glm::vec3 direct[16];
   alignas(64) int shadow_valid[16];
@@ -335,10 +383,11 @@ void add_light(const scene::impl& d, const light& l, const hit_material* mat, co
       continue;
     }
     shadow_valid[i] = -1;
-    any_shadow = true;
     shadow.org_x[i] = result[i].origin.x, shadow.org_y[i] = result[i].origin.y, shadow.org_z[i] = result[i].origin.z;
     shadow.dir_x[i] = at.to_light.x, shadow.dir_y[i] = at.to_light.y, shadow.dir_z[i] = at.to_light.z;
     shadow.tfar[i] = at.distance;
+    timing.tally.add(recorded_ray::kind::packet_shadow, result[i].origin, at.to_light, at.distance, !any_shadow);
+    any_shadow = true;
   }
   timing.timer.mark(t.shade);
   if (!any_shadow) return;
@@ -352,9 +401,11 @@ void add_light(const scene::impl& d, const light& l, const hit_material* mat, co
 // Traces rays[begin, end) in packets of 16 and hands each result to sink(ray, colour, depth, hit).
 template <class Sink>
 void trace_rays(const scene::impl& d, const trace_params& params, const camera_frame& f, const sample_ray* rays,
-                size_t count, task_timing& timing, Sink&& sink) {
-  const std::vector<light> one_sun = params.sun ? std::vector<light>{*params.sun} : std::vector<light>();
-  const std::vector<light>& lights = params.sun ? one_sun : d.desc.lights;
+                size_t count, task_stats& timing, Sink&& sink) {
+  std::vector<ready_light> lights;
+  if (params.sun) lights.emplace_back(*params.sun);
+  else
+    for (const light& l : d.desc.lights) lights.emplace_back(l);
   const bool shadows = params.shadows, path = params.method == integrator::path;
   const bool sample_env = path && params.sample_environment && !d.env_light.empty();
   trace_timing& t = timing.local;
@@ -378,6 +429,7 @@ void trace_rays(const scene::impl& d, const trace_params& params, const camera_f
       rh.ray.flags[i] = 0;
       rh.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
       rh.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
+      if (i < n) timing.tally.add(recorded_ray::kind::primary, f.origin, dirs[i], infinity, i == 0);
     }
     rtcInitIntersectContext(&context);
     context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
@@ -397,12 +449,12 @@ void trace_rays(const scene::impl& d, const trace_params& params, const camera_f
     for (int i = 0; i < n; ++i)
       if (!hit[i]) result[i].colour = d.environment_radiance(dirs[i], 2 * radius[i] * f.pixel_angle);
     timing.timer.mark(t.shade);
-    for (const light& l : lights) add_light(d, l, mat, hit, dirs, n, shadows, context, timing, result);
+    for (const ready_light& l : lights) add_light(d, l, mat, hit, dirs, n, shadows, context, timing, result);
     if (path && params.bounces > 0) {
       for (int i = 0; i < n; ++i) {
         if (!hit[i]) continue;
         rng r = path_rng(params.seed, rays[base + i]);
-        result[i].colour += bounce_radiance(d, lights, mat[i], -dirs[i], params.bounces, shadows, sample_env, r);
+        result[i].colour += bounce_radiance(d, lights, mat[i], -dirs[i], params.bounces, shadows, sample_env, r, timing.tally);
       }
       timing.timer.mark(t.bounce);
     }
@@ -608,7 +660,7 @@ std::vector<uint16_t> traced_point_rays(const pointset& set, const point_samples
 // Casts the rays of `points` (placed as `out` says) and writes their samples into `out`'s
 // per-point arrays, which hold the whole set; returns the rays cast.
 uint64_t cast_points(const scene::impl& d, const camera_frame& f, const pointset& set, const std::vector<uint32_t>& points,
-                     gaze_point gaze, const trace_params& params, point_samples& out, trace_timing* timing_total) {
+                     gaze_point gaze, const trace_params& params, point_samples& out, trace_stats& stats) {
   const uint32_t spp = params.spp;
   // Rays per point; a ray's owner is its point's place in `points`.
   const std::vector<uint16_t> rays_of = listed_point_rays(set, points, out, gaze, params);
@@ -616,7 +668,7 @@ uint64_t cast_points(const scene::impl& d, const camera_frame& f, const pointset
   const grid_test on_grid(set);
   const size_t chunk = std::max<size_t>(1, 256 / spp);  // points per task: about 256 rays at the gaze
   tbb::parallel_for(tbb::blocked_range<size_t>(0, points.size(), chunk), [&](const tbb::blocked_range<size_t>& r) {
-    task_timing timing(timing_total);
+    task_stats timing(&stats, params);
     std::vector<sample_ray> rays;
     rays.reserve((r.end() - r.begin()) * spp);
     for (size_t k = r.begin(); k < r.end(); ++k) {
@@ -669,7 +721,7 @@ points_trace trace_selected(const scene& sc, const camera& cam, const pointset& 
         out.hits.assign(n, 0);
       });
   if (timing_total) choose.mark(timing_total->setup);
-  out.rays = cast_points(d, f, set, out.traced, gaze, params, out, timing_total);
+  out.rays = cast_points(d, f, set, out.traced, gaze, params, out, result.stats);
   return result;
 }
 
@@ -703,9 +755,8 @@ uint64_t trace_more_points(const scene& sc, const camera& cam, const pointset& s
     points[a] < out.traced[b] ? ++a : ++b;
   }
   if (points.empty()) return 0;
-  trace_timing* timing_total = params.time_stages ? &into.stats.timing : nullptr;
   const uint64_t cast = cast_points(sc.internals(), make_frame(cam, disp.width, disp.height), set, points, gaze, params,
-                                    out, timing_total);
+                                    out, into.stats);
   std::vector<uint32_t> merged;
   merged.reserve(out.traced.size() + points.size());
   std::merge(out.traced.begin(), out.traced.end(), points.begin(), points.end(), std::back_inserter(merged));
@@ -745,7 +796,6 @@ reference_trace trace_reference(const scene& sc, const camera& cam, int width, i
   const camera_frame f = make_frame(cam, width, height);
   reference_trace result;
   frame& out = result.image;
-  trace_timing* timing_total = params.time_stages ? &result.stats.timing : nullptr;
   std::vector<double>* tile_seconds = params.tile_costs ? &result.stats.tile_seconds : nullptr;
   out.width = width;
   out.height = height;
@@ -774,7 +824,7 @@ reference_trace trace_reference(const scene& sc, const camera& cam, int width, i
   const int tiles_x = (width + t - 1) / t, tiles_y = (height + t - 1) / t;
   if (tile_seconds) tile_seconds->assign(size_t(tiles_x) * tiles_y, 0.0);
   tbb::parallel_for(tbb::blocked_range<int>(0, tiles_x * tiles_y), [&](const tbb::blocked_range<int>& r) {
-    task_timing timing(timing_total);
+    task_stats timing(&result.stats, params);
     std::vector<sample_ray> rays;
     for (int tile = r.begin(); tile < r.end(); ++tile) {
       const auto tile_start = tile_seconds ? std::chrono::steady_clock::now() : std::chrono::steady_clock::time_point();

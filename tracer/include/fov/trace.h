@@ -24,6 +24,8 @@ struct trace_timing {
   double shade = 0;      // surface attributes, textures, environment
   double shadow = 0;     // rtcOccluded16 of shadow rays
   double bounce = 0;     // the path integrator's bounces: their rays, shading and shadow rays
+  // Of `bounce`: the rtcIntersect1 and rtcOccluded1 calls of its rays (two clock reads a ray).
+  double bounce_rays = 0;
   double total() const { return setup + intersect + shade + shadow + bounce; }
 };
 
@@ -112,6 +114,9 @@ struct trace_params {
   // off-screen points must be traced too (traced_point_mask).
   uint32_t k = 5;
   bool time_stages = false;  // measure trace_stats::timing
+  // Keep every ray the trace casts (trace_stats::recorded), for a bare Embree loop that casts
+  // the same rays the same way (tracer_bench). Memory: 32 bytes a ray.
+  bool record_rays = false;
   // Reference only: measure trace_stats::tile_seconds.
   bool tile_costs = false;
   // The positions of a full-resolution pixel's rays: the reference's, and a foveated grid
@@ -145,9 +150,35 @@ struct trace_params {
 // spp-ray stream, so its colour is what it gets in a flat trace at spp = n.
 falloff_rule point_ray_rule(const pointset& set, gaze_point gaze, uint32_t spp, uint32_t floor);
 
+// The rays a trace cast, by kind (always counted).
+struct ray_counts {
+  uint64_t primary = 0;  // from the camera, in packets of 16
+  uint64_t shadow = 0;   // towards a light or a direction drawn from the environment light
+  uint64_t bounce = 0;   // the path integrator's bounces, one at a time
+  uint64_t total() const { return primary + shadow + bounce; }
+};
+
+// A ray as the tracer cast it (trace_params::record_rays).
+struct recorded_ray {
+  enum class kind : uint8_t {
+    primary,        // rtcIntersect16, a packet of a task's consecutive primary rays
+    packet_shadow,  // rtcOccluded16, the shadow rays of one packet's hits towards one light
+    bounce,         // rtcIntersect1
+    shadow,         // rtcOccluded1, a path vertex's shadow ray
+  };
+  glm::vec3 origin{0}, dir{0};
+  float tfar = 0;
+  kind how = kind::primary;
+  bool starts_packet = false;  // the first ray of a packet (primary and packet_shadow)
+};
+
 // What a trace measured, when trace_params asked for it.
 struct trace_stats {
+  ray_counts cast;      // always
   trace_timing timing;  // time_stages
+  // record_rays: each task's rays in the order it cast them, one list per task (the tracer's
+  // split over threads; the lists' order is not deterministic).
+  std::vector<std::vector<recorded_ray>> recorded;
   // tile_costs: each 8 x 8-pixel tile's thread-seconds (row-major, ceil(W / 8) x ceil(H / 8)
   // tiles): a map of what rays cost where on the screen, so a foveated frame's time can be
   // compared with what the same content costs at full resolution (tracer_bench's
