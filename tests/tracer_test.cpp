@@ -1203,5 +1203,57 @@ TEST(Tracer, UnsupportedGltfExtensionsWarnOnceEach) {
   EXPECT_EQ(count(m->warnings(), "uses 4 more glTF extensions fovray does not support: ignored"), 1);
 }
 
+// KHR_materials_emissive_strength: a material's emission is its emissive factor times the
+// strength, with no warning about the extension; a strength out of range refuses the file,
+// naming it and the material.
+TEST(Tracer, EmissiveStrengthScalesTheEmission) {
+  const float facing_z[12] = {-1, -1, 0, 1, -1, 0, 1, 1, 0, -1, 1, 0};
+  const std::string plain = write_gltf("emissive-plain.gltf", facing_z, "{\"camera\":0,\"translation\":[0,0,4]}",
+                                       "{\"type\":\"perspective\",\"perspective\":{\"yfov\":1,\"znear\":0.1}}");
+  std::ifstream in(plain);
+  const std::string json((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  auto with_strength = [&](const std::string& name, const std::string& strength) {
+    std::string text = json;
+    const std::string primitive = "\"indices\":1}";
+    text.replace(text.find(primitive), primitive.size(), "\"indices\":1,\"material\":0}");
+    const std::string file = (fs::path(::testing::TempDir()) / name).string();
+    std::ofstream(file) << "{\"extensionsUsed\":[\"KHR_materials_emissive_strength\"],\"materials\":[{\"name\":\"lamp\","
+                           "\"emissiveFactor\":[0.5,0.25,1],\"extensions\":{\"KHR_materials_emissive_strength\":"
+                           "{\"emissiveStrength\":"
+                        << strength << "}}}]," << text.substr(1);
+    return file;
+  };
+  auto lamp = [](const scene& sc) {
+    for (const material& m : sc.description().materials)
+      if (m.name == "lamp") return m;
+    ADD_FAILURE() << "no material 'lamp'";
+    return material();
+  };
+  const auto s = load_scene(with_strength("emissive-4.gltf", "4"));
+  EXPECT_EQ(lamp(*s).emissive, glm::vec3(2, 1, 4));
+  EXPECT_TRUE(s->warnings().empty()) << s->warnings().front();
+  // Through the tracer: the quad (facing the camera, lit by the default sun as well) shows
+  // three times its emissive factor more at strength 4 than at strength 1.
+  const auto one = load_scene(with_strength("emissive-1.gltf", "1"));
+  EXPECT_EQ(lamp(*one).emissive, glm::vec3(0.5f, 0.25f, 1));
+  trace_params tp;
+  tp.spp = 1;
+  tp.method = integrator::path, tp.bounces = 0;
+  const frame bright = trace_reference(*s, s->default_camera(60), 16, 16, tp).image;
+  const frame dim = trace_reference(*one, one->default_camera(60), 16, 16, tp).image;
+  const size_t centre = 8 * 16 + 8;
+  EXPECT_NEAR(bright.rgb[centre].b - dim.rgb[centre].b, 3.0f, 1e-5f);
+  EXPECT_NEAR(bright.rgb[centre].r - dim.rgb[centre].r, 1.5f, 1e-5f);
+  for (const char* bad : {"-1", "1e7", "\"4\"", "null"}) {
+    const std::string file = with_strength("emissive-bad.gltf", bad);
+    try {
+      load_scene(file);
+      ADD_FAILURE() << bad;
+    } catch (const std::exception& e) {
+      EXPECT_NE(std::string(e.what()).find(file + ": material 0 'lamp': emissiveStrength"), std::string::npos) << e.what();
+    }
+  }
+}
+
 }  // namespace
 }  // namespace fov

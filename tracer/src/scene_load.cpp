@@ -161,25 +161,53 @@ std::string gltf_data_problem(const nlohmann::json& j, const fs::path& dir) {
   return "";
 }
 
-// What the check of a glTF's JSON found: why it is refused ("" when it is not), and the
-// extensions it declares (extensionsUsed) that fovray does not implement.
+// What the check of a glTF's JSON found: why it is refused ("" when it is not), the
+// extensions it declares (extensionsUsed) that fovray does not implement, and each
+// material's emissiveStrength (KHR_materials_emissive_strength, which Debian's Assimp does
+// not read; 1 where absent), by glTF material index.
 constexpr size_t max_extension_warnings = 16;
+// The largest emissiveStrength a material may give: far past any lamp authored in glTF.
+constexpr double max_emissive_strength = 1e6;
 
 struct gltf_check {
   gltf_check(std::string why = "") : problem(std::move(why)) {}  // (every early return is a refusal)
   std::string problem;
   std::vector<std::string> unsupported;
+  std::vector<float> emissive_strength;
 };
 
-// The glTF extensions fovray implements: only KHR_lights_punctual. Every other one a file
-// declares is warned about (KHR_materials_* change how a material shades; Debian's Assimp
-// reads none that fovray uses).
+// Each material's emissiveStrength into `out`, or why the file is refused.
+std::string read_emissive_strengths(const nlohmann::json& j, std::vector<float>& out) {
+  if (!j.contains("materials") || !j["materials"].is_array()) return "";
+  const nlohmann::json& materials = j["materials"];
+  out.assign(materials.size(), 1.0f);
+  for (size_t i = 0; i < materials.size(); ++i) {
+    const nlohmann::json& m = materials[i];
+    if (!m.is_object() || !m.contains("extensions") || !m["extensions"].is_object() ||
+        !m["extensions"].contains("KHR_materials_emissive_strength"))
+      continue;
+    const nlohmann::json& e = m["extensions"]["KHR_materials_emissive_strength"];
+    if (!e.is_object() || !e.contains("emissiveStrength")) continue;  // the default, 1
+    const nlohmann::json& v = e["emissiveStrength"];
+    const std::string name = m.contains("name") && m["name"].is_string() ? m["name"].get<std::string>() : "";
+    if (!v.is_number() || !(v.get<double>() >= 0 && v.get<double>() <= max_emissive_strength))
+      return fmt::format("material {} '{}': emissiveStrength {} not a number within 0..{:g} (refused)", i,
+                         printable(name, 80), printable(v.dump(), 40), max_emissive_strength);
+    out[i] = float(v.get<double>());
+  }
+  return "";
+}
+
+// The glTF extensions fovray implements: KHR_lights_punctual and
+// KHR_materials_emissive_strength. Every other one a file declares is warned about
+// (KHR_materials_* change how a material shades).
 std::vector<std::string> unsupported_extensions(const nlohmann::json& j) {
   std::vector<std::string> out;
   if (!j.contains("extensionsUsed") || !j["extensionsUsed"].is_array()) return out;
   for (const nlohmann::json& e : j["extensionsUsed"]) {
     const std::string name = e.is_string() ? e.get<std::string>() : e.dump();
-    if (name != "KHR_lights_punctual" && std::find(out.begin(), out.end(), name) == out.end()) out.push_back(name);
+    const bool supported = name == "KHR_lights_punctual" || name == "KHR_materials_emissive_strength";
+    if (!supported && std::find(out.begin(), out.end(), name) == out.end()) out.push_back(name);
   }
   return out;
 }
@@ -249,6 +277,7 @@ gltf_check check_gltf(const std::string& path, const std::string& extension) {
     return why;
   gltf_check fine;
   fine.unsupported = unsupported_extensions(j);
+  if (std::string why = read_emissive_strengths(j, fine.emissive_strength); !why.empty()) return why;
   if (!j.contains("nodes") || !j["nodes"].is_array()) return fine;
   const nlohmann::json& nodes = j["nodes"];
   std::vector<long> parent(nodes.size(), -1);
@@ -452,6 +481,9 @@ scene_description load_file(const std::string& path) {
                                      checked.unsupported.size() - max_extension_warnings));
   texture_resolver textures(fs::path(path).parent_path(), d.warnings);
   for (unsigned i = 0; i < ai->mNumMaterials; ++i) d.materials.push_back(convert_material(ai->mMaterials[i], textures));
+  // Assimp keeps glTF's material order (and appends its default material after them).
+  for (size_t i = 0; i < checked.emissive_strength.size() && i < d.materials.size(); ++i)
+    d.materials[i].emissive *= checked.emissive_strength[i];
 
   d.files.insert(d.files.end(), textures.files().begin(), textures.files().end());
   std::vector<int> mesh_map(ai->mNumMeshes, -1);
