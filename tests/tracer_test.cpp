@@ -2,6 +2,7 @@
 #include <unistd.h>
 
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -80,7 +81,7 @@ TEST(Tracer, KnownTriangleHitsKnownPixels) {
 TEST(Tracer, AlphaMaskDropsHitsBelowTheCutoff) {
   for (float alpha : {0.2f, 0.8f}) {
     material front;
-    front.alpha_mask = true;
+    front.alpha = alpha_mode::mask;
     front.alpha_cutoff = 0.5f;
     front.base_colour.a = alpha;
     scene_description d = emitter({{-1, -1, -2}, {1, -1, -2}, {1, 1, -2}, {-1, 1, -2}}, {1, 0, 0}, front);
@@ -104,9 +105,44 @@ TEST(Tracer, AlphaMaskDropsHitsBelowTheCutoff) {
   }
 }
 
+// glTF BLEND as stochastic transparency: each ray meets the surface with probability alpha,
+// so a red emitter of alpha a in front of a green one shows a red and (1 - a) green over
+// many rays, and the same frame twice is the same bit for bit (the coin is fixed by the ray).
+TEST(Tracer, AlphaBlendCoversByAlphaOverManyRays) {
+  for (float alpha : {0.0f, 0.25f, 0.7f, 1.0f}) {
+    material front;
+    front.alpha = alpha_mode::blend;
+    front.base_colour.a = alpha;
+    scene_description d = emitter({{-1, -1, -2}, {1, -1, -2}, {1, 1, -2}, {-1, 1, -2}}, {1, 0, 0}, front);
+    material back;
+    back.base_colour = glm::vec4(0, 0, 0, 1);
+    back.emissive = {0, 1, 0};
+    d.materials.push_back(back);
+    mesh m = d.meshes[0];
+    for (glm::vec3& p : m.positions) p = glm::vec3(4 * p.x, 4 * p.y, -4);
+    m.material = 1;
+    d.meshes.push_back(m);
+    d.instances.push_back({1, glm::mat4(1.0f), ""});
+    scene s(std::move(d));
+    trace_params tp;
+    tp.spp = 64;
+    const frame f = trace_reference(s, look_at({0, 0, 0}, {0, 0, -1}, 40), 16, 16, tp).image;
+    glm::dvec3 sum(0);
+    for (const glm::vec3& c : f.rgb) sum += glm::dvec3(c);
+    const glm::dvec3 mean = sum / double(f.rgb.size());
+    // 16 x 16 x 64 rays, each red with probability alpha: 4 standard errors.
+    const double tolerance = 4 * std::sqrt(alpha * (1 - alpha) / (16.0 * 16 * 64)) + 1e-9;
+    EXPECT_NEAR(mean.r, alpha, tolerance) << "alpha " << alpha;
+    EXPECT_NEAR(mean.g, 1 - alpha, tolerance) << "alpha " << alpha;
+    EXPECT_EQ(mean.r + mean.g, 1.0) << "every ray meets one of the two";
+    EXPECT_EQ(trace_reference(s, look_at({0, 0, 0}, {0, 0, -1}, 40), 16, 16, tp).image.rgb, f.rgb);
+    std::printf("alpha %.2f: red %.4f, green %.4f (tolerance %.4f)\n", alpha, mean.r, mean.g, tolerance);
+  }
+}
+
 TEST(Tracer, LeafPatternMasksPerRay) {
   material leaf;
-  leaf.alpha_mask = true;
+  leaf.alpha = alpha_mode::mask;
   leaf.procedural = pattern::leaf;
   scene_description d = emitter({{-1, -1, -2}, {1, -1, -2}, {1, 1, -2}, {-1, 1, -2}}, {1, 1, 1}, leaf);
   d.meshes[0].uvs = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
@@ -1252,6 +1288,35 @@ TEST(Tracer, EmissiveStrengthScalesTheEmission) {
     } catch (const std::exception& e) {
       EXPECT_NE(std::string(e.what()).find(file + ": material 0 'lamp': emissiveStrength"), std::string::npos) << e.what();
     }
+  }
+}
+
+// glTF alpha modes are read as the file gives them: OPAQUE, MASK with its cutoff, BLEND.
+TEST(Tracer, GltfAlphaModesAreRead) {
+  const float facing_z[12] = {-1, -1, 0, 1, -1, 0, 1, 1, 0, -1, 1, 0};
+  const std::string plain = write_gltf("alpha-plain.gltf", facing_z, "{\"camera\":0,\"translation\":[0,0,4]}",
+                                       "{\"type\":\"perspective\",\"perspective\":{\"yfov\":1,\"znear\":0.1}}");
+  std::ifstream in(plain);
+  const std::string json((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  for (const auto& [mode, expected] : {std::pair<std::string, alpha_mode>{"OPAQUE", alpha_mode::opaque},
+                                       {"MASK", alpha_mode::mask}, {"BLEND", alpha_mode::blend}}) {
+    std::string text = json;
+    const std::string primitive = "\"indices\":1}";
+    text.replace(text.find(primitive), primitive.size(), "\"indices\":1,\"material\":0}");
+    const std::string file = (fs::path(::testing::TempDir()) / ("alpha-" + mode + ".gltf")).string();
+    std::ofstream(file) << "{\"materials\":[{\"name\":\"glass\",\"alphaMode\":\"" << mode
+                        << "\",\"alphaCutoff\":0.3}]," << text.substr(1);
+    const auto sc = load_scene(file);
+    bool found = false;
+    for (const material& m : sc->description().materials)
+      if (m.name == "glass") {
+        found = true;
+        EXPECT_EQ(m.alpha, expected) << mode;
+        if (expected == alpha_mode::mask) {
+          EXPECT_FLOAT_EQ(m.alpha_cutoff, 0.3f);
+        }
+      }
+    EXPECT_TRUE(found) << mode;
   }
 }
 

@@ -10,6 +10,7 @@
 #include "fov/files.h"
 #include "fov/scene.h"
 #include "fov/usage_error.h"
+#include "fov/random.h"
 #include "scene_impl.h"
 
 namespace fov {
@@ -18,7 +19,23 @@ namespace {
 
 constexpr float pi = 3.14159265358979323846f;
 
-// Rejects hits where the material's alpha falls below its cutoff (glTF MASK).
+// A number in [0, 1) fixed by the ray (its origin and direction) and the surface point it
+// met (instance, triangle): a blended surface's coin for this ray.
+float blend_coin(const RTCFilterFunctionNArguments* args, unsigned i) {
+  const float values[6] = {RTCRayN_org_x(args->ray, args->N, i), RTCRayN_org_y(args->ray, args->N, i),
+                           RTCRayN_org_z(args->ray, args->N, i), RTCRayN_dir_x(args->ray, args->N, i),
+                           RTCRayN_dir_y(args->ray, args->N, i), RTCRayN_dir_z(args->ray, args->N, i)};
+  uint32_t bits[6];
+  std::memcpy(bits, values, sizeof bits);
+  const uint64_t ray = stream_seed((uint64_t(bits[0]) << 32) | bits[1], (uint64_t(bits[2]) << 32) | bits[3],
+                                   (uint64_t(bits[4]) << 32) | bits[5]);
+  const uint64_t where = (uint64_t(RTCHitN_instID(args->hit, args->N, i, 0)) << 32) | RTCHitN_primID(args->hit, args->N, i);
+  return float(stream_seed(ray, where) >> 40) * 0x1.0p-24f;
+}
+
+// Drops hits by the material's alpha: below its cutoff (glTF MASK), or with probability
+// 1 - alpha (glTF BLEND, stochastic transparency). Alpha is read at the finest texture
+// level: a hit-or-miss decision per ray.
 void alpha_filter(const RTCFilterFunctionNArguments* args) {
   const auto* g = static_cast<const geometry_data*>(args->geometryUserPtr);
   for (unsigned i = 0; i < args->N; ++i) {
@@ -30,8 +47,9 @@ void alpha_filter(const RTCFilterFunctionNArguments* args) {
       const glm::uvec3 t = g->m->triangles[prim];
       uv = (1 - u - v) * g->m->uvs[t.x] + u * g->m->uvs[t.y] + v * g->m->uvs[t.z];
     }
-    // Alpha is tested at the finest level: a mask is a hit-or-miss decision per ray.
-    if (g->owner->base_colour(*g->mat, uv, 0).a < g->mat->alpha_cutoff) args->valid[i] = 0;
+    const float alpha = g->owner->base_colour(*g->mat, uv, 0).a;
+    const bool kept = g->mat->alpha == alpha_mode::mask ? alpha >= g->mat->alpha_cutoff : blend_coin(args, i) < alpha;
+    if (!kept) args->valid[i] = 0;
   }
 }
 
@@ -431,7 +449,7 @@ scene::scene(scene_description description) : impl_(std::make_unique<impl>()) {
                                                                  3 * sizeof(unsigned), m.triangles.size()));
       std::memcpy(idx, m.triangles.data(), m.triangles.size() * sizeof(glm::uvec3));
       rtcSetGeometryUserData(g, &d.geometry[i]);
-      if (d.geometry[i].mat->alpha_mask) {
+      if (d.geometry[i].mat->alpha != alpha_mode::opaque) {
         rtcSetGeometryIntersectFilterFunction(g, alpha_filter);
         rtcSetGeometryOccludedFilterFunction(g, alpha_filter);
       }

@@ -97,7 +97,7 @@ scene_description builtin_scene() {
   leaf.name = "leaf (alpha mask)";
   leaf.base_colour = {0.1f, 0.45f, 0.08f, 1};
   leaf.procedural = pattern::leaf;
-  leaf.alpha_mask = true;
+  leaf.alpha = alpha_mode::mask;
   const uint32_t leaf_m = add_material(d, leaf);
 
   material sign;

@@ -391,10 +391,11 @@ material convert_material(const aiMaterial* m, texture_resolver& textures) {
   }
   aiString mode;
   if (m->Get(AI_MATKEY_GLTF_ALPHAMODE, mode) == AI_SUCCESS && std::string(mode.C_Str()) == "MASK") {
-    out.alpha_mask = true;
+    out.alpha = alpha_mode::mask;
     m->Get(AI_MATKEY_GLTF_ALPHACUTOFF, out.alpha_cutoff);
   }
-  if (textures.find(m, aiTextureType_OPACITY, false).file.size()) out.alpha_mask = true;  // OBJ map_d
+  if (m->Get(AI_MATKEY_GLTF_ALPHAMODE, mode) == AI_SUCCESS && std::string(mode.C_Str()) == "BLEND") out.alpha = alpha_mode::blend;
+  if (textures.find(m, aiTextureType_OPACITY, false).file.size()) out.alpha = alpha_mode::mask;  // OBJ map_d
   // Every other texture the file names is checked too, so each missing file is reported.
   for (int type = aiTextureType_NONE + 1; type <= AI_TEXTURE_TYPE_MAX; ++type)
     for (unsigned i = 0; i < m->GetTextureCount(aiTextureType(type)); ++i) textures.check(m, aiTextureType(type), i);

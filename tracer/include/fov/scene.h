@@ -28,6 +28,17 @@ enum class pattern : uint8_t { none, checker, glyphs, leaf };
 // scene) or glTF 2.0's metallic-roughness model (fov/brdf.h; glTF files).
 enum class shading_model : uint8_t { lambert, metallic_roughness };
 
+// How a material's alpha (base colour factor x texture alpha) covers what lies behind it.
+enum class alpha_mode : uint8_t {
+  opaque,  // alpha ignored (glTF OPAQUE, the default)
+  mask,    // a hit where alpha >= alpha_cutoff, none below (glTF MASK, OBJ map_d)
+  blend,   // a hit with probability alpha, drawn per ray and surface: over many rays the
+           // surface covers what lies behind it by alpha, as glTF BLEND's "over" (stochastic
+           // transparency; shadow rays pass likewise)
+};
+inline constexpr std::pair<const char*, alpha_mode> alpha_mode_labels[] = {
+    {"opaque", alpha_mode::opaque}, {"mask", alpha_mode::mask}, {"blend", alpha_mode::blend}};
+
 struct material {
   std::string name;
   shading_model model = shading_model::lambert;
@@ -43,8 +54,8 @@ struct material {
   glm::vec3 emissive{0, 0, 0};
   texture_ref emissive_texture;
   texture_ref normal_texture;  // tangent space, linear
-  bool alpha_mask = false;     // alpha-tested (glTF alphaMode MASK, OBJ map_d)
-  float alpha_cutoff = 0.5f;
+  alpha_mode alpha = alpha_mode::opaque;
+  float alpha_cutoff = 0.5f;  // mask only
   pattern procedural = pattern::none;
   float pattern_repeats = 1;  // pattern periods per UV unit
   glm::vec3 pattern_colour{0, 0, 0};  // the second colour of checker and glyph patterns
