@@ -78,24 +78,28 @@ TEST(Tracer, KnownTriangleHitsKnownPixels) {
   EXPECT_EQ(f.rays, 101u * 101u * 4u);
 }
 
+// A red emitter of material `front` 2 units before the camera, a larger green one behind it at 4.
+scene_description red_before_green(const material& front) {
+  scene_description d = emitter({{-1, -1, -2}, {1, -1, -2}, {1, 1, -2}, {-1, 1, -2}}, {1, 0, 0}, front);
+  material back;
+  back.base_colour = glm::vec4(0, 0, 0, 1);
+  back.emissive = {0, 1, 0};
+  d.materials.push_back(back);
+  mesh m = d.meshes[0];
+  for (glm::vec3& p : m.positions) p = glm::vec3(4 * p.x, 4 * p.y, -4);
+  m.material = 1;
+  d.meshes.push_back(m);
+  d.instances.push_back({1, glm::mat4(1.0f), ""});
+  return d;
+}
+
 TEST(Tracer, AlphaMaskDropsHitsBelowTheCutoff) {
   for (float alpha : {0.2f, 0.8f}) {
     material front;
     front.alpha = alpha_mode::mask;
     front.alpha_cutoff = 0.5f;
     front.base_colour.a = alpha;
-    scene_description d = emitter({{-1, -1, -2}, {1, -1, -2}, {1, 1, -2}, {-1, 1, -2}}, {1, 0, 0}, front);
-    // A green emitter behind it.
-    material back;
-    back.base_colour = glm::vec4(0, 0, 0, 1);
-    back.emissive = {0, 1, 0};
-    d.materials.push_back(back);
-    mesh m = d.meshes[0];
-    for (glm::vec3& p : m.positions) p = glm::vec3(4 * p.x, 4 * p.y, -4);
-    m.material = 1;
-    d.meshes.push_back(m);
-    d.instances.push_back({1, glm::mat4(1.0f), ""});
-    scene s(std::move(d));
+    scene s(red_before_green(front));
     trace_params tp;
     tp.spp = 2;
     const frame f = trace_reference(s, look_at({0, 0, 0}, {0, 0, -1}, 60), 9, 9, tp).image;
@@ -113,17 +117,7 @@ TEST(Tracer, AlphaBlendCoversByAlphaOverManyRays) {
     material front;
     front.alpha = alpha_mode::blend;
     front.base_colour.a = alpha;
-    scene_description d = emitter({{-1, -1, -2}, {1, -1, -2}, {1, 1, -2}, {-1, 1, -2}}, {1, 0, 0}, front);
-    material back;
-    back.base_colour = glm::vec4(0, 0, 0, 1);
-    back.emissive = {0, 1, 0};
-    d.materials.push_back(back);
-    mesh m = d.meshes[0];
-    for (glm::vec3& p : m.positions) p = glm::vec3(4 * p.x, 4 * p.y, -4);
-    m.material = 1;
-    d.meshes.push_back(m);
-    d.instances.push_back({1, glm::mat4(1.0f), ""});
-    scene s(std::move(d));
+    scene s(red_before_green(front));
     trace_params tp;
     tp.spp = 64;
     const frame f = trace_reference(s, look_at({0, 0, 0}, {0, 0, -1}, 40), 16, 16, tp).image;
