@@ -481,6 +481,7 @@ scene::scene(scene_description description) : impl_(std::make_unique<impl>()) {
   }
   rtcCommitScene(d.top);
   if (d.desc.instances.empty()) d.bmin = d.bmax = glm::vec3(0);
+  d.emitters = make_emitter_set(d.desc);
 
   // Ambient light: the environment's mean colour (sampled over the sphere).
   d.has_env_map = !d.desc.env.latlong_file.empty();

@@ -5,6 +5,7 @@
 #include <OpenImageIO/texture.h>
 
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 #include "fov/colour.h"
@@ -73,6 +74,35 @@ struct env_sampler {
 };
 env_sampler make_env_sampler(const env_pyramid& p);
 
+// The scene's emissive triangles as lights for the path integrator (next-event estimation):
+// every triangle of an opaque material with a non-zero emissive factor, in world space, drawn
+// in proportion to its area times the luminance of its emissive factor (a textured emission
+// is drawn by its factor and evaluated at the point drawn), then uniformly over its area.
+// Masked and blended emitters are left out: they light by BRDF-sampled bounces alone.
+struct emitter_set {
+  struct triangle {
+    unsigned inst = 0, prim = 0;  // the instance and its mesh's triangle, as Embree reports a hit
+    glm::vec3 p0{0}, e1{0}, e2{0};
+    glm::vec3 normal{0};  // unit, geometric
+    float area = 0;
+  };
+  std::vector<triangle> triangles;
+  std::vector<float> cdf;  // cumulative probabilities, triangles.size() + 1 entries
+  std::vector<float> pick;  // each triangle's probability
+  std::unordered_map<uint64_t, uint32_t> index;  // (inst << 32) | prim -> triangle
+  bool empty() const { return triangles.empty(); }
+  // A point drawn from three uniform numbers in [0, 1): its triangle and barycentrics (u, v)
+  // as Embree gives a hit's, and the density per unit area.
+  struct sample {
+    uint32_t triangle = 0;
+    float u = 0, v = 0, area_pdf = 0;
+  };
+  sample draw(float u0, float u1, float u2) const;
+  // The density per unit area of drawing a point on instance `inst`'s triangle `prim` (0: not an emitter).
+  float area_pdf(unsigned inst, unsigned prim) const;
+};
+emitter_set make_emitter_set(const scene_description& d);
+
 struct scene::impl {
   scene_description desc;
   RTCDevice device = nullptr;
@@ -84,6 +114,7 @@ struct scene::impl {
   std::vector<texture_handles> handles;      // per material
   env_pyramid env_map;
   env_sampler env_light;  // when has_env_map
+  emitter_set emitters;
   glm::vec3 bmin{0}, bmax{0};
   glm::vec3 env_mean{0};
   bool has_env_map = false;

@@ -281,20 +281,61 @@ glm::vec3 environment_light(const scene::impl& d, const hit_material& h, const g
   return f * cos_n * d.environment_radiance(wi, 0) * (power_heuristic(pdf_env, pdf_brdf) / pdf_env);
 }
 
+// The scene's emissive triangles as a light at vertex h (seen along -wo): one point drawn
+// (emitter_set), through a shadow ray that stops short of it, weighted against the BRDF's
+// own sampling by the power heuristic (both as densities per steradian). Emission is
+// two-sided, as a hit sees it. Always draws three numbers from r.
+glm::vec3 emitter_light(const scene::impl& d, const hit_material& h, const glm::vec3& wo, bool shadows, rng& r,
+                        RTCIntersectContext& context, ray_tally& tally) {
+  const float u0 = float(r.uniform()), u1 = float(r.uniform()), u2 = float(r.uniform());
+  const emitter_set::sample e = d.emitters.draw(u0, u1, u2);
+  const emitter_set::triangle& tri = d.emitters.triangles[e.triangle];
+  const glm::vec3 p = tri.p0 + e.u * tri.e1 + e.v * tri.e2;
+  glm::vec3 wi = p - h.position;
+  const float dist2 = glm::dot(wi, wi);
+  if (!(dist2 > 0)) return glm::vec3(0);
+  const float dist = std::sqrt(dist2);
+  wi /= dist;
+  const float cos_n = glm::dot(h.n, wi);
+  if (cos_n <= 0 || glm::dot(h.ng, wi) <= 0) return glm::vec3(0);
+  const float cos_l = std::fabs(glm::dot(tri.normal, wi));
+  if (!(cos_l > 1e-6f)) return glm::vec3(0);
+  float pdf_brdf = 0;
+  const glm::vec3 f = brdf_at(h, wo, wi, pdf_brdf);
+  if (f == glm::vec3(0)) return glm::vec3(0);
+  surface s;
+  d.surface_at(tri.inst, tri.prim, e.u, e.v, s);
+  const glm::vec3 emitted = d.emission(*s.mat, s.uv, 0);
+  if (emitted == glm::vec3(0)) return glm::vec3(0);
+  if (shadows) {
+    // Stops short of the emitter by twice the offset either end of the ray moves off its surface.
+    const glm::vec3 o = offset_origin(h.position, h.ng);
+    const float margin = 2e-4f * (1 + std::max({std::fabs(p.x), std::fabs(p.y), std::fabs(p.z), std::fabs(h.position.x),
+                                                std::fabs(h.position.y), std::fabs(h.position.z)}));
+    const float tfar = glm::length(p - o) - margin;
+    if (tfar > 0 && !unoccluded(d, o, wi, tfar, context, tally)) return glm::vec3(0);
+  }
+  const float pdf_light = e.area_pdf * dist2 / cos_l;
+  return f * cos_n * emitted * (power_heuristic(pdf_light, pdf_brdf) / pdf_light);
+}
+
 // The path integrator past the first hit `h` (seen along -wo with throughput 1): up to
 // `bounces` BRDF-sampled bounces, each vertex lit by the lights through shadow rays, misses
 // seeing the environment and hits adding their emission; Russian roulette from the fourth
 // bounce on. With `sample_env`, every vertex a bounce leaves (the first too) also samples
 // the environment image as a light, and misses count with multiple importance sampling's
-// weight. Returns what this adds to the first hit's emission and lights.
+// weight; with `sample_emitters`, the emissive triangles likewise. Returns what this adds to
+// the first hit's emission and lights.
 glm::vec3 bounce_radiance(const scene::impl& d, const std::vector<ready_light>& lights, hit_material h, glm::vec3 wo,
-                          uint32_t bounces, bool shadows, bool sample_env, rng& r, ray_tally& tally) {
+                          uint32_t bounces, bool shadows, bool sample_env, bool sample_emitters, rng& r,
+                          ray_tally& tally) {
   glm::vec3 sum(0), throughput(1);
   RTCIntersectContext context;
   for (uint32_t bounce = 1; bounce <= bounces; ++bounce) {
-    // The environment light is sampled where a bounce also leaves the vertex, so that the
-    // two techniques' weights add to one.
+    // The environment and the emitters are sampled as lights where a bounce also leaves the
+    // vertex, so that each pair of techniques' weights adds to one.
     if (sample_env) sum += throughput * environment_light(d, h, wo, shadows, r, context, tally);
+    if (sample_emitters) sum += throughput * emitter_light(d, h, wo, shadows, r, context, tally);
     const glm::vec3 u(float(r.uniform()), float(r.uniform()), float(r.uniform()));
     glm::vec3 wi, weight;
     float pdf_brdf = 0;
@@ -344,7 +385,14 @@ glm::vec3 bounce_radiance(const scene::impl& d, const std::vector<ready_light>& 
       h.brdf.metallic = mr.x, h.brdf.roughness = mr.y, h.lambert = false;
     }
     wo = -wi;
-    sum += throughput * d.emission(*s.mat, s.uv, duv);
+    glm::vec3 emitted = d.emission(*s.mat, s.uv, duv);
+    if (sample_emitters && emitted != glm::vec3(0)) {
+      const float area_pdf = d.emitters.area_pdf(ray.hit.instID[0], ray.hit.primID);
+      const float cos_l = std::fabs(glm::dot(h.ng, wi));
+      if (area_pdf > 0 && cos_l > 1e-6f)
+        emitted *= power_heuristic(pdf_brdf, area_pdf * ray.ray.tfar * ray.ray.tfar / cos_l);
+    }
+    sum += throughput * emitted;
     for (const ready_light& l : lights) {
       const light_at at = sample_light(l, h.position);
       const glm::vec3 direct = reflected_light(h, wo, at);
@@ -408,6 +456,7 @@ void trace_rays(const scene::impl& d, const trace_params& params, const camera_f
     for (const light& l : d.desc.lights) lights.emplace_back(l);
   const bool shadows = params.shadows, path = params.method == integrator::path;
   const bool sample_env = path && params.sample_environment && !d.env_light.empty();
+  const bool sample_emitters = path && params.sample_emitters && !d.emitters.empty();
   trace_timing& t = timing.local;
   RTCIntersectContext context;
   for (size_t base = 0; base < count; base += 16) {
@@ -454,7 +503,8 @@ void trace_rays(const scene::impl& d, const trace_params& params, const camera_f
       for (int i = 0; i < n; ++i) {
         if (!hit[i]) continue;
         rng r = path_rng(params.seed, rays[base + i]);
-        result[i].colour += bounce_radiance(d, lights, mat[i], -dirs[i], params.bounces, shadows, sample_env, r, timing.tally);
+        result[i].colour += bounce_radiance(d, lights, mat[i], -dirs[i], params.bounces, shadows, sample_env,
+                                            sample_emitters, r, timing.tally);
       }
       timing.timer.mark(t.bounce);
     }

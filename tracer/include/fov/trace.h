@@ -35,9 +35,10 @@ enum class integrator {
            // environment's mean colour times environment::ambient times the surface's albedo
            // (and occlusion texture); no bounce (default: what fovray always did)
   path,    // path tracing: the first hit and up to trace_params::bounces more, each vertex
-           // lit by the light through a shadow ray (next-event estimation), the environment
-           // and emissive surfaces reached by BRDF-sampled bounces; Russian roulette from the
-           // fourth bounce on; no ambient term
+           // lit by the lights through shadow rays (next-event estimation; the environment
+           // image and emissive triangles too, with multiple importance sampling), the
+           // environment and emissive surfaces also reached by BRDF-sampled bounces;
+           // Russian roulette from the fourth bounce on; no ambient term
 };
 inline constexpr std::pair<const char*, integrator> integrator_labels[] = {{"direct", integrator::direct},
                                                                           {"path", integrator::path}};
@@ -103,6 +104,11 @@ struct trace_params {
   // luminance, weighted against BRDF sampling by multiple importance sampling); off, it is
   // reached by BRDF-sampled bounces alone (a constant environment always is).
   bool sample_environment = true;
+  // Path only: the scene's emissive triangles (opaque materials with an emissive factor) are
+  // also sampled as lights at every vertex (by area times the factor's luminance, weighted
+  // against BRDF sampling by multiple importance sampling); off, they light by BRDF-sampled
+  // bounces alone. A scene without such triangles traces the same either way.
+  bool sample_emitters = true;
   // The TAA pattern m = mirror_x + 2 mirror_y (thesis Sec. 3.3: four patterns from one set,
   // so TAA can blend frames with different samples). Foveated: the point set mirrored
   // left-right and/or top-bottom (a grid point casts its pixel's samples m n .. (m + 1) n - 1).
