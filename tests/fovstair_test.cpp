@@ -117,6 +117,25 @@ TEST(Protocol, ErrorsNameTheFileLineAndField) {
   EXPECT_EQ(error_of(protocol_with("    {\"name\": \"B\"}")), "");  // valid
 }
 
+// How stimuli are traced comes from the protocol: the integrator, bounces and an
+// environment light reach the render settings; a wrong integrator or too many bounces
+// names its line and key.
+TEST(Protocol, IntegratorBouncesAndEnvironmentLightReachTheStimulus) {
+  const std::string base = "{\n\"fovstair_protocol\": 1,\n\"conditions\": [{\"name\": \"A\"}]";
+  const stair_protocol plain = parse_protocol(base + "\n}", "p.json");
+  const render_params plain_params = stimulus_params(plain, plain.conditions[0]);
+  EXPECT_EQ(plain_params.method, integrator::direct);
+  EXPECT_EQ(plain_params.env_light, "");
+  const stair_protocol path =
+      parse_protocol(base + ",\n\"integrator\": \"path\",\n\"bounces\": 3,\n\"env_light\": \"sky.exr\"\n}", "p.json");
+  const render_params path_params = stimulus_params(path, path.conditions[0]);
+  EXPECT_EQ(path_params.method, integrator::path);
+  EXPECT_EQ(path_params.bounces, 3u);
+  EXPECT_EQ(path_params.env_light, "sky.exr");
+  EXPECT_EQ(error_of(base + ",\n\"integrator\": \"whitted\"\n}"), "p.json:4: integrator: must be direct or path");
+  EXPECT_EQ(error_of(base + ",\n\"bounces\": 65\n}"), "p.json:4: bounces: must lie in 0..64");
+}
+
 TEST(Protocol, TheThesisProtocolLoadsAndReachesEveryTenth) {
   const stair_protocol p = load_protocol(FOV_SOURCE_DIR "/apps/fovstair/protocols/thesis.json");
   ASSERT_EQ(p.conditions.size(), 3u);

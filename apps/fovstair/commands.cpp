@@ -133,7 +133,7 @@ int run_session(const run_options& o) {
             pointset_path(p, s), s, p.display, p.scale_min, p.scale_max, sweep_step(p), p.points_dir));
     auto first = std::make_shared<const pointset>(load_pointset(pointset_path(p, state.next().scale)));
     const display_geometry& d = first->model.display;
-    std::shared_ptr<const scene> scn = load_scene(p.scene);
+    std::shared_ptr<const scene> scn = load_scene(p.scene, p.env_light);
     stimulus = std::make_unique<fov::renderer>(scn, stimulus_params(p, p.conditions.front()));
     how.scale = o.screen_ppd > 0 ? o.screen_ppd / pixels_per_degree(d) : 1;
     how.fullscreen = o.fullscreen;
@@ -568,6 +568,9 @@ int validate_protocol(const std::string& protocol) {
                             quest_plus(p.quest_plus, reachable_scales(p), p.mode == stair_mode::two_afc).parameter_combinations(),
                             p.quest_plus.max_trials, p.quest_plus.stop_interval > 0 ? " or fewer (stop_interval)" : "");
   fmt::print("{}: {} conditions, scales {:.2f}..{:.2f}, {}\n", protocol, p.conditions.size(), p.scale_min, p.scale_max, procedure);
+  if (!p.env_light.empty())  // a session would stop when its scene loads
+    if (const std::string why = env_image_problem(p.env_light); !why.empty())
+      throw std::runtime_error(fmt::format("{}: env_light {}: {}", protocol, p.env_light, why));
   int missing = 0;
   for (double s : reachable_scales(p)) {
     const std::string f = pointset_path(p, s);

@@ -290,6 +290,13 @@ stair_protocol parse_protocol(const std::string& text, const std::string& file) 
   top.get("taa", p.taa);
   top.get("hfov", p.hfov);
   if (p.hfov < 0 || p.hfov >= 180) top.fail("/hfov", "must lie in (0, 180) degrees, or 0 for the scene's");
+  std::string integrator_label = label_of(integrator_labels, p.method);
+  top.get("integrator", integrator_label);
+  if (!parse_label(integrator_labels, integrator_label, p.method))
+    top.fail("/integrator", "must be " + label_alternatives(integrator_labels));
+  top.get("bounces", p.bounces);
+  if (p.bounces > max_bounces) top.fail("/bounces", fmt::format("must lie in 0..{}", max_bounces));
+  top.get("env_light", p.env_light);
   top.get("order", p.order);
   if (p.order != "latin-square" && p.order != "fixed" && p.order != "random")
     top.fail("/order", "must be latin-square, fixed or random");
@@ -524,6 +531,9 @@ render_params stimulus_params(const stair_protocol& p, const stair_condition& c)
   r.spp = c.spp ? c.spp : p.spp;
   r.taa = p.taa;
   r.view.hfov_deg = float(p.hfov);
+  r.method = p.method;
+  r.bounces = p.bounces;
+  r.env_light = p.env_light;
   return r;
 }
 

@@ -76,6 +76,12 @@ struct stair_protocol {
   uint32_t spp = 4;
   bool taa = true;
   double hfov = 0;                 // 0: the scene's
+  // How the stimuli are traced (render_params): the integrator, its bounces (path only) and
+  // a lat-long image lighting the scene ("" for the scene's own environment; read when the
+  // scene loads, as a scene file is).
+  integrator method = integrator::direct;
+  uint32_t bounces = 2;
+  std::string env_light;
   std::vector<stair_condition> conditions;
   std::string order = "latin-square";  // latin-square (by subject number), fixed, random
   stair_mode mode = stair_mode::yes_no;
