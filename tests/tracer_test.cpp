@@ -1199,16 +1199,24 @@ TEST(Tracer, CameraOverridesPlaceAndAimTheCamera) {
   EXPECT_NE(validate(o), "");
 }
 
+// A glTF file of one quad facing +z seen by its camera 4 units away, and a file's text.
+std::string write_quad_gltf(const std::string& name) {
+  const float facing_z[12] = {-1, -1, 0, 1, -1, 0, 1, 1, 0, -1, 1, 0};
+  return write_gltf(name, facing_z, "{\"camera\":0,\"translation\":[0,0,4]}",
+                    "{\"type\":\"perspective\",\"perspective\":{\"yfov\":1,\"znear\":0.1}}");
+}
+std::string read_text(const std::string& file) {
+  std::ifstream in(file);
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
 // Extensions a glTF file declares that fovray does not implement are warned about once
 // each, naming the file and the extension (material extensions saying how the material
 // shades instead); KHR_lights_punctual, which fovray reads, is not; past 16 the rest are
 // counted. The file still loads.
 TEST(Tracer, UnsupportedGltfExtensionsWarnOnceEach) {
-  const float facing_z[12] = {-1, -1, 0, 1, -1, 0, 1, 1, 0, -1, 1, 0};
-  const std::string plain = write_gltf("extensions-plain.gltf", facing_z, "{\"camera\":0,\"translation\":[0,0,4]}",
-                                       "{\"type\":\"perspective\",\"perspective\":{\"yfov\":1,\"znear\":0.1}}");
-  std::ifstream in(plain);
-  const std::string json((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string plain = write_quad_gltf("extensions-plain.gltf");
+  const std::string json = read_text(plain);
   auto with = [&](const std::string& name, const std::string& used) {
     const std::string file = (fs::path(::testing::TempDir()) / name).string();
     std::ofstream(file) << "{\"extensionsUsed\":[" << used << "]," << json.substr(1);
@@ -1237,11 +1245,7 @@ TEST(Tracer, UnsupportedGltfExtensionsWarnOnceEach) {
 // strength, with no warning about the extension; a strength out of range refuses the file,
 // naming it and the material.
 TEST(Tracer, EmissiveStrengthScalesTheEmission) {
-  const float facing_z[12] = {-1, -1, 0, 1, -1, 0, 1, 1, 0, -1, 1, 0};
-  const std::string plain = write_gltf("emissive-plain.gltf", facing_z, "{\"camera\":0,\"translation\":[0,0,4]}",
-                                       "{\"type\":\"perspective\",\"perspective\":{\"yfov\":1,\"znear\":0.1}}");
-  std::ifstream in(plain);
-  const std::string json((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string json = read_text(write_quad_gltf("emissive-plain.gltf"));
   auto with_strength = [&](const std::string& name, const std::string& strength) {
     std::string text = json;
     const std::string primitive = "\"indices\":1}";
