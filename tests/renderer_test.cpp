@@ -92,6 +92,10 @@ TEST_F(pipeline, AFrameIsTheTraceAndReconstructionItStandsFor) {
   const frame expected = reconstruct(*set, direct.samples, params.reconstruct);
   EXPECT_EQ(max_difference(got, expected), 0.0f);
   EXPECT_EQ(t.rays, direct.samples.rays);
+  EXPECT_EQ(t.cast.primary, direct.samples.rays);
+  EXPECT_EQ(t.cast.shadow, direct.stats.cast.shadow);
+  EXPECT_GT(t.cast.shadow, 0u);  // the sun lights the scene
+  EXPECT_EQ(t.cast.bounce, 0u);  // the direct integrator
   EXPECT_EQ(t.points_traced, direct.samples.traced.size());
   EXPECT_GT(t.trace_ms, 0.0);
   EXPECT_GT(t.reconstruct_ms, 0.0);
@@ -100,6 +104,17 @@ TEST_F(pipeline, AFrameIsTheTraceAndReconstructionItStandsFor) {
   // The reference is the library's too.
   const frame ref = r.reference(64, 48, params).image;
   EXPECT_EQ(max_difference(ref, trace_reference(*scn, setup_camera(*scn), 64, 48, tp).image), 0.0f);
+  // A path-traced full grid reports its bounces and every kind of ray as the library counts them.
+  render_params path = params;
+  path.method = integrator::path, path.bounces = 2;
+  frame_timing pt;
+  r.reference(64, 48, path, &pt);
+  tp.method = integrator::path, tp.bounces = 2;
+  const ray_counts library = trace_reference(*scn, setup_camera(*scn), 64, 48, tp).stats.cast;
+  EXPECT_EQ(pt.cast.primary, 64u * 48u * params.spp);
+  EXPECT_GT(pt.cast.bounce, 0u);
+  EXPECT_EQ(pt.cast.bounce, library.bounce);
+  EXPECT_EQ(pt.cast.shadow, library.shadow);
 }
 
 TEST_F(pipeline, CameraOverridesApplyToEverySceneKind) {

@@ -303,6 +303,7 @@ int main(int argc, char** argv) {
     j["taa_ms"] = p.taa ? json(t.taa_ms) : json(nullptr);
     j["total_ms"] = t.total_ms();
     j["rays"] = t.rays;
+    j["rays_cast"] = {{"primary", t.cast.primary}, {"shadow", t.cast.shadow}, {"bounce", t.cast.bounce}};
     j["points_traced"] = o.reference ? json(nullptr) : json(t.points_traced);
     j["width"] = display.width;
     j["height"] = display.height;

@@ -160,6 +160,7 @@ points_trace renderer::trace_frame(gaze_point gaze, const render_params& p, uint
   t.traced_ahead = false;
   t.trace_wait_ms = 0;
   t.rays = out.samples.rays;
+  t.cast = out.stats.cast;
   t.points_traced = out.samples.traced.size();
   return out;
 }
@@ -215,6 +216,7 @@ adaptive_trace renderer::trace_refined_frame(gaze_point gaze, const render_param
   t.traced_ahead = false;
   t.trace_wait_ms = 0;
   t.rays = a.traced.samples.rays;
+  t.cast = a.traced.stats.cast;
   t.points_traced = a.traced.samples.traced.size();
   t.adaptive = true;
   t.refinement = a.report;
@@ -308,6 +310,7 @@ const frame& renderer::foveated(gaze_point gaze, const render_params& p, frame_t
       t.trace_ms = ms;
       t.trace_wait_ms = ms_since(t0);
       t.rays = result.samples.rays;
+      t.cast = result.stats.cast;
       t.points_traced = result.samples.traced.size();
       traced = std::move(result);
     }
@@ -375,6 +378,7 @@ reference_trace renderer::full_grid(int width, int height, const trace_params& t
     *t = frame_timing{};
     t->trace_ms = ms_since(t0);
     t->rays = out.image.rays;
+    t->cast = out.stats.cast;
   }
   return out;
 }

@@ -94,6 +94,9 @@ struct frame_timing {
   bool traced_ahead = false;  // the trace ran in the background (begin_trace)
   double trace_wait_ms = 0;   // how long the frame still waited for it
   uint64_t rays = 0, points_traced = 0;
+  // Every ray the frame's trace cast, by kind (trace_stats::cast): primary (as many as
+  // `rays`), shadow, and the path integrator's bounces.
+  ray_counts cast;
   bool on_device = false;
   weight_stats weights;
   // An adaptive frame (render_params::adaptive): rays and points per level, blocks per level.

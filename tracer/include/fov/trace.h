@@ -159,7 +159,7 @@ falloff_rule point_ray_rule(const pointset& set, gaze_point gaze, uint32_t spp, 
 // The rays a trace cast, by kind (always counted).
 struct ray_counts {
   uint64_t primary = 0;  // from the camera, in packets of 16
-  uint64_t shadow = 0;   // towards a light or a direction drawn from the environment light
+  uint64_t shadow = 0;   // towards a light, a direction drawn from the environment light or an emissive triangle
   uint64_t bounce = 0;   // the path integrator's bounces, one at a time
   uint64_t total() const { return primary + shadow + bounce; }
 };
