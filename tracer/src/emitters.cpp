@@ -18,9 +18,8 @@ emitter_set make_emitter_set(const scene_description& d) {
     const mesh& m = d.meshes[in.mesh];
     const material& mat = d.materials[m.material];
     if (mat.alpha != alpha_mode::opaque) continue;
-    const glm::vec3 e = mat.emissive;
-    const double luminance = 0.2126 * e.r + 0.7152 * e.g + 0.0722 * e.b;
-    if (!(luminance > 0)) continue;
+    const double emitted = luminance(mat.emissive);
+    if (!(emitted > 0)) continue;
     for (size_t k = 0; k < m.triangles.size(); ++k) {
       const glm::uvec3 t = m.triangles[k];
       emitter_set::triangle tri;
@@ -34,17 +33,17 @@ emitter_set make_emitter_set(const scene_description& d) {
       tri.normal = cross / (2 * tri.area);
       out.index.emplace(key(tri.inst, tri.prim), uint32_t(out.triangles.size()));
       out.triangles.push_back(tri);
-      power.push_back(luminance * tri.area);
+      power.push_back(emitted * tri.area);
     }
   }
   double total = 0;
   for (double p : power) total += p;
   if (!(total > 0) || !std::isfinite(total)) return emitter_set();
   out.cdf.resize(power.size() + 1, 0.0f);
-  out.pick.resize(power.size());
+  out.density.resize(power.size());
   double sum = 0;
   for (size_t k = 0; k < power.size(); ++k) {
-    out.pick[k] = float(power[k] / total);
+    out.density[k] = float(power[k] / total) / out.triangles[k].area;
     sum += power[k];
     out.cdf[k + 1] = float(sum / total);
   }
@@ -60,13 +59,13 @@ emitter_set::sample emitter_set::draw(float u0, float u1, float u2) const {
   // Uniform over the triangle: barycentrics from the square root warp.
   const float r = std::sqrt(u1);
   s.u = r * (1 - u2), s.v = r * u2;
-  s.area_pdf = pick[s.triangle] / triangles[s.triangle].area;
+  s.area_pdf = density[s.triangle];
   return s;
 }
 
 float emitter_set::area_pdf(unsigned inst, unsigned prim) const {
   const auto it = index.find(key(inst, prim));
-  return it == index.end() ? 0.0f : pick[it->second] / triangles[it->second].area;
+  return it == index.end() ? 0.0f : density[it->second];
 }
 
 }  // namespace fov

@@ -234,7 +234,7 @@ env_sampler make_env_sampler(const env_pyramid& p) {
     const float sin_theta = std::sin(pi * (float(y) + 0.5f) / float(h));
     for (size_t x = 0; x < w; ++x) {
       const glm::vec3 c = m.texels[y * w + x];
-      out.texel[y * w + x] = std::max(0.0f, 0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b) * sin_theta;
+      out.texel[y * w + x] = std::max(0.0f, luminance(c)) * sin_theta;
       total += out.texel[y * w + x];
     }
   }

@@ -88,7 +88,7 @@ struct emitter_set {
   };
   std::vector<triangle> triangles;
   std::vector<float> cdf;  // cumulative probabilities, triangles.size() + 1 entries
-  std::vector<float> pick;  // each triangle's probability
+  std::vector<float> density;  // each triangle's probability per unit of its area
   std::unordered_map<uint64_t, uint32_t> index;  // (inst << 32) | prim -> triangle
   bool empty() const { return triangles.empty(); }
   // A point drawn from three uniform numbers in [0, 1): its triangle and barycentrics (u, v)

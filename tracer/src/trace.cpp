@@ -179,10 +179,11 @@ glm::vec3 mapped_normal(const scene::impl& d, const surface& s, float duv) {
   return glm::normalize(tn.x * tangent + tn.y * bitangent + tn.z * n);
 }
 // A shadow or bounce ray's origin: off the surface along its geometric normal.
-glm::vec3 offset_origin(const glm::vec3& p, const glm::vec3& ng) {
-  const float scale = 1 + std::max({std::fabs(p.x), std::fabs(p.y), std::fabs(p.z)});
-  return p + ng * (1e-4f * scale);
+// How far: grows with the coordinates, so that float rounding there stays below it.
+float offset_distance(const glm::vec3& p) {
+  return 1e-4f * (1 + std::max({std::fabs(p.x), std::fabs(p.y), std::fabs(p.z)}));
 }
+glm::vec3 offset_origin(const glm::vec3& p, const glm::vec3& ng) { return p + ng * offset_distance(p); }
 
 // Shades the hit lanes of a packet. Texture by texture across the lanes (every base
 // colour, then every normal map, then every emission), so that consecutive lookups read
@@ -310,9 +311,7 @@ glm::vec3 emitter_light(const scene::impl& d, const hit_material& h, const glm::
   if (shadows) {
     // Stops short of the emitter by twice the offset either end of the ray moves off its surface.
     const glm::vec3 o = offset_origin(h.position, h.ng);
-    const float margin = 2e-4f * (1 + std::max({std::fabs(p.x), std::fabs(p.y), std::fabs(p.z), std::fabs(h.position.x),
-                                                std::fabs(h.position.y), std::fabs(h.position.z)}));
-    const float tfar = glm::length(p - o) - margin;
+    const float tfar = glm::length(p - o) - 2 * std::max(offset_distance(p), offset_distance(h.position));
     if (tfar > 0 && !unoccluded(d, o, wi, tfar, context, tally)) return glm::vec3(0);
   }
   const float pdf_light = e.area_pdf * dist2 / cos_l;

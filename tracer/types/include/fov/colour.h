@@ -25,5 +25,7 @@ inline float srgb_decode(float encoded) {
 inline uint8_t display_byte(float linear) { return uint8_t(std::lround(255 * srgb_encode(linear))); }
 
 inline glm::vec3 srgb_decode(glm::vec3 c) { return {srgb_decode(c.r), srgb_decode(c.g), srgb_decode(c.b)}; }
+// Relative luminance of a linear Rec. 709 colour.
+inline float luminance(glm::vec3 c) { return 0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b; }
 
 }  // namespace fov
