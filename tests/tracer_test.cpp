@@ -61,6 +61,27 @@ TEST(Camera, ProjectInvertsRayDirection) {
   EXPECT_NEAR(std::acos(glm::dot(ray_direction(f, 320, 100), f.forward)), glm::radians(35.0f), 1e-5);
 }
 
+TEST(Camera, PathsInterpolateBetweenKeysAndHoldAtTheirEnds) {
+  camera_path path;
+  path.keys = {{10, {0, 0, 0}, {0, 0, -1}}, {20, {2, 0, 0}, {2, 0, -1}}, {20, {4, 0, 0}, {5, 0, 0}}, {30, {4, 0, 0}, {4, 1, 0}}};
+  camera base = look_at({9, 9, 9}, {9, 9, 0}, 55);
+  base.up = {0, 0, 1};
+  const camera before = path.at(-5, base), start = path.at(10, base), mid = path.at(15, base);
+  EXPECT_EQ(before.position, glm::vec3(0, 0, 0));
+  EXPECT_EQ(start.position, glm::vec3(0, 0, 0));
+  EXPECT_EQ(mid.position, glm::vec3(1, 0, 0));
+  EXPECT_EQ(mid.forward, glm::vec3(0, 0, -1));
+  // Two keys at one time: from that time on the later one holds.
+  EXPECT_EQ(path.at(20, base).position, glm::vec3(4, 0, 0));
+  EXPECT_EQ(path.at(20, base).forward, glm::vec3(1, 0, 0));
+  // Halfway from looking along +x to looking along +y: the target's midpoint, normalised.
+  EXPECT_NEAR(glm::distance(path.at(25, base).forward, glm::normalize(glm::vec3(0.5f, 0.5f, 0))), 0, 1e-6);
+  EXPECT_EQ(path.at(1e9, base).forward, glm::vec3(0, 1, 0));
+  // The base's field of view and up stay.
+  EXPECT_EQ(mid.hfov_deg, 55);
+  EXPECT_EQ(mid.up, glm::vec3(0, 0, 1));
+}
+
 TEST(Tracer, KnownTriangleHitsKnownPixels) {
   // Triangle (0,0,-5) (1,0,-5) (0,1,-5) seen from the origin with a 90-degree, 101-px screen:
   // world x maps to 50.5 + 50.5 x / 5, world y to 50.5 - 50.5 y / 5.

@@ -31,29 +31,4 @@ camera_path load_camera_path(const std::string& path) {
   return out;
 }
 
-camera camera_path::at(double t, const camera& base) const {
-  size_t i = 0;
-  while (i + 1 < keys.size() && keys[i + 1].t <= t) ++i;
-  const key& a = keys[i];
-  const key& b = keys[std::min(i + 1, keys.size() - 1)];
-  const double f = b.t > a.t ? std::clamp((t - a.t) / (b.t - a.t), 0.0, 1.0) : 0.0;
-  glm::vec3 eye, target;
-  for (int c = 0; c < 3; ++c) {
-    eye[c] = float(a.eye[c] + f * (b.eye[c] - a.eye[c]));
-    target[c] = float(a.target[c] + f * (b.target[c] - a.target[c]));
-  }
-  camera c = base;  // its field of view and up
-  c.position = eye;
-  // Between two keys the eye may pass through the target: there the view keeps the nearer
-  // key's direction (each key's eye is off its target).
-  const glm::vec3 to = target - eye;
-  if (glm::dot(to, to) > 0 && std::isfinite(glm::dot(to, to))) {
-    c.forward = glm::normalize(to);
-  } else {
-    const key& k = f < 0.5 ? a : b;
-    c.forward = glm::normalize(glm::vec3(float(k.target[0] - k.eye[0]), float(k.target[1] - k.eye[1]), float(k.target[2] - k.eye[2])));
-  }
-  return c;
-}
-
 }  // namespace fov

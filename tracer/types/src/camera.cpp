@@ -1,5 +1,6 @@
 #include "fov/camera.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include <fmt/format.h>
@@ -54,6 +55,32 @@ camera look_at(const glm::vec3& eye, const glm::vec3& target, float hfov_deg, co
   c.forward = glm::normalize(target - eye);
   c.up = up;
   c.hfov_deg = hfov_deg;
+  return c;
+}
+
+camera camera_path::at(double t, const camera& base) const {
+  // The last key at or before t (the first when t precedes them), and the next.
+  const auto after = std::upper_bound(keys.begin() + 1, keys.end(), t, [](double v, const key& k) { return v < k.t; });
+  const size_t i = size_t(after - keys.begin()) - 1;
+  const key& a = keys[i];
+  const key& b = keys[std::min(i + 1, keys.size() - 1)];
+  const double f = b.t > a.t ? std::clamp((t - a.t) / (b.t - a.t), 0.0, 1.0) : 0.0;
+  glm::vec3 eye, target;
+  for (int c = 0; c < 3; ++c) {
+    eye[c] = float(a.eye[c] + f * (b.eye[c] - a.eye[c]));
+    target[c] = float(a.target[c] + f * (b.target[c] - a.target[c]));
+  }
+  camera c = base;  // its field of view and up
+  c.position = eye;
+  // Between two keys the eye may pass through the target: there the view keeps the nearer
+  // key's direction (each key's eye is off its target).
+  const glm::vec3 to = target - eye;
+  if (glm::dot(to, to) > 0 && std::isfinite(glm::dot(to, to))) {
+    c.forward = glm::normalize(to);
+  } else {
+    const key& k = f < 0.5 ? a : b;
+    c.forward = glm::normalize(glm::vec3(float(k.target[0] - k.eye[0]), float(k.target[1] - k.eye[1]), float(k.target[2] - k.eye[2])));
+  }
   return c;
 }
 

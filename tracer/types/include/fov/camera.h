@@ -2,6 +2,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include <glm/glm.hpp>
 
@@ -56,5 +57,16 @@ glm::vec2 project(const camera_frame& f, const glm::vec3& world, float* depth = 
 
 // A camera that looks at `target` from `eye`.
 camera look_at(const glm::vec3& eye, const glm::vec3& target, float hfov_deg, const glm::vec3& up = {0, 1, 0});
+
+// A camera moving over time: keys of eye and look-at target (world units) at times in
+// milliseconds, non-decreasing, linearly interpolated between them (a recorded path's rows,
+// apps/common/camera_path.h reads them from CSV).
+struct camera_path {
+  struct key { double t, eye[3], target[3]; };
+  std::vector<key> keys;  // at least one
+  // The camera at t_ms (clamped to the path's ends): `base` moved to the eye and turned to
+  // the target, its field of view and up kept.
+  camera at(double t_ms, const camera& base) const;
+};
 
 }  // namespace fov
