@@ -324,6 +324,71 @@ ray_falloff test_falloff(int w, int h, uint32_t floor) {
   return f;
 }
 
+// A camera per screen line (trace_params::lines, a rolling display's view).
+line_cameras same_camera_on_every_line(const camera& c, bool columns, int lines) {
+  line_cameras l;
+  l.columns = columns;
+  l.cameras.assign(size_t(lines), c);
+  return l;
+}
+
+TEST(LineCameras, OneCameraOnEveryLineIsTheFrameBitForBit) {
+  const auto s = load_scene("builtin");
+  const camera cam = s->default_camera();
+  trace_params tp;
+  tp.spp = 3;
+  const frame global = trace_reference(*s, cam, 48, 30, tp).image;
+  for (bool columns : {false, true}) {
+    trace_params lined = tp;
+    lined.lines = same_camera_on_every_line(cam, columns, columns ? 48 : 30);
+    const frame f = trace_reference(*s, look_at({7, 7, 7}, {0, 0, 0}, 20), 48, 30, lined).image;  // the argument unused
+    EXPECT_EQ(f.rgb, global.rgb);
+    EXPECT_EQ(f.depth, global.depth);
+  }
+  pointset set;
+  set.model.display = {64, 72, 1.0};
+  set.points = throw_darts(set.model, {});
+  set.table = build_knn_table(set.points, 128, 144, {});
+  const point_samples a = trace_points(*s, cam, set, {30, 40}, tp).samples;
+  trace_params lined = tp;
+  lined.lines = same_camera_on_every_line(cam, false, 72);
+  const point_samples b = trace_points(*s, cam, set, {30, 40}, lined).samples;
+  ASSERT_EQ(a.traced, b.traced);
+  EXPECT_EQ(a.colour, b.colour);
+  EXPECT_EQ(a.depth, b.depth);
+}
+
+TEST(LineCameras, EachLineIsSeenFromItsOwnCamera) {
+  const auto s = load_scene("builtin");
+  const camera first = s->default_camera();
+  camera second = first;  // turned and moved: every pixel of the scene changes
+  second.position += glm::vec3(0.3f, 0.1f, 0);
+  second.forward = glm::normalize(first.forward + glm::vec3(0.2f, -0.05f, 0));
+  trace_params tp;
+  tp.spp = 2;
+  const int w = 40, h = 30;
+  const frame a = trace_reference(*s, first, w, h, tp).image, b = trace_reference(*s, second, w, h, tp).image;
+  for (bool columns : {false, true}) {
+    const int lines = columns ? w : h, split = lines / 3;
+    trace_params lined = tp;
+    lined.lines = same_camera_on_every_line(first, columns, lines);
+    for (int i = split; i < lines; ++i) lined.lines.cameras[size_t(i)] = second;
+    const frame f = trace_reference(*s, first, w, h, lined).image;
+    int differing = 0;
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        const size_t i = size_t(y) * w + x;
+        const frame& own = (columns ? x : y) < split ? a : b;
+        EXPECT_EQ(f.rgb[i], own.rgb[i]) << x << "," << y;
+        EXPECT_EQ(f.depth[i], own.depth[i]) << x << "," << y;
+        differing += a.rgb[i] != b.rgb[i];
+      }
+    EXPECT_GT(differing, w * h / 2);  // the two cameras see different images
+    lined.lines.cameras.pop_back();
+    EXPECT_THROW(trace_reference(*s, first, w, h, lined), std::invalid_argument);
+  }
+}
+
 TEST(RayFalloff, AFlatRuleIsTheFullResolutionFrameBitForBit) {
   const auto s = load_scene("builtin");
   for (pixel_sampler sampler : {pixel_sampler::sobol, pixel_sampler::random}) {

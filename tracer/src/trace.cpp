@@ -191,7 +191,7 @@ glm::vec3 offset_origin(const glm::vec3& p, const glm::vec3& ng) { return p + ng
 // where a lane-by-lane order cycled through three textures' tiles. The direct integrator
 // adds the ambient term; the path integrator leaves it to the bounces (mat[] keeps what they
 // start from).
-void shade_hits(const scene::impl& d, const camera_frame& f, const RTCRayHit16& rh, const bool* hit,
+void shade_hits(const scene::impl& d, const camera_frame* const* frames, const RTCRayHit16& rh, const bool* hit,
                 const glm::vec3* dirs, const float* radius_px, bool ambient, shaded* out, hit_material* mat) {
   surface s[16];
   float duv[16];
@@ -200,8 +200,8 @@ void shade_hits(const scene::impl& d, const camera_frame& f, const RTCRayHit16& 
     if (!hit[i]) continue;
     d.surface_at(rh.hit.instID[0][i], rh.hit.primID[i], rh.hit.u[i], rh.hit.v[i], s[i]);
     const float t = rh.ray.tfar[i];
-    out[i].depth = t * glm::dot(dirs[i], f.forward);
-    duv[i] = 2 * radius_px[i] * f.pixel_angle * t * s[i].uv_per_world;
+    out[i].depth = t * glm::dot(dirs[i], frames[i]->forward);
+    duv[i] = 2 * radius_px[i] * frames[i]->pixel_angle * t * s[i].uv_per_world;
   }
   for (int i = 0; i < 16; ++i)
     if (hit[i]) base[i] = d.base_colour(*s[i].mat, s[i].uv, duv[i]);
@@ -445,9 +445,38 @@ void add_light(const scene::impl& d, const ready_light& l, const hit_material* m
   timing.timer.mark(t.shadow);
 }
 
+// The camera frames a trace casts from: the frame's, or one per screen line (trace_params::lines).
+struct view_frames {
+  camera_frame global;
+  std::vector<camera_frame> lines;
+  bool columns = false;
+  // The frame a ray through screen position (sx, sy) is cast from.
+  const camera_frame& at(float sx, float sy) const {
+    if (lines.empty()) return global;
+    const float s = columns ? sx : sy;
+    const float last = float(lines.size() - 1);
+    return lines[size_t(s >= 0 ? std::min(std::floor(s), last) : 0.0f)];
+  }
+};
+// Throws std::invalid_argument when params.lines does not hold one camera per line.
+view_frames make_view(const camera& cam, int width, int height, const trace_params& params) {
+  view_frames v;
+  v.global = make_frame(cam, width, height);
+  const line_cameras& l = params.lines;
+  if (l.empty()) return v;
+  const size_t n = size_t(l.columns ? width : height);
+  if (l.cameras.size() != n)
+    throw std::invalid_argument(fmt::format("{} line cameras for a screen of {} {}", l.cameras.size(), n,
+                                            l.columns ? "columns" : "rows"));
+  v.columns = l.columns;
+  v.lines.reserve(n);
+  for (const camera& c : l.cameras) v.lines.push_back(make_frame(c, width, height));
+  return v;
+}
+
 // Traces rays[begin, end) in packets of 16 and hands each result to sink(ray, colour, depth, hit).
 template <class Sink>
-void trace_rays(const scene::impl& d, const trace_params& params, const camera_frame& f, const sample_ray* rays,
+void trace_rays(const scene::impl& d, const trace_params& params, const view_frames& view, const sample_ray* rays,
                 size_t count, task_stats& timing, Sink&& sink) {
   std::vector<ready_light> lights;
   if (params.sun) lights.emplace_back(*params.sun);
@@ -463,9 +492,11 @@ void trace_rays(const scene::impl& d, const trace_params& params, const camera_f
     alignas(64) int valid[16];
     alignas(64) RTCRayHit16 rh;
     glm::vec3 dirs[16];
+    const camera_frame* frames[16];
     for (int i = 0; i < 16; ++i) {
       valid[i] = i < n ? -1 : 0;
       const sample_ray& r = rays[base + std::min(i, n - 1)];
+      const camera_frame& f = *(frames[i] = &view.at(r.sx, r.sy));
       dirs[i] = ray_direction(f, r.sx, r.sy);
       rh.ray.org_x[i] = f.origin.x, rh.ray.org_y[i] = f.origin.y, rh.ray.org_z[i] = f.origin.z;
       rh.ray.dir_x[i] = dirs[i].x, rh.ray.dir_y[i] = dirs[i].y, rh.ray.dir_z[i] = dirs[i].z;
@@ -493,9 +524,9 @@ void trace_rays(const scene::impl& d, const trace_params& params, const camera_f
       hit[i] = i < n && rh.hit.geomID[i] != RTC_INVALID_GEOMETRY_ID;
       radius[i] = rays[base + std::min(i, n - 1)].radius_px;
     }
-    shade_hits(d, f, rh, hit, dirs, radius, !path, result, mat);
+    shade_hits(d, frames, rh, hit, dirs, radius, !path, result, mat);
     for (int i = 0; i < n; ++i)
-      if (!hit[i]) result[i].colour = d.environment_radiance(dirs[i], 2 * radius[i] * f.pixel_angle);
+      if (!hit[i]) result[i].colour = d.environment_radiance(dirs[i], 2 * radius[i] * frames[i]->pixel_angle);
     timing.timer.mark(t.shade);
     for (const ready_light& l : lights) add_light(d, l, mat, hit, dirs, n, shadows, context, timing, result);
     if (path && params.bounces > 0) {
@@ -708,7 +739,7 @@ std::vector<uint16_t> traced_point_rays(const pointset& set, const point_samples
 
 // Casts the rays of `points` (placed as `out` says) and writes their samples into `out`'s
 // per-point arrays, which hold the whole set; returns the rays cast.
-uint64_t cast_points(const scene::impl& d, const camera_frame& f, const pointset& set, const std::vector<uint32_t>& points,
+uint64_t cast_points(const scene::impl& d, const view_frames& f, const pointset& set, const std::vector<uint32_t>& points,
                      gaze_point gaze, const trace_params& params, point_samples& out, trace_stats& stats) {
   const uint32_t spp = params.spp;
   // Rays per point; a ray's owner is its point's place in `points`.
@@ -749,7 +780,7 @@ points_trace trace_selected(const scene& sc, const camera& cam, const pointset& 
   const display_geometry& disp = set.model.display;
   check(params, disp.width, disp.height);
   const scene::impl& d = sc.internals();
-  const camera_frame f = make_frame(cam, disp.width, disp.height);
+  const view_frames f = make_view(cam, disp.width, disp.height, params);
   points_trace result;
   point_samples& out = result.samples;
   trace_timing* timing_total = params.time_stages ? &result.stats.timing : nullptr;
@@ -804,7 +835,7 @@ uint64_t trace_more_points(const scene& sc, const camera& cam, const pointset& s
     points[a] < out.traced[b] ? ++a : ++b;
   }
   if (points.empty()) return 0;
-  const uint64_t cast = cast_points(sc.internals(), make_frame(cam, disp.width, disp.height), set, points, gaze, params,
+  const uint64_t cast = cast_points(sc.internals(), make_view(cam, disp.width, disp.height, params), set, points, gaze, params,
                                     out, into.stats);
   std::vector<uint32_t> merged;
   merged.reserve(out.traced.size() + points.size());
@@ -842,7 +873,7 @@ std::vector<glm::vec2> point_ray_positions(const pointset& set, const point_samp
 reference_trace trace_reference(const scene& sc, const camera& cam, int width, int height, const trace_params& params) {
   check(params, width, height);
   const scene::impl& d = sc.internals();
-  const camera_frame f = make_frame(cam, width, height);
+  const view_frames f = make_view(cam, width, height, params);
   reference_trace result;
   frame& out = result.image;
   std::vector<double>* tile_seconds = params.tile_costs ? &result.stats.tile_seconds : nullptr;

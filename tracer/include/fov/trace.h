@@ -94,6 +94,16 @@ struct falloff_rule {
 };
 falloff_rule make_falloff_rule(const ray_falloff& f, uint32_t spp);
 
+// One camera per row (or column) of the screen (trace_params::lines). Every ray is cast from
+// the camera of the line its screen position falls in (lines beyond the screen: the nearest
+// one on it, for the off-screen points a reconstruction reads), so a ray's origin, direction
+// and the depth it reports are its line's; the trace's camera argument is then not used.
+struct line_cameras {
+  bool columns = false;         // one camera per column, else per row
+  std::vector<camera> cameras;  // the screen's height (rows) or width (columns) of them; empty: none
+  bool empty() const { return cameras.empty(); }
+};
+
 struct trace_params {
   uint32_t spp = 32;     // rays per point (foveated) or per pixel (reference)
   uint64_t seed = 1;     // fixes the ray positions (and a path's bounces): the same every frame
@@ -140,6 +150,10 @@ struct trace_params {
   // Foveated only: 0 = every point casts spp rays (the thesis); 1..spp = a point's rays fall
   // with eccentricity as the full grid's do (point_ray_rule), from spp at the gaze to this floor.
   uint32_t ray_floor = 0;
+  // A camera per screen line instead of one for the frame: a rolling display's view, each
+  // line seen from where the camera is when that line is shown (the pipeline's
+  // rolling_params make them). Empty: every ray from the trace's camera.
+  line_cameras lines;
 };
 
 // The rays of a foveated point (trace_params::ray_floor > 0): the falloff of the set's own
