@@ -138,6 +138,115 @@ TEST_F(pipeline, CameraOverridesApplyToEverySceneKind) {
   EXPECT_THROW(renderer(scn, bad), usage_error);
 }
 
+// A camera path that turns the built-in scene's camera right by `deg_per_ms` degrees a
+// millisecond about its eye, keyed every millisecond from 0 to 40 ms.
+std::shared_ptr<const camera_path> turning_path(const camera& c, double deg_per_ms) {
+  auto path = std::make_shared<camera_path>();
+  const glm::vec3 right = glm::normalize(glm::cross(c.forward, c.up)), ahead = glm::normalize(c.forward);
+  for (int t = 0; t <= 40; ++t) {
+    const double a = glm::radians(deg_per_ms * t);
+    const glm::vec3 target = c.position + float(std::cos(a)) * ahead + float(std::sin(a)) * right;
+    path->keys.push_back({double(t), {c.position.x, c.position.y, c.position.z}, {target.x, target.y, target.z}});
+  }
+  return path;
+}
+
+TEST(Rolling, LinesAreShownInScanoutOrderAcrossThePeriod) {
+  rolling_params r;
+  r.frame_period_ms = 10;
+  EXPECT_EQ(line_time_ms(r, 3, 40, 20), 0.0);  // global: at once
+  r.order = scanout::top_down;
+  EXPECT_DOUBLE_EQ(line_time_ms(r, 0, 40, 20), 0.25);
+  EXPECT_DOUBLE_EQ(line_time_ms(r, 19, 40, 20), 9.75);
+  r.order = scanout::bottom_up;
+  EXPECT_DOUBLE_EQ(line_time_ms(r, 19, 40, 20), 0.25);
+  EXPECT_DOUBLE_EQ(line_time_ms(r, 0, 40, 20), 9.75);
+  r.order = scanout::left_right;
+  EXPECT_DOUBLE_EQ(line_time_ms(r, 0, 40, 20), 0.125);
+  EXPECT_DOUBLE_EQ(line_time_ms(r, 39, 40, 20), 9.875);
+  r.order = scanout::right_left;
+  EXPECT_DOUBLE_EQ(line_time_ms(r, 39, 40, 20), 0.125);
+  // Each line's camera is the path's at start + its time.
+  const camera base = look_at({0, 0, 0}, {0, 0, -1}, 60);
+  auto path = std::make_shared<camera_path>();
+  path->keys = {{100, {0, 0, 0}, {0, 0, -1}}, {120, {20, 0, 0}, {20, 0, -1}}};
+  r.path = path;
+  r.start_ms = 105;
+  for (scanout order : {scanout::top_down, scanout::bottom_up, scanout::left_right, scanout::right_left}) {
+    r.order = order;
+    const line_cameras l = rolling_cameras(r, base, 40, 20);
+    const bool columns = order == scanout::left_right || order == scanout::right_left;
+    EXPECT_EQ(l.columns, columns);
+    ASSERT_EQ(l.cameras.size(), columns ? 40u : 20u);
+    for (size_t i : {size_t(0), l.cameras.size() - 1})
+      EXPECT_NEAR(l.cameras[i].position.x, 105 + line_time_ms(r, int(i), 40, 20) - 100, 1e-5) << scanout_name(order);
+  }
+  r.order = scanout::global;
+  EXPECT_TRUE(rolling_cameras(r, base, 40, 20).empty());
+  // Out of range: one line naming the flag.
+  rolling_params bad;
+  bad.frame_period_ms = 0.5;
+  EXPECT_NE(validate(bad).find("--frame-period"), std::string::npos);
+  bad = {};
+  bad.start_ms = std::nan("");
+  EXPECT_NE(validate(bad).find("--camera-time"), std::string::npos);
+  bad = {};
+  bad.order = scanout::top_down;  // no path to move along
+  EXPECT_NE(validate(bad).find("--rolling needs --camera"), std::string::npos);
+  EXPECT_EQ(validate(r), "");
+}
+
+TEST_F(pipeline, RollingWithAStillCameraIsTheGlobalFrame) {
+  render_params rolling = params;
+  auto still = std::make_shared<camera_path>();  // one key: the camera stays
+  const camera c = setup_camera(*scn);
+  const glm::vec3 target = c.position + c.forward;
+  still->keys = {{0, {c.position.x, c.position.y, c.position.z}, {target.x, target.y, target.z}}};
+  rolling.rolling.path = still;
+  renderer global_r(scn, rolling);
+  global_r.use_pointset(set);
+  const frame global = global_r.foveated({20, 30}, rolling);
+  const frame global_full = global_r.reference(64, 48, rolling).image;
+  EXPECT_LT(glm::distance(global_r.cam().forward, c.forward), 1e-6f);  // the scene's view
+  for (scanout order : {scanout::top_down, scanout::right_left}) {
+    rolling.rolling.order = order;
+    renderer r(scn, rolling);
+    r.use_pointset(set);
+    EXPECT_EQ(max_difference(r.foveated({20, 30}, rolling), global), 0.0f) << scanout_name(order);
+    EXPECT_EQ(max_difference(r.reference(64, 48, rolling).image, global_full), 0.0f) << scanout_name(order);
+  }
+}
+
+TEST_F(pipeline, ARollingFrameShowsEachRowAsTheCameraSeesItThen) {
+  render_params rolling = params;
+  rolling.rolling.path = turning_path(setup_camera(*scn), 0.5);
+  rolling.rolling.order = scanout::top_down;
+  rolling.rolling.frame_period_ms = 16;
+  rolling.rolling.start_ms = 4;
+  renderer r(scn, rolling);
+  // The renderer's camera is the path's when the scanout begins.
+  EXPECT_EQ(r.cam().forward, rolling.rolling.path->at(4, setup_camera(*scn)).forward);
+  const frame f = r.reference(64, 48, rolling).image;
+  render_params at_start = rolling;
+  at_start.rolling.order = scanout::global;
+  const frame global = renderer(scn, at_start).reference(64, 48, at_start).image;
+  int rows_moved = 0;
+  for (int y : {0, 20, 47}) {
+    // Row y is the row of a global frame at the time it is shown.
+    render_params then = at_start;
+    then.rolling.start_ms = 4 + line_time_ms(rolling.rolling, y, 64, 48);
+    const frame g = renderer(scn, then).reference(64, 48, then).image;
+    bool moved = false;
+    for (int x = 0; x < 64; ++x) {
+      const size_t i = size_t(y) * 64 + x;
+      EXPECT_EQ(f.rgb[i], g.rgb[i]) << x << "," << y;
+      moved |= f.rgb[i] != global.rgb[i];
+    }
+    rows_moved += moved;
+  }
+  EXPECT_GE(rows_moved, 2);  // the later rows differ from the frame at the scanout's start
+}
+
 TEST_F(pipeline, RayPatternsFollowTheFrameNumberUnderTaaOnly) {
   render_params p = params;
   p.seed = 10;

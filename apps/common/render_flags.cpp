@@ -118,17 +118,37 @@ void add_render_flags(CLI::App& app, render_params& p, unsigned groups) {
     app.add_option_function<std::string>(
         "--up", [&p, point](const std::string& t) { p.view.up = point("--up", t); },
         "Camera up direction X,Y,Z (default: the scene camera's)");
-    app.add_option_function<std::string>(
-           "--camera",
-           [&p](const std::string& file) {
-             const camera_path path = load_camera_path(file);  // first row: a still camera
-             p.view.eye = glm::vec3(float(path.keys[0].eye[0]), float(path.keys[0].eye[1]), float(path.keys[0].eye[2]));
-             p.view.target =
-                 glm::vec3(float(path.keys[0].target[0]), float(path.keys[0].target[1]), float(path.keys[0].target[2]));
-           },
-           "A camera path CSV t_ms,x,y,z,tx,ty,tz (docs/fovview.md): its first row's eye and target")
-        ->excludes(eye)
-        ->excludes(target);
+    CLI::Option* path =
+        app.add_option_function<std::string>(
+               "--camera",
+               [&p](const std::string& file) {
+                 // The renderer's camera is the path's at rolling.start_ms: its first row's time
+                 // unless --camera-time (bound after this flag, so its value is set after) says.
+                 // The first row is also the view's eye and target, which setup_camera checks.
+                 p.rolling.path = std::make_shared<const camera_path>(load_camera_path(file));
+                 p.rolling.start_ms = p.rolling.path->keys[0].t;
+                 const camera_path::key& first = p.rolling.path->keys[0];
+                 p.view.eye = glm::vec3(float(first.eye[0]), float(first.eye[1]), float(first.eye[2]));
+                 p.view.target = glm::vec3(float(first.target[0]), float(first.target[1]), float(first.target[2]));
+               },
+               (groups & flags_rolling)
+                   ? "A camera path CSV t_ms,x,y,z,tx,ty,tz (docs/fovview.md): the camera at --camera-time on it"
+                   : "A camera path CSV t_ms,x,y,z,tx,ty,tz (docs/fovview.md): its first row's eye and target")
+            ->excludes(eye)
+            ->excludes(target);
+    if (groups & flags_rolling) {
+      app.add_option("--camera-time", p.rolling.start_ms,
+                     "The time (ms) on the --camera path at which the frame's scanout begins (default: its first row's)")
+          ->check(CLI::Range(-max_camera_time_ms, max_camera_time_ms))
+          ->needs(path);
+      add_label_option(app, "--rolling", p.rolling.order, scanout_labels,
+                       "A rolling display: the order its lines are shown in, each line traced from the --camera path's "
+                       "camera when it is shown (docs/reuse.md)");
+      app.add_option("--frame-period", p.rolling.frame_period_ms,
+                     "With --rolling: the scanout's duration, first line to last (ms; 90 Hz: 11.1)")
+          ->check(CLI::Range(min_frame_period_ms, max_frame_period_ms))
+          ->capture_default_str();
+    }
   }
 }
 

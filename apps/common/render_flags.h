@@ -22,7 +22,11 @@ enum render_flags : unsigned {
   flags_device = 32,       // --device
   flags_view = 64,         // --hfov, --eye, --look-at, --up, --camera
   flags_adaptive = 128,    // --adaptive, --adaptive-threshold, --adaptive-depth, --adaptive-budget
-  flags_all = 255,
+  flags_all = 255,         // the groups above
+  // --camera-time, --rolling, --frame-period (with flags_view): a frame at a time on the
+  // --camera path, its lines each at their own time. Only for tools that render one frame
+  // at a time they are given (fovrender); a viewer moves its camera itself.
+  flags_rolling = 256,
 };
 void add_render_flags(CLI::App& app, render_params& p, unsigned groups = flags_all);
 

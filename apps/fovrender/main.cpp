@@ -84,6 +84,8 @@ void check_options(const render_options& o, const fov::render_params& p) {
   if (o.level >= 0 && p.adaptive.enabled) throw usage_error("--level renders one level as a fixed set; --adaptive refines them all");
   if (o.level >= 0 && o.points.empty()) throw usage_error("--level needs --points (a nested set)");
   if (o.flicker > 0 && o.reference) throw usage_error("--flicker measures a point set's frames; drop --reference");
+  if (o.flicker > 0 && p.rolling.order != fov::scanout::global)
+    throw usage_error("--flicker turns the camera itself; drop --rolling");
   if (p.adaptive.enabled && o.reference) throw usage_error("--adaptive refines a point set; drop --reference");
   if (o.debug_asked && o.debug == fov::debug_view::refinement && !p.adaptive.enabled)
     throw usage_error("--debug-view refinement needs --adaptive");
@@ -98,7 +100,7 @@ int main(int argc, char** argv) {
   app.add_option("--scene", o.scene, "builtin, builtin:cornell (a room where bounces matter), a glTF/OBJ file, or env:IMAGE");
   app.add_option("--points", o.points, "Point set (.fovset); gives the screen size");
   app.add_option("--gaze", o.gaze, "X,Y in screen pixels, centre or corner");
-  fov::add_render_flags(app, p);
+  fov::add_render_flags(app, p, fov::flags_all | fov::flags_rolling);
   app.add_flag("--reference", o.reference, "Render at full resolution instead");
   app.add_option("--ray-floor", o.ray_floor,
                  "Rays falling with eccentricity from --spp at the gaze to this floor as the acuity model's point density "
@@ -206,6 +208,10 @@ int main(int argc, char** argv) {
 
     json j;
     j["integrator"] = fov::label_of(fov::integrator_labels, p.method);
+    if (p.rolling.path)
+      j["camera_time_ms"] = p.rolling.start_ms;
+    j["rolling"] = fov::scanout_name(p.rolling.order);
+    if (p.rolling.order != fov::scanout::global) j["frame_period_ms"] = p.rolling.frame_period_ms;
     if (p.method == fov::integrator::path) j["bounces"] = p.bounces;
     const auto loading = std::chrono::steady_clock::now();
     std::shared_ptr<const fov::scene> scene = fov::load_scene(o.scene, p.env_light);

@@ -26,7 +26,9 @@ bool same_trace(const render_params& a, const render_params& b) {
          a.reconstruct.k == b.reconstruct.k && a.taa == b.taa && a.pattern == b.pattern && a.exposure_ev == b.exposure_ev && a.disc_sampler == b.disc_sampler &&
          a.sun_direction == b.sun_direction && a.sun_irradiance == b.sun_irradiance &&
          a.reference_sampler == b.reference_sampler && a.ray_floor == b.ray_floor && a.method == b.method &&
-         a.bounces == b.bounces;
+         a.bounces == b.bounces && a.rolling.order == b.rolling.order &&
+         a.rolling.frame_period_ms == b.rolling.frame_period_ms && a.rolling.path == b.rolling.path &&
+         a.rolling.start_ms == b.rolling.start_ms;
 }
 
 // The tracing half of the params, without a frame's pattern.
@@ -71,6 +73,7 @@ std::string validate(const render_params& p, const pointset* set) {
                             glm::all(glm::lessThanEqual(*p.sun_irradiance, glm::vec3(1e6f)))))
     return "--sun-irradiance must be finite, non-negative and at most 1e6 per channel";
   if (const std::string why = validate(p.adaptive); !why.empty()) return why;
+  if (const std::string why = validate(p.rolling); !why.empty()) return why;
   if (p.adaptive.enabled && set && !set->nested())
     return "--adaptive needs a nested set (fovgen --levels); this set has one level";
   if (p.weight_caches < 1 || p.weight_caches > cl_reconstructor::max_weight_caches)
@@ -91,8 +94,15 @@ trace_params renderer::frame_trace_params(const render_params& p, uint64_t n) {
   return tp;
 }
 
+trace_params renderer::with_lines(trace_params tp, const render_params& p, int width, int height) const {
+  tp.lines = rolling_cameras(p.rolling, cam_, width, height);
+  return tp;
+}
+
 renderer::renderer(std::shared_ptr<const scene> s, const render_params& p)
-    : scene_(std::move(s)), cam_(setup_camera(*scene_, p.view)), device_kind_(p.device), weight_caches_(p.weight_caches) {}
+    : scene_(std::move(s)), cam_(setup_camera(*scene_, p.view)), device_kind_(p.device), weight_caches_(p.weight_caches) {
+  if (p.rolling.path) cam_ = p.rolling.path->at(p.rolling.start_ms, cam_);
+}
 
 renderer::~renderer() = default;
 
@@ -152,7 +162,8 @@ points_trace renderer::trace(gaze_point gaze, const render_params& p, frame_timi
 }
 
 points_trace renderer::trace_frame(gaze_point gaze, const render_params& p, uint64_t n, frame_timing& t) {
-  const trace_params tp = frame_trace_params(p, n);
+  const display_geometry& disp = set_->model.display;
+  const trace_params tp = with_lines(frame_trace_params(p, n), p, disp.width, disp.height);
   const std::shared_ptr<const traced_index> index = index_for(tp);
   const auto t0 = clock_type::now();
   points_trace out = trace_points(*scene_, cam_, *set_, *index, gaze, tp);
@@ -195,7 +206,8 @@ void renderer::begin_trace(gaze_point gaze, const camera& view, const render_par
   require_set();
   pending_.reset();  // waits for one still running
   if (p.adaptive.enabled) return;  // an adaptive frame chooses its points from its own samples: traced in foveated()
-  const trace_params tp = frame_trace_params(p, frames_traced_++);
+  const display_geometry& disp = set_->model.display;
+  const trace_params tp = with_lines(frame_trace_params(p, frames_traced_++), p, disp.width, disp.height);
   auto job = [scn = scene_, set = set_, index = index_for(tp), view, gaze, tp] {
     const auto t0 = clock_type::now();
     points_trace out = trace_points(*scn, view, *set, *index, gaze, tp);
@@ -207,7 +219,8 @@ void renderer::begin_trace(gaze_point gaze, const camera& view, const render_par
 adaptive_trace renderer::trace_refined_frame(gaze_point gaze, const render_params& p, uint64_t n, frame_timing& t) {
   if (!levels_) throw std::invalid_argument("--adaptive needs a nested set (fovgen --levels); this set has one level");
   if (const std::string why = validate(p.adaptive); !why.empty()) throw std::invalid_argument(why);
-  const trace_params tp = frame_trace_params(p, n);
+  const display_geometry& disp = set_->model.display;
+  const trace_params tp = with_lines(frame_trace_params(p, n), p, disp.width, disp.height);
   const bool same = last_map_ && same_view(last_map_camera_, cam_) && last_map_params_.threshold == p.adaptive.threshold &&
                     last_map_params_.depth_ratio == p.adaptive.depth_ratio && last_map_params_.budget == p.adaptive.budget;
   const auto t0 = clock_type::now();
@@ -351,7 +364,7 @@ frame renderer::full_steady_state(const display_geometry& display, gaze_point ga
     trace_params tp = frame_trace_params(q, n);
     if (f) tp.falloff = *f;
     frame_timing t;
-    const reference_trace traced = full_grid(display.width, display.height, tp, &t);
+    const reference_trace traced = full_grid(display.width, display.height, with_lines(tp, q, display.width, display.height), &t);
     const auto t0 = clock_type::now();
     out = taa_resolve(history, traced.image, cam_, display, gaze, p.temporal);
     t.taa_ms = ms_since(t0);
@@ -361,13 +374,14 @@ frame renderer::full_steady_state(const display_geometry& display, gaze_point ga
 }
 
 reference_trace renderer::reference(int width, int height, const render_params& p, frame_timing* t) {
-  return full_grid(width, height, base_trace(p), t);
+  return full_grid(width, height, with_lines(base_trace(p), p, width, height), t);
 }
 
 reference_trace renderer::falloff_frame(const ray_falloff& f, const render_params& p, frame_timing* t) {
   trace_params tp = base_trace(p);
   tp.falloff = f;
-  return full_grid(f.model.display.width, f.model.display.height, tp, t);
+  return full_grid(f.model.display.width, f.model.display.height,
+                   with_lines(tp, p, f.model.display.width, f.model.display.height), t);
 }
 
 reference_trace renderer::full_grid(int width, int height, const trace_params& tp, frame_timing* t) {
@@ -396,7 +410,8 @@ warm_up_report renderer::warm_up(gaze_point gaze, const render_params& p) {
     r.reconstruct_ms = t.reconstruct_ms;
     return r;
   }
-  const trace_params tp = frame_trace_params(p, 0);
+  const display_geometry& disp = set_->model.display;
+  const trace_params tp = with_lines(frame_trace_params(p, 0), p, disp.width, disp.height);
   const auto t_index = clock_type::now();
   const std::shared_ptr<const traced_index> index = index_for(tp);
   const double index_ms = ms_since(t_index);

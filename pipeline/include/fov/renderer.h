@@ -18,6 +18,7 @@
 #include "fov/labels.h"
 #include "fov/pointset.h"
 #include "fov/reconstruct_params.h"
+#include "fov/rolling.h"
 #include "fov/scene.h"
 #include "fov/taa.h"
 #include "fov/trace.h"
@@ -74,6 +75,10 @@ struct render_params {
   uint32_t weight_caches = cl_reconstructor::default_weight_caches;
   // The camera (read when the renderer is made).
   camera_overrides view;
+  // A rolling display (fov/rolling.h): the order its lines are shown in, the frame period,
+  // and the camera path the view moves along (the renderer's camera is the path's at
+  // rolling.start_ms; each line's rays are cast from the path's camera when that line is shown).
+  rolling_params rolling;
 };
 
 // The empty string when `p` is valid (for `set`'s k when given), else the reason, naming
@@ -211,6 +216,8 @@ class renderer {
 
   // The trace_params of the frame numbered `n` under p (n counts the renderer's traces).
   static trace_params frame_trace_params(const render_params& p, uint64_t n);
+  // tp with a camera per line for a width x height screen when p.rolling asks for them.
+  trace_params with_lines(trace_params tp, const render_params& p, int width, int height) const;
 
  private:
   std::shared_ptr<const scene> scene_;
