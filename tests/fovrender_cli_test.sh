@@ -103,6 +103,27 @@ check "camera time 0"      0 -- "$fovrender" "${set[@]}" --spp 1 --camera "$dir/
 cmp -s "$dir/cam-file.png" "$dir/cam-t0.png" || fail "--camera-time 0 is not the path's first row"
 check "camera time 500"    0 -- "$fovrender" "${set[@]}" --spp 1 --camera "$dir/path.csv" --camera-time 500 -o "$dir/cam-t500.png"
 cmp -s "$dir/cam-file.png" "$dir/cam-t500.png" && fail "--camera-time 500 changed nothing"
+# Temporal reuse (docs/reuse.md).
+check "reuse unknown"      2 -- "$fovrender" "${set[@]}" --reuse spatial -o "$dir/a.png"
+check "reuse fovea"        2 -- "$fovrender" "${set[@]}" --reuse temporal --reuse-fovea 61 -o "$dir/a.png"
+check "reuse threshold"    2 -- "$fovrender" "${set[@]}" --reuse temporal --reuse-threshold 2 -o "$dir/a.png"
+check "reuse max age"      2 -- "$fovrender" "${set[@]}" --reuse temporal --reuse-max-age 0 -o "$dir/a.png"
+check "reuse ray floor"    2 -- "$fovrender" "${set[@]}" --reuse temporal --ray-floor 1 -o "$dir/a.png"
+check "path without flicker" 2 -- "$fovrender" "${set[@]}" --flicker-yaw 1 -o "$dir/a.png"
+check "path yaw too fast"  2 -- "$fovrender" "${set[@]}" --flicker 3 --flicker-yaw 11 -o "$dir/a.png"
+[[ -e "$dir/a.png" ]] && fail "a refused reuse run wrote its output"
+python3 - "$fovrender" "$dir" <<'PY' || { echo "FAIL --reuse temporal"; failures=$((failures + 1)); }
+import json, subprocess, sys
+run = lambda *a: json.loads(subprocess.run([sys.argv[1], "--points", sys.argv[2] + "/set.fovset", "--spp", "8", "--json",
+                                            "--device", "cpp", "--reuse", "temporal", "--reuse-fovea", "3", *a],
+                                           check=True, capture_output=True, text=True).stdout)
+still = run("--taa-frames", "3", "-o", sys.argv[2] + "/reuse.png")["reuse"]  # the third frame of a still view
+assert still["reused"] > 0 and still["reused"] + still["traced"] == still["points"], still
+path = run("--flicker", "4", "--flicker-shift", "0.02", "--reference-spp", "16", "-o", sys.argv[2] + "/reuse-path.png")["reuse_path"]
+assert path["frames"] == 4 and len(path["per_frame"]) == 4 and 0 < path["rays_ratio"] < 1, path
+assert 0 < path["all_rays_ratio"] < 1 and path["per_frame"][0]["reused"] == 0 and path["per_frame"][1]["reused"] > 0, path
+assert all(k in path for k in ("jod_full", "jod_reuse", "jod_floor", "flicker_full", "flicker_reuse")), path
+PY
 check "rolling"            0 -- "$fovrender" "${set[@]}" --spp 1 --camera "$dir/path.csv" --rolling bottom-up --frame-period 100 -o "$dir/roll.png"
 cmp -s "$dir/cam-file.png" "$dir/roll.png" && fail "--rolling on a moving path changed nothing"
 check "bad size"           2 -- "$fovrender" --reference --width 0 -o "$dir/a.png"

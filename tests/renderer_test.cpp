@@ -2,6 +2,7 @@
 // calls it stands for give, honour the camera overrides for every scene kind, follow the
 // ray pattern under TAA, trace ahead without ever showing a stale frame, and the flicker
 // experiment built on it must measure what it says.
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -619,6 +620,179 @@ TEST(ConvergedSeeds, ShareNothingWithTheSweepsFrames) {
     EXPECT_NE(a, b);
     for (uint64_t n = 0; n < 1000; ++n) EXPECT_TRUE(a != seed + n && b != seed + n);
   }
+}
+
+// Temporal reuse (fov/reuse.h).
+TEST_F(pipeline, AStillViewKeepsItsPeripheralSamplesAndTheSameFrame) {
+  render_params reusing = params;
+  reusing.reuse.mode = reuse_mode::temporal;
+  reusing.reuse.fovea_deg = 3;
+  renderer full(scn, params), r(scn, reusing);
+  full.use_pointset(set);
+  r.use_pointset(set);
+  const gaze_point g{20, 30};
+  frame_timing first, second;
+  r.foveated(g, reusing, &first);
+  EXPECT_TRUE(first.reused);
+  EXPECT_EQ(first.reuse.reused, 0u);  // nothing to keep yet
+  EXPECT_EQ(first.rays, first.reuse.rays_traced + first.reuse.probe_rays);
+  const frame kept = r.foveated(g, reusing, &second);
+  const frame traced = full.foveated(g, params);
+  EXPECT_EQ(kept.rgb, traced.rgb);  // a kept sample is what the same rays would give again
+  EXPECT_EQ(kept.depth, traced.depth);
+  // Points outside 9 degrees keep their samples but near edges (on this 64 x 48 screen many
+  // are); those within 3 degrees do not.
+  EXPECT_GT(second.reuse.reused_share(), 0.4) << second.reuse.reused << " of " << second.reuse.points;
+  EXPECT_EQ(second.reuse.points, second.reuse.reused + second.reuse.traced);
+  EXPECT_EQ(second.points_traced, second.reuse.traced);
+  EXPECT_EQ(second.rays, second.reuse.traced * params.spp + second.reuse.probe_rays);
+  EXPECT_LT(second.rays, first.rays);
+  spacing_model eye = set->model;
+  eye.scale = 1;
+  uint64_t central = 0;  // the gaze sits on the canvas centre (64, 48)
+  for (uint32_t i : traced_points(*set, g, params.reconstruct.k))
+    central += eccentricity_deg(eye, std::hypot(set->points[i].x - 64.0, set->points[i].y - 48.0)) < 3;
+  EXPECT_GT(central, 0u);
+  EXPECT_GE(second.reuse.traced, central);
+}
+
+TEST_F(pipeline, EverySampleIsTracedAgainWithinItsMaximumAge) {
+  render_params reusing = params;
+  reusing.reuse.mode = reuse_mode::temporal;
+  reusing.reuse.fovea_deg = 0;  // everything may be kept
+  reusing.reuse.max_age = 2;
+  renderer r(scn, reusing);
+  r.use_pointset(set);
+  std::vector<uint64_t> kept;
+  for (int n = 0; n < 5; ++n) {
+    frame_timing t;
+    r.foveated({32, 24}, reusing, &t);
+    kept.push_back(t.reuse.reused);
+  }
+  // Traced at frame 0, kept at 1 and 2 (ages 1 and 2), all traced again at 3, kept at 4.
+  EXPECT_EQ(kept[0], 0u);
+  EXPECT_GT(kept[1], 0u);
+  EXPECT_EQ(kept[2], kept[1]);
+  EXPECT_EQ(kept[3], 0u);
+  EXPECT_EQ(kept[4], kept[1]);
+  // Settings that change the samples drop them.
+  render_params brighter = reusing;
+  brighter.exposure_ev = 1;
+  frame_timing t;
+  r.foveated({32, 24}, brighter, &t);
+  EXPECT_EQ(t.reuse.reused, 0u);
+}
+
+// Two emitting quads, a red one in front of a blue wall, the red one placed at x0..x0 + 1.
+scene_description red_before_blue(float x0) {
+  scene_description d;
+  for (glm::vec3 c : {glm::vec3(0, 0, 1), glm::vec3(1, 0, 0)}) {
+    material m;
+    m.base_colour = glm::vec4(0, 0, 0, 1);
+    m.emissive = c;
+    d.materials.push_back(m);
+  }
+  auto quad = [&](float xa, float xb, float ya, float yb, float z, uint32_t mat) {
+    mesh m;
+    m.positions = {{xa, ya, z}, {xb, ya, z}, {xb, yb, z}, {xa, yb, z}};
+    m.uvs.assign(4, glm::vec2(0.5f));
+    m.triangles = {{0, 1, 2}, {0, 2, 3}};
+    m.material = mat;
+    d.meshes.push_back(m);
+    d.instances.push_back({uint32_t(d.meshes.size() - 1), glm::mat4(1.0f), ""});
+  };
+  quad(-50, 50, -50, 50, -10, 0);
+  quad(x0, x0 + 1, -1, 1, -5, 1);
+  d.lights.at(0).colour = glm::vec3(0);
+  d.env.colour = glm::vec3(0);
+  return d;
+}
+
+TEST(Reuse, AMovedObjectIsTracedWhereItWasAndWhereItIs) {
+  const scene before(red_before_blue(-2)), after(red_before_blue(0.5f));
+  const auto set = small_set(64, 48);
+  const camera cam = look_at({0, 0, 0}, {0, 0, -1}, 90);
+  trace_params tp;
+  tp.spp = 4;
+  tp.k = 5;
+  const traced_index index = make_traced_index(*set, 5);
+  reuse_params p;
+  p.mode = reuse_mode::temporal;
+  p.fovea_deg = 0;
+  reuse_history history;
+  const gaze_point g{32, 24};
+  trace_reusing(before, cam, *set, index, g, tp, p, history);
+  const reused_trace moved = trace_reusing(after, cam, *set, index, g, tp, p, history);
+  const points_trace fresh = trace_points(after, cam, *set, index, g, tp);
+  const point_probe now = probe_points(after, cam, *set, index, g, tp), then = probe_points(before, cam, *set, index, g, tp);
+  ASSERT_EQ(now.points, moved.trace.samples.traced);
+  ASSERT_GT(moved.report.reused, now.points.size() / 2);  // the wall, away from both places, is kept
+  ASSERT_EQ(moved.kept.size(), moved.report.reused);
+  uint64_t kept_wrong = 0, on_red = 0;
+  for (size_t j = 0; j < now.points.size(); ++j) {
+    const uint32_t i = now.points[j];
+    const bool kept = std::binary_search(moved.kept.begin(), moved.kept.end(), i);
+    if (now.distance[j] < 7 || then.distance[j] < 7) {  // its centre sees the red quad now or saw it
+      ++on_red;
+      EXPECT_FALSE(kept) << "point " << i << " kept a stale sample where the object moved";
+    }
+    if (kept) kept_wrong += moved.trace.samples.colour[i] != fresh.samples.colour[i];
+  }
+  EXPECT_GT(on_red, 20u);
+  // Elsewhere a kept sample is the wall's colour, as a fresh trace gives, but for the rare disc
+  // that reaches the moved quad without its centre or a neighbour seeing it.
+  EXPECT_LE(kept_wrong, now.points.size() / 100) << kept_wrong << " of " << now.points.size();
+}
+
+TEST_F(pipeline, AMovingCameraKeepsWhatStillHoldsAndTracesTheRest) {
+  render_params reusing = params;
+  reusing.reuse.mode = reuse_mode::temporal;
+  reusing.reuse.fovea_deg = 3;
+  render_params other_seed = params;
+  other_seed.seed = 2;
+  renderer full(scn, params), r(scn, reusing), again(scn, reusing);
+  full.use_pointset(set), r.use_pointset(set), again.use_pointset(set);
+  const camera start = r.cam();
+  flicker_params slide;
+  slide.yaw_deg_per_frame = 0.3f;
+  slide.shift_per_frame = 0.05f;  // parallax: the wall behind the boxes comes into view
+  for (uint32_t n = 0; n < 6; ++n) {
+    full.cam() = r.cam() = again.cam() = path_camera(start, slide, n);
+    frame_timing t, u;
+    const frame a = r.foveated({32, 24}, reusing, &t);
+    const frame b = again.foveated({32, 24}, reusing, &u);
+    EXPECT_EQ(a.rgb, b.rgb);  // deterministic
+    EXPECT_EQ(t.reuse.reused, u.reuse.reused);
+    const frame traced = full.foveated({32, 24}, params), noise = full.foveated({32, 24}, other_seed);
+    const double kept_error = mean_abs(a, traced), seed_difference = mean_abs(noise, traced);
+    std::printf("frame %u: kept %.3f of the points, |reuse - full| %.4f, |full seed 2 - full| %.4f\n", n,
+                t.reuse.reused_share(), kept_error, seed_difference);
+    if (n == 0) continue;
+    EXPECT_GT(t.reuse.reused, 0u) << "frame " << n;
+    EXPECT_GT(t.reuse.traced, 0u) << "frame " << n;  // the fovea and what moved into view
+    // What reuse changes is smaller than what another seed's rays change.
+    EXPECT_LT(kept_error, seed_difference) << "frame " << n;
+  }
+}
+
+TEST(Reuse, SettingsOutOfRangeAreRefusedNamingTheFlag) {
+  reuse_params p;
+  EXPECT_EQ(validate(p), "");
+  p.fovea_deg = -1;
+  EXPECT_NE(validate(p).find("--reuse-fovea"), std::string::npos);
+  p = {};
+  p.threshold = 1.5;
+  EXPECT_NE(validate(p).find("--reuse-threshold"), std::string::npos);
+  p = {};
+  p.max_age = 0;
+  EXPECT_NE(validate(p).find("--reuse-max-age"), std::string::npos);
+  render_params r;
+  r.reuse.mode = reuse_mode::temporal;
+  r.ray_floor = 1;
+  EXPECT_NE(validate(r).find("--ray-floor"), std::string::npos);
+  r.ray_floor = 0;
+  r.adaptive.enabled = true;
+  EXPECT_NE(validate(r).find("--adaptive"), std::string::npos);
 }
 
 }  // namespace

@@ -106,6 +106,21 @@ void add_render_flags(CLI::App& app, render_params& p, unsigned groups) {
         ->check(CLI::Range(uint64_t(0), uint64_t(1) << 40))
         ->capture_default_str();
   }
+  if (groups & flags_reuse) {
+    add_label_option(app, "--reuse", p.reuse.mode, reuse_mode_labels,
+                     "Keep earlier frames' samples where a probe ray says they still hold (docs/reuse.md)");
+    app.add_option("--reuse-fovea", p.reuse.fovea_deg,
+                   "With --reuse temporal: points within this eccentricity (degrees) are always traced; full "
+                   "confidence from 3x it")
+        ->check(CLI::Range(0.0, max_reuse_fovea_deg))
+        ->capture_default_str();
+    app.add_option("--reuse-threshold", p.reuse.threshold, "With --reuse temporal: the least confidence a kept sample needs")
+        ->check(CLI::Range(0.0, 1.0))
+        ->capture_default_str();
+    app.add_option("--reuse-max-age", p.reuse.max_age, "With --reuse temporal: the most frames in a row a sample is kept")
+        ->check(CLI::Range(1u, max_reuse_age))
+        ->capture_default_str();
+  }
   if (groups & flags_view) {
     app.add_option("--hfov", p.view.hfov_deg, "Horizontal field of view in degrees (default: the scene's camera, else 90)");
     const auto point = parse_triple;
@@ -160,6 +175,12 @@ std::shared_ptr<const pointset> select_level(std::shared_ptr<const pointset> set
                                     : fmt::format("--level {}: {} is not a nested set (fovgen --levels)", level, file));
   const nested_levels levels = make_levels(set);
   return levels.levels[size_t(level)].set;
+}
+
+nlohmann::json reuse_json(const reuse_report& r) {
+  return {{"points", r.points},           {"reused", r.reused},           {"traced", r.traced},
+          {"probe_rays", r.probe_rays},   {"rays_traced", r.rays_traced}, {"rays_reused", r.rays_reused},
+          {"reused_share", r.reused_share()}};
 }
 
 nlohmann::json refinement_json(const frame_timing& t, const render_params& p, const nested_levels& levels) {

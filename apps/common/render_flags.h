@@ -27,6 +27,9 @@ enum render_flags : unsigned {
   // --camera path, its lines each at their own time. Only for tools that render one frame
   // at a time they are given (fovrender); a viewer moves its camera itself.
   flags_rolling = 256,
+  // --reuse, --reuse-fovea, --reuse-threshold, --reuse-max-age: temporal reuse (fov/reuse.h),
+  // for tools that render frames in sequence.
+  flags_reuse = 512,
 };
 void add_render_flags(CLI::App& app, render_params& p, unsigned groups = flags_all);
 
@@ -38,6 +41,8 @@ std::shared_ptr<const pointset> select_level(std::shared_ptr<const pointset> set
 // An adaptive frame's report as JSON (fovrender, fovbench, fovview --json): the params, and
 // per level its scale, rays, points and blocks.
 nlohmann::json refinement_json(const frame_timing& t, const render_params& p, const nested_levels& levels);
+// A reusing frame's report as JSON: points kept and traced, probe and traced rays, the share kept.
+nlohmann::json reuse_json(const reuse_report& r);
 // "warning: ..." when the frame's coarsest level alone passed the budget, else "".
 std::string refinement_warning(const frame_timing& t, const render_params& p);
 

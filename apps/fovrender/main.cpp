@@ -47,7 +47,46 @@ struct render_options {
   bool falloff_scale_given = false;
   int level = -1;  // one level of a nested set as a fixed set (-1: the whole set)
   uint32_t flicker = 0;  // frames of the flicker path (0: none)
+  bool path_given = false;  // --flicker-yaw, --flicker-shift or --flicker-gaze given
+  fov::flicker_params path;  // its turn, shift and gaze drift a frame
 };
+
+// Temporal reuse along the --flicker path as JSON: per sequence the rays a frame cast (mean
+// over the frames after the first, which has nothing to reuse): primary rays (with reuse the
+// probes too) and every ray (shadow and bounce rays too); flicker and video JOD.
+json reuse_path_json(const fov::reuse_path_report& rp, const fov::flicker_params& fp) {
+  auto mean_after_first = [](const std::vector<uint64_t>& v) {
+    double sum = 0;
+    for (size_t i = 1; i < v.size(); ++i) sum += double(v[i]);
+    return v.size() > 1 ? sum / double(v.size() - 1) : 0.0;
+  };
+  json frames = json::array();
+  for (size_t n = 0; n < rp.reuse.size(); ++n) {
+    json f = fov::reuse_json(rp.reuse[n]);
+    f["rays"] = rp.rays_reuse[n];
+    f["rays_full"] = rp.rays_full[n];
+    f["all_rays"] = rp.cast_reuse[n];
+    f["all_rays_full"] = rp.cast_full[n];
+    frames.push_back(f);
+  }
+  const double full = mean_after_first(rp.rays_full), reused = mean_after_first(rp.rays_reuse);
+  const double all_full = mean_after_first(rp.cast_full), all_reused = mean_after_first(rp.cast_reuse);
+  json j{{"frames", fp.frames},
+         {"yaw_deg_per_frame", fp.yaw_deg_per_frame},
+         {"shift_per_frame", fp.shift_per_frame},
+         {"gaze_px_per_frame", fp.gaze_px_per_frame},
+         {"rays_full", full},
+         {"rays_reuse", reused},
+         {"rays_ratio", full > 0 ? reused / full : 0.0},
+         {"all_rays_full", all_full},
+         {"all_rays_reuse", all_reused},
+         {"all_rays_ratio", all_full > 0 ? all_reused / all_full : 0.0},
+         {"flicker_full", rp.flicker_full},
+         {"flicker_reuse", rp.flicker_reuse},
+         {"per_frame", frames}};
+  if (rp.has_jod) j["jod_full"] = rp.jod_full.jod, j["jod_reuse"] = rp.jod_reuse.jod;
+  return j;
+}
 
 // The flags that only make sense together, before anything is read or rendered (exit 2).
 void check_options(const render_options& o, const fov::render_params& p) {
@@ -86,6 +125,7 @@ void check_options(const render_options& o, const fov::render_params& p) {
   if (o.flicker > 0 && o.reference) throw usage_error("--flicker measures a point set's frames; drop --reference");
   if (o.flicker > 0 && p.rolling.order != fov::scanout::global)
     throw usage_error("--flicker turns the camera itself; drop --rolling");
+  if (o.flicker == 0 && o.path_given) throw usage_error("--flicker-yaw, --flicker-shift and --flicker-gaze need --flicker");
   if (p.adaptive.enabled && o.reference) throw usage_error("--adaptive refines a point set; drop --reference");
   if (o.debug_asked && o.debug == fov::debug_view::refinement && !p.adaptive.enabled)
     throw usage_error("--debug-view refinement needs --adaptive");
@@ -100,7 +140,7 @@ int main(int argc, char** argv) {
   app.add_option("--scene", o.scene, "builtin, builtin:cornell (a room where bounces matter), a glTF/OBJ file, or env:IMAGE");
   app.add_option("--points", o.points, "Point set (.fovset); gives the screen size");
   app.add_option("--gaze", o.gaze, "X,Y in screen pixels, centre or corner");
-  fov::add_render_flags(app, p, fov::flags_all | fov::flags_rolling);
+  fov::add_render_flags(app, p, fov::flags_all | fov::flags_rolling | fov::flags_reuse);
   app.add_flag("--reference", o.reference, "Render at full resolution instead");
   app.add_option("--ray-floor", o.ray_floor,
                  "Rays falling with eccentricity from --spp at the gaze to this floor as the acuity model's point density "
@@ -124,10 +164,21 @@ int main(int argc, char** argv) {
                  "(median, min, max of the per-pair ratios)")
       ->check(CLI::Range(1u, 1000u));
   app.add_option("--flicker", o.flicker,
-                 "Also measure flicker along N frames of a slow turn with a drifting gaze (fov/flicker.h: 0.15 deg and "
-                 "3 px a frame): the mean frame-to-frame luminance change raw, with TAA (its own rays) and at full "
-                 "resolution, in JSON flicker")
+                 "Also measure flicker along N frames of a slow turn with a drifting gaze (fov/flicker.h; --flicker-yaw, "
+                 "--flicker-shift, --flicker-gaze): the mean frame-to-frame luminance change raw, with TAA (its own rays) "
+                 "and at full resolution, in JSON flicker; with --reuse temporal, the path traced fully and with reuse "
+                 "(rays, flicker, and with --reference-spp video JOD) in JSON reuse_path")
       ->check(CLI::Range(2u, 1000u));
+  app.add_option("--flicker-yaw", o.path.yaw_deg_per_frame, "With --flicker: the camera's turn to the right a frame, degrees")
+      ->check(CLI::Range(-10.0f, 10.0f))
+      ->capture_default_str();
+  app.add_option("--flicker-shift", o.path.shift_per_frame,
+                 "With --flicker: the camera's move to the right a frame, world units (parallax: disocclusion)")
+      ->check(CLI::Range(-10.0f, 10.0f))
+      ->capture_default_str();
+  app.add_option("--flicker-gaze", o.path.gaze_px_per_frame, "With --flicker: the gaze's drift to the right a frame, pixels")
+      ->check(CLI::Range(-100.0, 100.0))
+      ->capture_default_str();
   app.add_flag("--no-warmup", o.no_warmup,
                "Time the very first frame: texture loading, kernel compilation and RBF weights included");
   app.add_option("-o,--output", o.outputs, "Output image (.exr linear, .png sRGB); may be repeated");
@@ -149,6 +200,7 @@ int main(int argc, char** argv) {
     o.debug_asked = debug->count() > 0;
     o.size_given = app.count("--width") + app.count("--height") > 0;
     o.falloff_scale_given = app.count("--falloff-scale") > 0;
+    o.path_given = app.count("--flicker-yaw") + app.count("--flicker-shift") + app.count("--flicker-gaze") > 0;
     if (!o.display.empty()) {
       if (!o.points.empty()) throw usage_error("--display: the set gives the display; drop it with --points");
       if (o.size_given) throw usage_error("--display: give it or --width/--height, not both");
@@ -271,8 +323,26 @@ int main(int argc, char** argv) {
         const fov::speedup_interval iv = fov::chained_speedup(st.ratios);  // 95 % bootstrap interval of the median
         j["speedup_interval"] = {iv.lo, iv.hi};
       }
-      if (o.flicker > 0) {
-        fov::flicker_params fp;
+      if (t.reused) j["reuse"] = fov::reuse_json(t.reuse);
+      if (o.flicker > 0 && p.reuse.mode == fov::reuse_mode::temporal) {
+        // The path traced fully and with reuse; with --reference-spp, each sequence's video JOD
+        // against converged frames along it, and their noise floor (a second seed).
+        fov::flicker_params fp = o.path;
+        fp.frames = o.flicker;
+        const fov::frame_timing last = t;
+        std::vector<fov::frame> converged;
+        json floor = nullptr;
+        if (o.reference_spp > 0) {
+          const auto [first, second] = fov::converged_seeds(p.seed);
+          converged = fov::converged_path(r, p, o.reference_spp, first, fp);
+          floor = fov::converged_path_floor(fov::converged_path(r, p, o.reference_spp, second, fp), converged, gaze, display, fp).jod;
+        }
+        const fov::reuse_path_report rp = fov::measure_reuse(r, gaze, p, fp, converged);
+        t = last;
+        j["reuse_path"] = reuse_path_json(rp, fp);
+        if (o.reference_spp > 0) j["reuse_path"]["jod_floor"] = floor;
+      } else if (o.flicker > 0) {
+        fov::flicker_params fp = o.path;
         fp.frames = o.flicker;
         fp.taa_own_rays = true;  // what a viewer of TAA sees
         const fov::frame_timing last = t;

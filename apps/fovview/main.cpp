@@ -30,7 +30,7 @@ int main(int argc, char** argv) {
   app.add_option("--points-dir", o.points_dir, "A family of point sets to switch between with [ and ]");
   app.add_option("--scale", o.scale, "With --points-dir: the scale to start at (default the smallest)");
   app.add_option("--display", o.display, "With --points-dir holding several displays' sets: whose to show. " + fov::display_help());
-  fov::add_render_flags(app, settings);
+  fov::add_render_flags(app, settings, fov::flags_all | fov::flags_reuse);
   app.add_option("--target-fps", o.target_fps, "Adapt rays per point to keep this frame rate (0: off, the default)");
   app.add_flag("--no-taa", o.no_taa, "Start with TAA off");
   app.add_flag("--pipeline", o.pipeline,

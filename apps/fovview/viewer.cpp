@@ -200,6 +200,7 @@ int run_viewer(const viewer_options& o, render_params settings) {
     uint32_t spp;
     double rays, refined;  // rays traced; an adaptive frame's points refined beyond the coarsest level
     bool budget_short;
+    double reused_share;  // temporal reuse: the share of the points that kept a sample
   };
   std::vector<frame_stats> history;
   // What a frame shows: the gaze and camera when they were read. With pipelining the next
@@ -298,7 +299,10 @@ int run_viewer(const viewer_options& o, render_params settings) {
                                      fov::method_name(settings.reconstruct.how), settings.reconstruct.k,
                                      renderer.current_set()->model.scale, settings.spp, settings.taa ? "on" : "off",
                                      timing.points_traced, timing.rays) +
-                           (timing.adaptive ? fmt::format("  adaptive: {} refined", timing.refinement.points_refined) : ""),
+                           (timing.adaptive ? fmt::format("  adaptive: {} refined", timing.refinement.points_refined) : "") +
+                           (timing.reused ? fmt::format("  reuse: {} kept ({:.0f} %), {} rays kept", timing.reuse.reused,
+                                                        100 * timing.reuse.reused_share(), timing.reuse.rays_reused)
+                                          : ""),
         fmt::format("gaze {} ({:.0f}, {:.0f}) {}{}  view {}  device {}", gaze_name, g.x, g.y,
                     fov::label_of(fov::gaze_state_labels, ge.state),
                     ge.has_sample ? fmt::format(" age {:.0f} ms conf {:.2f}", ge.age_ms, ge.newest.confidence) : "",
@@ -345,6 +349,7 @@ int run_viewer(const viewer_options& o, render_params settings) {
                 {"taa_ms", timing.taa_ms},
                 {"rays", timing.rays},
                 {"points_traced", timing.points_traced}};
+      if (timing.reused) j["reuse"] = fov::reuse_json(timing.reuse);
       if (!reference_image.rgb.empty()) {
         // The schema every tool writes (fovrender --compare's "metrics"); PSNR/SSIM only: FLIP
         // takes seconds on a large frame, JOD a third of one, and a screenshot is taken live.
@@ -407,7 +412,7 @@ int run_viewer(const viewer_options& o, render_params settings) {
     const double frame_ms = ms_between(frame_start, clock_type::now());
     history.push_back({frame_ms, timing.trace_ms, timing.reconstruct_ms, timing.taa_ms, display_ms, latency_ms, gaze_age_ms,
                        settings.spp, double(timing.rays), double(timing.refinement.points_refined),
-                       timing.adaptive && timing.refinement.budget_short});
+                       timing.adaptive && timing.refinement.budget_short, timing.reuse.reused_share()});
     // Cached weights' fallbacks: said when their count changes (new weights, another method, k or shape).
     if (timing.weights.fallbacks != rbf_fallbacks_said) {
       if (timing.weights.fallbacks > 0) std::cerr << "fovview: " << fov::weight_fallback_warning(timing.weights, settings.reconstruct.how) << "\n";
@@ -500,6 +505,11 @@ int run_viewer(const viewer_options& o, render_params settings) {
                        {"points_refined", stats([](const frame_stats& f) { return f.refined; })},
                        {"budget_short_frames", short_frames}};
     }
+    if (settings.reuse.mode != fov::reuse_mode::none)
+      j["reuse"] = {{"fovea_deg", settings.reuse.fovea_deg},
+                    {"threshold", settings.reuse.threshold},
+                    {"max_age", settings.reuse.max_age},
+                    {"reused_share", stats([](const frame_stats& f) { return f.reused_share; })}};
     std::cout << j.dump(2) << "\n";
   }
   if (!o.gaze_log.empty()) fov::write_file_atomic(o.gaze_log, gaze_log.data(), gaze_log.size());

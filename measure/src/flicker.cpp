@@ -17,6 +17,7 @@ camera path_camera(const camera& still, const flicker_params& f, uint32_t n) {
   const glm::vec3 right = glm::normalize(glm::cross(still.forward, still.up));
   camera c = still;
   c.forward = glm::normalize(still.forward * std::cos(yaw) + right * std::sin(yaw));
+  c.position = still.position + right * (f.shift_per_frame * float(n));
   return c;
 }
 
@@ -43,7 +44,7 @@ std::vector<frame> converged_path(renderer& r, const render_params& p, uint32_t 
   q.spp = spp, q.seed = seed, q.reference_sampler = pixel_sampler::sobol;
   std::vector<frame> out;
   for (uint32_t n = 0; n < f.frames; ++n) {
-    if (n > 0 && f.yaw_deg_per_frame == 0) {  // a still camera: the same rays, the same frame
+    if (n > 0 && f.yaw_deg_per_frame == 0 && f.shift_per_frame == 0) {  // a still camera: the same rays, the same frame
       out.push_back(out.back());
       continue;
     }
@@ -118,6 +119,49 @@ flicker_report measure_flicker(renderer& r, gaze_point start, const render_param
   if (!f.full_resolution) out.reference = NAN;
   r.cam() = still;
   r.reset_history();
+  return out;
+}
+
+reuse_path_report measure_reuse(renderer& r, gaze_point start, const render_params& p, const flicker_params& f,
+                                const std::vector<frame>& converged) {
+  if (f.frames < 2) throw std::invalid_argument("the reuse path needs at least 2 frames");
+  if (p.reuse.mode == reuse_mode::none) throw std::invalid_argument("measure_reuse: p.reuse.mode is none");
+  if (p.adaptive.enabled) throw std::invalid_argument("measure_reuse: temporal reuse does not combine with adaptive refinement");
+  const display_geometry& d = display_in_use(r);
+  if (!converged.empty() && converged.size() != f.frames)
+    throw std::invalid_argument("measure_reuse: " + std::to_string(converged.size()) + " converged frames for a path of " +
+                                std::to_string(f.frames));
+  const camera still = r.cam();
+  reuse_path_report out;
+  for (const bool reusing : {false, true}) {
+    render_params q = p;
+    if (!reusing) q.reuse.mode = reuse_mode::none;
+    r.reset_history();
+    r.reset_reuse();
+    std::unique_ptr<fvvdp> jod;
+    if (!converged.empty()) jod = std::make_unique<fvvdp>(d, f.fps, f.photometry);
+    frame previous;
+    double change = 0;
+    for (uint32_t n = 0; n < f.frames; ++n) {
+      r.cam() = path_camera(still, f, n);
+      const gaze_point g = path_gaze(start, d, f, n);
+      frame_timing t;
+      const points_trace traced = r.trace(g, q, t);
+      frame now = r.reconstruct(traced.samples, g, q, t);
+      (reusing ? out.rays_reuse : out.rays_full).push_back(t.rays);
+      (reusing ? out.cast_reuse : out.cast_full).push_back(t.cast.total());
+      if (reusing) out.reuse.push_back(t.reuse);
+      if (n > 0) change += mean_luminance_change(now, previous);
+      if (jod) jod->add(now, converged[n], g);
+      previous = std::move(now);
+    }
+    (reusing ? out.flicker_reuse : out.flicker_full) = change / double(f.frames - 1);
+    if (jod) (reusing ? out.jod_reuse : out.jod_full) = jod->result();
+  }
+  out.has_jod = !converged.empty();
+  r.cam() = still;
+  r.reset_history();
+  r.reset_reuse();
   return out;
 }
 

@@ -28,7 +28,9 @@ bool same_trace(const render_params& a, const render_params& b) {
          a.reference_sampler == b.reference_sampler && a.ray_floor == b.ray_floor && a.method == b.method &&
          a.bounces == b.bounces && a.rolling.order == b.rolling.order &&
          a.rolling.frame_period_ms == b.rolling.frame_period_ms && a.rolling.path == b.rolling.path &&
-         a.rolling.start_ms == b.rolling.start_ms;
+         a.rolling.start_ms == b.rolling.start_ms && a.reuse.mode == b.reuse.mode &&
+         a.reuse.fovea_deg == b.reuse.fovea_deg && a.reuse.threshold == b.reuse.threshold &&
+         a.reuse.max_age == b.reuse.max_age;
 }
 
 // The tracing half of the params, without a frame's pattern.
@@ -74,6 +76,12 @@ std::string validate(const render_params& p, const pointset* set) {
     return "--sun-irradiance must be finite, non-negative and at most 1e6 per channel";
   if (const std::string why = validate(p.adaptive); !why.empty()) return why;
   if (const std::string why = validate(p.rolling); !why.empty()) return why;
+  if (const std::string why = validate(p.reuse); !why.empty()) return why;
+  if (p.reuse.mode != reuse_mode::none && p.adaptive.enabled) return "--reuse temporal does not combine with --adaptive";
+  if (p.reuse.mode != reuse_mode::none && p.rolling.order != scanout::global)
+    return "--reuse temporal does not combine with --rolling yet";
+  if (p.reuse.mode != reuse_mode::none && p.ray_floor > 0)
+    return "--reuse temporal traces every point at --spp rays: drop --ray-floor";
   if (p.adaptive.enabled && set && !set->nested())
     return "--adaptive needs a nested set (fovgen --levels); this set has one level";
   if (p.weight_caches < 1 || p.weight_caches > cl_reconstructor::max_weight_caches)
@@ -112,6 +120,7 @@ void renderer::use_pointset(std::shared_ptr<const pointset> set) {
   device_.reset();  // holds a reference to the old set
   set_ = std::move(set);
   index_.reset();
+  reuse_.clear();
   const auto t0 = clock_type::now();
   device_ = std::make_unique<cl_reconstructor>(*set_, device_kind_, weight_caches_);
   device_setup_ms_ = ms_since(t0);
@@ -166,13 +175,23 @@ points_trace renderer::trace_frame(gaze_point gaze, const render_params& p, uint
   const trace_params tp = with_lines(frame_trace_params(p, n), p, disp.width, disp.height);
   const std::shared_ptr<const traced_index> index = index_for(tp);
   const auto t0 = clock_type::now();
-  points_trace out = trace_points(*scene_, cam_, *set_, *index, gaze, tp);
+  points_trace out;
+  t.reused = p.reuse.mode == reuse_mode::temporal;
+  if (t.reused) {
+    if (!same_trace(reuse_params_, p)) reuse_.clear();  // samples of other settings hold nothing now
+    reuse_params_ = p;
+    reused_trace r = trace_reusing(*scene_, cam_, *set_, *index, gaze, tp, p.reuse, reuse_);
+    out = std::move(r.trace);
+    t.reuse = r.report;
+  } else {
+    out = trace_points(*scene_, cam_, *set_, *index, gaze, tp);
+  }
   t.trace_ms = ms_since(t0);
   t.traced_ahead = false;
   t.trace_wait_ms = 0;
   t.rays = out.samples.rays;
   t.cast = out.stats.cast;
-  t.points_traced = out.samples.traced.size();
+  t.points_traced = t.reused ? t.reuse.traced : out.samples.traced.size();
   return out;
 }
 
@@ -206,6 +225,7 @@ void renderer::begin_trace(gaze_point gaze, const camera& view, const render_par
   require_set();
   pending_.reset();  // waits for one still running
   if (p.adaptive.enabled) return;  // an adaptive frame chooses its points from its own samples: traced in foveated()
+  if (p.reuse.mode != reuse_mode::none) return;  // a reusing frame reads the last one's samples: traced in foveated()
   const display_geometry& disp = set_->model.display;
   const trace_params tp = with_lines(frame_trace_params(p, frames_traced_++), p, disp.width, disp.height);
   auto job = [scn = scene_, set = set_, index = index_for(tp), view, gaze, tp] {

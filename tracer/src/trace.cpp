@@ -818,6 +818,57 @@ points_trace trace_listed_points(const scene& sc, const camera& cam, const point
   return trace_selected(sc, cam, set, nullptr, gaze, params, &points);
 }
 
+point_probe probe_points(const scene& sc, const camera& cam, const pointset& set, const traced_index& index, gaze_point gaze,
+                         const trace_params& params) {
+  require_neighbours(set);
+  const display_geometry& disp = set.model.display;
+  check(params, disp.width, disp.height);
+  const scene::impl& d = sc.internals();
+  const view_frames view = make_view(cam, disp.width, disp.height, params);
+  point_probe out;
+  const gaze_point placed = placed_gaze(disp, gaze, params);
+  out.offset = offset_for_gaze(disp, placed);
+  out.mirror_x = params.mirror_x, out.mirror_y = params.mirror_y;
+  out.points = traced_points(set, index, placed);
+  const size_t n = out.points.size();
+  out.screen.resize(n);
+  out.where.resize(n);
+  out.distance.resize(n);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 1024), [&](const tbb::blocked_range<size_t>& r) {
+    RTCIntersectContext context;
+    for (size_t base = r.begin(); base < r.end(); base += 16) {
+      const int m = int(std::min<size_t>(16, r.end() - base));
+      alignas(64) int valid[16];
+      alignas(64) RTCRayHit16 rh;
+      glm::vec3 dirs[16], origins[16];
+      for (int i = 0; i < 16; ++i) {
+        const size_t k = base + size_t(std::min(i, m - 1));
+        const glm::vec2 at = placed_position(disp, set.points[out.points[k]], out.offset, out.mirror_x, out.mirror_y);
+        out.screen[k] = at;
+        const camera_frame& f = view.at(at.x, at.y);
+        dirs[i] = ray_direction(f, at.x, at.y);
+        origins[i] = f.origin;
+        valid[i] = i < m ? -1 : 0;
+        rh.ray.org_x[i] = f.origin.x, rh.ray.org_y[i] = f.origin.y, rh.ray.org_z[i] = f.origin.z;
+        rh.ray.dir_x[i] = dirs[i].x, rh.ray.dir_y[i] = dirs[i].y, rh.ray.dir_z[i] = dirs[i].z;
+        rh.ray.tnear[i] = 0, rh.ray.tfar[i] = infinity, rh.ray.time[i] = 0;
+        rh.ray.mask[i] = 0xFFFFFFFFu, rh.ray.id[i] = unsigned(i), rh.ray.flags[i] = 0;
+        rh.hit.geomID[i] = rh.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
+      }
+      rtcInitIntersectContext(&context);
+      context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+      rtcIntersect16(valid, d.top, &context, &rh);
+      for (int i = 0; i < m; ++i) {
+        const bool hit = rh.hit.geomID[i] != RTC_INVALID_GEOMETRY_ID;
+        out.distance[base + size_t(i)] = hit ? rh.ray.tfar[i] : infinity;
+        out.where[base + size_t(i)] = hit ? origins[i] + dirs[i] * rh.ray.tfar[i] : dirs[i];
+      }
+    }
+  });
+  out.rays = n;
+  return out;
+}
+
 uint64_t trace_more_points(const scene& sc, const camera& cam, const pointset& set, const std::vector<uint32_t>& points,
                            gaze_point gaze, const trace_params& params, points_trace& into) {
   const display_geometry& disp = set.model.display;

@@ -16,6 +16,7 @@ namespace fov {
 struct flicker_params {
   uint32_t frames = 8;               // 2 or more
   float yaw_deg_per_frame = 0.15f;   // the camera turns right about its up axis
+  float shift_per_frame = 0;         // and moves right (world units along its right) each frame
   double gaze_px_per_frame = 3;      // the gaze drifts right (clamped to the screen)
   double fps = 60;                   // the display's frame rate, for the video JOD (8..1000)
   display_photometry photometry;     // the display's light, for the video JOD
@@ -27,7 +28,8 @@ struct flicker_params {
   bool taa_own_rays = false;
 };
 
-// Frame n of the path: the camera `still` turned right by n x yaw, the gaze moved from `start`.
+// Frame n of the path: the camera `still` moved right by n x shift and turned right by n x
+// yaw, the gaze moved from `start`.
 camera path_camera(const camera& still, const flicker_params& f, uint32_t n);
 gaze_point path_gaze(gaze_point start, const display_geometry& d, const flicker_params& f, uint32_t n);
 
@@ -57,6 +59,23 @@ struct flicker_report {
 // `converged` of another length or frame size.
 flicker_report measure_flicker(renderer& r, gaze_point start, const render_params& p, const flicker_params& f = {},
                                const std::vector<frame>& converged = {});
+
+// Temporal reuse along the path (issue 28; fov/reuse.h): the path's frames traced twice with
+// p's ray pattern (p.taa as given), every point traced each frame and with p.reuse (its
+// history dropped first), each reconstructed. Per frame, the rays each cast (with reuse: the
+// traced points' rays and the probes) and what reuse kept; for each sequence its flicker (mean
+// frame-to-frame luminance change) and, with `converged` (converged_path's frames), its video
+// JOD against them. The renderer's camera and histories are restored or dropped afterwards.
+struct reuse_path_report {
+  std::vector<uint64_t> rays_full, rays_reuse;  // primary rays (with reuse: the probes too)
+  std::vector<uint64_t> cast_full, cast_reuse;  // every ray: primary, shadow and bounce
+  std::vector<reuse_report> reuse;
+  double flicker_full = 0, flicker_reuse = 0;
+  bool has_jod = false;
+  fvvdp_result jod_full, jod_reuse;
+};
+reuse_path_report measure_reuse(renderer& r, gaze_point start, const render_params& p, const flicker_params& f,
+                                const std::vector<frame>& converged = {});
 
 // Video JOD of one converged path against another (converged_path with the two seeds of
 // converged_seeds): the noise floor of every video JOD measured against the first.

@@ -18,6 +18,7 @@
 #include "fov/labels.h"
 #include "fov/pointset.h"
 #include "fov/reconstruct_params.h"
+#include "fov/reuse.h"
 #include "fov/rolling.h"
 #include "fov/scene.h"
 #include "fov/taa.h"
@@ -79,6 +80,9 @@ struct render_params {
   // and the camera path the view moves along (the renderer's camera is the path's at
   // rolling.start_ms; each line's rays are cast from the path's camera when that line is shown).
   rolling_params rolling;
+  // Temporal reuse (fov/reuse.h): foveated frames keep earlier frames' samples where they
+  // still hold (not with adaptive refinement or a ray floor; no trace runs ahead).
+  reuse_params reuse;
 };
 
 // The empty string when `p` is valid (for `set`'s k when given), else the reason, naming
@@ -109,6 +113,10 @@ struct frame_timing {
   // every level's reconstruction (one per level a block reads) and their composite.
   bool adaptive = false;
   adaptive_report refinement;
+  // A frame with temporal reuse (render_params::reuse): what it kept and traced. Its `rays`
+  // and cast.primary count the traced points' rays and the probes.
+  bool reused = false;
+  reuse_report reuse;
   double total_ms() const { return trace_ms + reconstruct_ms + taa_ms; }
 };
 
@@ -206,6 +214,8 @@ class renderer {
   warm_up_report prepare(const point_samples& samples, const render_params& p);
 
   void reset_history() { taa_ = taa_state{}; }
+  // Drops the samples temporal reuse keeps (the next frame traces every point).
+  void reset_reuse() { reuse_.clear(); }
   // Treats the TAA history as seen with the gaze at `g` (a saccade's onset, when it lands):
   // the next frame's pixels whose eccentricity dropped by taa_params::focus_lag_deg since then
   // (the new fovea) take the current frame, on the device and in C++ alike.
@@ -247,6 +257,8 @@ class renderer {
   adaptive_trace trace_refined_frame(gaze_point gaze, const render_params& p, uint64_t n, frame_timing& t);
   frame level_frame_;  // one level's reconstruction before the composite
   taa_state taa_;
+  reuse_history reuse_;
+  render_params reuse_params_;  // the params reuse_ was traced with
   uint64_t frames_traced_ = 0;
   frame frame_;  // what reconstruct() and foveated() return
 

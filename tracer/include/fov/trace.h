@@ -241,6 +241,22 @@ points_trace trace_listed_points(const scene& s, const camera& cam, const points
 uint64_t trace_more_points(const scene& s, const camera& cam, const pointset& set, const std::vector<uint32_t>& points,
                            gaze_point gaze, const trace_params& params, points_trace& into);
 
+// Where each point a frame traces is seen from its centre: one primary ray through every point
+// trace_points(s, cam, set, index, gaze, params) would trace (the same list, placement,
+// mirroring and line cameras), no shading. What temporal reuse (pipeline/reuse.h) checks a
+// stored sample against.
+struct point_probe {
+  std::vector<uint32_t> points;   // the points, ascending: trace_points' traced list
+  canvas_offset offset;           // their placement (as point_samples::offset, mirror_x, mirror_y)
+  bool mirror_x = false, mirror_y = false;
+  std::vector<glm::vec2> screen;  // each point's screen position
+  std::vector<glm::vec3> where;   // the hit's world position, or the ray's unit direction on a miss
+  std::vector<float> distance;    // along the ray to the hit; +inf on a miss
+  uint64_t rays = 0;              // one a point
+};
+point_probe probe_points(const scene& s, const camera& cam, const pointset& set, const traced_index& index, gaze_point gaze,
+                         const trace_params& params);
+
 // The screen positions (pixels) of the rays trace_points cast for `samples` (its traced
 // points, placement and mirroring, at `gaze`), in the order it cast them: params.spp per
 // point, or each point's n(d) under params.ray_floor (point_ray_rule).

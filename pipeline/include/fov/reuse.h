@@ -1,0 +1,102 @@
+// Temporal reuse (issue 28): a point whose centre sees, this frame, what a sample traced in an
+// earlier frame saw keeps that sample instead of casting its rays again, unless it lies
+// near the gaze or an edge, or the sample is too old. Backward and checked: every point the
+// frame needs casts one probe ray through its centre (fov::probe_points); the hit is projected
+// into the last frame's view, and of the points there nearest to it the one whose stored
+// sample lies nearest to the hit in the world is the candidate. Its confidence is the product
+// of Time-Warped Foveated Rendering's eccentricity term, a contrast term after its contrast
+// term, and a reprojection term (docs/reuse.md):
+//   c = S((e - fovea) / (2 fovea)) x (1 - C) x max(0, 1 - |hit - sample| / r)
+// with S the smoothstep, e the point's eccentricity in degrees (3 x fovea: fully peripheral),
+// C the Michelson contrast of the candidates' luminances and r the point's disc radius carried
+// to the hit's depth (for misses, the angle between the directions against the disc's angular
+// radius). A sample with c >= threshold is kept. Not kept either: a point near an edge now (a
+// neighbour's probe meets a surface 10 % nearer or farther, or a hit beside a miss) or then (a
+// candidate's rays saw more than its centre: some hit and some missed, or their mean depth lay
+// over half a disc from the centre's). A still view so keeps each point's own sample.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "fov/camera.h"
+#include "fov/frame.h"
+#include "fov/pointset.h"
+#include "fov/scene.h"
+#include "fov/trace.h"
+
+namespace fov {
+
+enum class reuse_mode : uint8_t {
+  none,      // every point traced every frame (what fovray always did)
+  temporal,  // samples kept across frames where they still hold
+};
+inline constexpr std::pair<const char*, reuse_mode> reuse_mode_labels[] = {{"none", reuse_mode::none},
+                                                                          {"temporal", reuse_mode::temporal}};
+
+// Documented ranges.
+constexpr double max_reuse_fovea_deg = 60;
+constexpr uint32_t max_reuse_age = 1000;
+
+struct reuse_params {
+  reuse_mode mode = reuse_mode::none;
+  // Points within this eccentricity (degrees) are always traced; confidence rises from 0
+  // there to 1 at three times it (TWFR: 10 and 30 degrees; here 5, the thesis's foveal band).
+  double fovea_deg = 5;
+  double threshold = 0.2;  // the least confidence a reused sample needs (TWFR's epsilon), 0..1
+  // The most frames in a row a sample may be reused: every point is traced again at least
+  // every max_age + 1 frames (1..max_reuse_age).
+  uint32_t max_age = 16;
+};
+// "" when valid, else the reason naming the flag (--reuse-fovea, --reuse-threshold, --reuse-max-age).
+std::string validate(const reuse_params& p);
+
+// What earlier frames left, per point of the set: its last sample, where in the world that
+// sample was seen from its centre, and how many frames it has been reused.
+struct reuse_history {
+  // nothing: not traced last frame; mixed: its rays saw more than its centre did (some hit and
+  // some missed, or their mean depth lies over half a disc from the centre's), an edge.
+  enum class seen : uint8_t { nothing, hit, miss, mixed };
+  std::vector<glm::vec3> colour;
+  std::vector<glm::vec3> where;  // world position (hit) or unit direction (miss)
+  // A hit's mean depth over its rays less its centre's depth, as traced: a reused sample's
+  // depth is its centre's depth in the new view plus this (a still view: its depth as traced).
+  std::vector<float> depth_bias;
+  std::vector<uint16_t> hits;
+  std::vector<seen> kind;
+  std::vector<uint16_t> age;
+  camera_frame view;  // the last frame's camera
+  canvas_offset offset;
+  bool mirror_x = false, mirror_y = false;
+  bool valid = false;
+  void clear() { *this = reuse_history{}; }
+};
+
+// What a frame reused.
+struct reuse_report {
+  uint64_t points = 0;       // points the frame needed
+  uint64_t reused = 0;       // of them, kept from the history
+  uint64_t traced = 0;       // of them, traced
+  uint64_t probe_rays = 0;   // one a point
+  uint64_t rays_traced = 0;  // the traced points' rays (probes not included)
+  uint64_t rays_reused = 0;  // the rays the reused points would have cast
+  double reused_share() const { return points ? double(reused) / double(points) : 0.0; }
+};
+
+struct reused_trace {
+  points_trace trace;  // samples of every point the frame needs; samples.rays and stats: traced rays and probes
+  reuse_report report;
+  std::vector<uint32_t> kept;  // the points that kept a sample, ascending
+};
+
+// One frame with temporal reuse: probes every point the frame needs (trace_points' list for
+// this gaze), keeps the history's sample where its confidence reaches p.threshold, traces the
+// rest, and leaves this frame's samples in `history` for the next. An invalid history (the
+// first frame) reuses nothing. Every point is traced with trace_points' rays (params.ray_floor
+// must be 0). Throws std::invalid_argument for invalid params.
+reused_trace trace_reusing(const scene& s, const camera& cam, const pointset& set, const traced_index& index,
+                           gaze_point gaze, const trace_params& params, const reuse_params& p, reuse_history& history);
+
+}  // namespace fov

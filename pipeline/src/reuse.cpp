@@ -1,0 +1,184 @@
+#include "fov/reuse.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include <fmt/format.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include "fov/acuity.h"
+#include "fov/colour.h"
+
+namespace fov {
+
+std::string validate(const reuse_params& p) {
+  if (!(p.fovea_deg >= 0 && p.fovea_deg <= max_reuse_fovea_deg))
+    return fmt::format("--reuse-fovea must lie in 0..{} degrees (got {})", max_reuse_fovea_deg, p.fovea_deg);
+  if (!(p.threshold >= 0 && p.threshold <= 1)) return fmt::format("--reuse-threshold must lie in 0..1 (got {})", p.threshold);
+  if (p.max_age < 1 || p.max_age > max_reuse_age)
+    return fmt::format("--reuse-max-age must lie in 1..{} frames (got {})", max_reuse_age, p.max_age);
+  return "";
+}
+
+namespace {
+
+constexpr float infinity = std::numeric_limits<float>::infinity();
+
+double smoothstep(double x) {
+  x = std::clamp(x, 0.0, 1.0);
+  return x * x * (3 - 2 * x);
+}
+
+// TWFR's eccentricity confidence: 0 inside the fovea, 1 from three times it on.
+double eccentricity_confidence(double e_deg, double fovea_deg) {
+  if (fovea_deg <= 0) return 1;
+  return smoothstep((e_deg - fovea_deg) / (2 * fovea_deg));
+}
+
+// The canvas position of screen position `s` for a set placed at `offset` (and mirrored).
+glm::vec2 canvas_position(glm::vec2 s, canvas_offset offset, bool mirror_x, bool mirror_y, const display_geometry& d) {
+  return {(mirror_x ? float(d.width) - s.x : s.x) + float(offset.x), (mirror_y ? float(d.height) - s.y : s.y) + float(offset.y)};
+}
+
+}  // namespace
+
+reused_trace trace_reusing(const scene& s, const camera& cam, const pointset& set, const traced_index& index,
+                           gaze_point gaze, const trace_params& params, const reuse_params& p, reuse_history& history) {
+  if (const std::string why = validate(p); !why.empty()) throw std::invalid_argument(why);
+  if (params.ray_floor != 0) throw std::invalid_argument("temporal reuse traces every point at spp rays: no ray floor");
+  const display_geometry& disp = set.model.display;
+  const point_probe probe = probe_points(s, cam, set, index, gaze, params);
+  const size_t n = set.points.size(), m = probe.points.size();
+  const camera_frame now = make_frame(cam, disp.width, disp.height);
+  spacing_model eye = set.model;  // the true eccentricity: the viewer's, not the set's scaled one
+  eye.scale = 1;
+  const uint32_t candidates = std::min<uint32_t>(std::min(params.k, stored_k(set)), 8);
+  const float canvas_w = float(set.canvas_width()), canvas_h = float(set.canvas_height());
+  std::vector<int64_t> source(m, -1);  // the history's point whose sample each listed point keeps
+  const bool usable = history.valid && history.colour.size() == n;
+  // Each point's probe distance (+inf: a miss; NaN: not probed), for the edge test below.
+  std::vector<float> seen_at;
+  if (usable) {
+    seen_at.assign(n, std::numeric_limits<float>::quiet_NaN());
+    for (size_t j = 0; j < m; ++j) seen_at[probe.points[j]] = probe.distance[j];
+  }
+  if (usable)
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, m, 1024), [&](const tbb::blocked_range<size_t>& r) {
+      uint32_t near[8];
+      for (size_t j = r.begin(); j < r.end(); ++j) {
+        const glm::vec2 at = probe.screen[j];
+        const double ce = eccentricity_confidence(eccentricity_deg(eye, std::hypot(at.x - gaze.x, at.y - gaze.y)), p.fovea_deg);
+        if (ce <= 0 || ce < p.threshold) continue;
+        const bool hit = probe.distance[j] != infinity;
+        // Near an edge (a neighbour's probe met another surface: over 10 % nearer or farther, or
+        // a hit beside a miss) the disc may hold what its centre does not see: traced.
+        {
+          const glm::vec2 here = canvas_position(at, probe.offset, probe.mirror_x, probe.mirror_y, disp);
+          if (!(here.x >= 0 && here.x < canvas_w && here.y >= 0 && here.y < canvas_h)) continue;
+          pixel_neighbours(set, uint32_t(here.x), uint32_t(here.y), candidates, near);
+          bool edge = false;
+          for (uint32_t k = 0; k < candidates && !edge; ++k) {
+            const float other = seen_at[near[k]];
+            if (std::isnan(other)) continue;
+            edge = hit ? !(std::fabs(other - probe.distance[j]) <= 0.1f * probe.distance[j]) : other != infinity;
+          }
+          if (edge) continue;
+        }
+        float z = 0;
+        const glm::vec2 q = project(history.view, hit ? probe.where[j] : history.view.origin + probe.where[j], &z);
+        if (!(z > 0)) continue;
+        const glm::vec2 then = canvas_position(q, history.offset, history.mirror_x, history.mirror_y, disp);
+        if (!(then.x >= 0 && then.x < canvas_w && then.y >= 0 && then.y < canvas_h)) continue;
+        pixel_neighbours(set, uint32_t(then.x), uint32_t(then.y), candidates, near);
+        const reuse_history::seen want = hit ? reuse_history::seen::hit : reuse_history::seen::miss;
+        int64_t best = -1;
+        float best_distance = infinity, lo = infinity, hi = 0;
+        bool edge_then = false;
+        for (uint32_t c = 0; c < candidates; ++c) {
+          const uint32_t i = near[c];
+          edge_then |= history.kind[i] == reuse_history::seen::mixed;
+          if (history.kind[i] != want) continue;
+          const float l = luminance(history.colour[i]);
+          lo = std::min(lo, l), hi = std::max(hi, l);
+          if (history.age[i] >= p.max_age) continue;
+          // Hits: the world distance; misses: the chord between the directions (the angle, nearly).
+          const float d = glm::distance(history.where[i], probe.where[j]);
+          if (d < best_distance) best_distance = d, best = i;
+        }
+        if (best < 0 || edge_then) continue;
+        // The candidates' contrast (Michelson, of their luminances): a displaced sample shows
+        // where the colour changes, not where it is flat.
+        const double contrast = hi > 0 ? double(hi - lo) / double(hi + lo) : 0.0;
+        // The disc's radius where its centre ray meets the world: on a plane facing the camera at
+        // that depth (a hit), or as an angle (a miss; a pixel subtends less off the axis).
+        const float cos_axis = glm::dot(glm::normalize(probe.where[j] - (hit ? now.origin : glm::vec3(0))), now.forward);
+        const float disc = set.points[probe.points[j]].spacing * now.pixel_angle *
+                           (hit ? probe.distance[j] * cos_axis : cos_axis * cos_axis);
+        const double c = ce * (1 - contrast) * std::max(0.0, 1.0 - double(best_distance) / double(disc));
+        if (c > 0 && c >= p.threshold) source[j] = best;
+      }
+    });
+  std::vector<uint32_t> to_trace;
+  for (size_t j = 0; j < m; ++j)
+    if (source[j] < 0) to_trace.push_back(probe.points[j]);
+  reused_trace out;
+  out.trace = trace_listed_points(s, cam, set, to_trace, gaze, params);
+  point_samples& smp = out.trace.samples;
+  reuse_history next;
+  next.colour.assign(n, glm::vec3(0));
+  next.where.assign(n, glm::vec3(0));
+  next.depth_bias.assign(n, 0.0f);
+  next.hits.assign(n, 0);
+  next.kind.assign(n, reuse_history::seen::nothing);
+  next.age.assign(n, 0);
+  reuse_report& rep = out.report;
+  for (size_t j = 0; j < m; ++j) {
+    const uint32_t pt = probe.points[j];
+    if (source[j] >= 0) {
+      const size_t i = size_t(source[j]);
+      const bool hit = history.kind[i] == reuse_history::seen::hit;
+      smp.colour[pt] = history.colour[i];
+      smp.hits[pt] = history.hits[i];
+      smp.depth[pt] = hit ? glm::dot(history.where[i] - now.origin, now.forward) + history.depth_bias[i] : infinity;
+      next.colour[pt] = history.colour[i], next.where[pt] = history.where[i], next.hits[pt] = history.hits[i];
+      next.depth_bias[pt] = history.depth_bias[i];
+      next.kind[pt] = history.kind[i];
+      next.age[pt] = uint16_t(history.age[i] + 1);
+      out.kept.push_back(pt);
+      ++rep.reused;
+    } else {
+      const bool hit = probe.distance[j] != infinity;
+      next.colour[pt] = smp.colour[pt], next.where[pt] = probe.where[j], next.hits[pt] = smp.hits[pt];
+      // A sample is kept only where all its rays saw what its centre saw: all hit or all missed.
+      // ... and, for a hit, its rays' mean depth lies within half its disc's world radius of its
+      // centre's (a disc across a depth edge has all its rays hit, on two surfaces).
+      const float bias = smp.depth[pt] - glm::dot(probe.where[j] - now.origin, now.forward);
+      const float disc = hit ? set.points[pt].spacing * now.pixel_angle * glm::dot(probe.where[j] - now.origin, now.forward) : 0;
+      next.kind[pt] = reuse_history::seen::mixed;
+      if (hit && smp.hits[pt] == params.spp && std::fabs(bias) <= 0.5f * disc) {
+        next.kind[pt] = reuse_history::seen::hit;
+        next.depth_bias[pt] = bias;
+      }
+      if (!hit && smp.hits[pt] == 0) next.kind[pt] = reuse_history::seen::miss;
+      ++rep.traced;
+    }
+  }
+  rep.points = m;
+  rep.probe_rays = probe.rays;
+  rep.rays_traced = smp.rays;
+  rep.rays_reused = rep.reused * uint64_t(params.spp);
+  smp.traced = probe.points;
+  smp.rays += probe.rays;
+  out.trace.stats.cast.primary += probe.rays;
+  next.view = now;
+  next.offset = probe.offset;
+  next.mirror_x = probe.mirror_x, next.mirror_y = probe.mirror_y;
+  next.valid = true;
+  history = std::move(next);
+  return out;
+}
+
+}  // namespace fov
