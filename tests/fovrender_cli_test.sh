@@ -119,6 +119,8 @@ run = lambda *a: json.loads(subprocess.run([sys.argv[1], "--points", sys.argv[2]
                                            check=True, capture_output=True, text=True).stdout)
 still = run("--taa-frames", "3", "-o", sys.argv[2] + "/reuse.png")["reuse"]  # the third frame of a still view
 assert still["reused"] > 0 and still["reused"] + still["traced"] == still["points"], still
+bands = still["by_eccentricity"]
+assert sum(b["points"] for b in bands) == still["points"] and sum(b["reused"] for b in bands) == still["reused"], bands
 path = run("--flicker", "4", "--flicker-shift", "0.02", "--reference-spp", "16", "-o", sys.argv[2] + "/reuse-path.png")["reuse_path"]
 assert path["frames"] == 4 and len(path["per_frame"]) == 4 and 0 < path["rays_ratio"] < 1, path
 assert 0 < path["all_rays_ratio"] < 1 and path["per_frame"][0]["reused"] == 0 and path["per_frame"][1]["reused"] > 0, path

@@ -644,6 +644,13 @@ TEST_F(pipeline, AStillViewKeepsItsPeripheralSamplesAndTheSameFrame) {
   // are); those within 3 degrees do not.
   EXPECT_GT(second.reuse.reused_share(), 0.4) << second.reuse.reused << " of " << second.reuse.points;
   EXPECT_EQ(second.reuse.points, second.reuse.reused + second.reuse.traced);
+  uint64_t banded = 0, banded_kept = 0;
+  for (size_t b = 0; b < reuse_bands; ++b) {
+    banded += second.reuse.points_by_band[b], banded_kept += second.reuse.reused_by_band[b];
+    EXPECT_LE(second.reuse.reused_by_band[b], second.reuse.points_by_band[b]);
+  }
+  EXPECT_EQ(banded, second.reuse.points);
+  EXPECT_EQ(banded_kept, second.reuse.reused);
   EXPECT_EQ(second.points_traced, second.reuse.traced);
   EXPECT_EQ(second.rays, second.reuse.traced * params.spp + second.reuse.probe_rays);
   EXPECT_LT(second.rays, first.rays);

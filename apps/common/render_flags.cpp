@@ -178,9 +178,15 @@ std::shared_ptr<const pointset> select_level(std::shared_ptr<const pointset> set
 }
 
 nlohmann::json reuse_json(const reuse_report& r) {
+  nlohmann::json bands = nlohmann::json::array();
+  for (size_t b = 0; b < reuse_bands; ++b)
+    bands.push_back({{"from_deg", b == 0 ? 0.0 : reuse_band_edges_deg[b - 1]},
+                     {"to_deg", b + 1 < reuse_bands ? nlohmann::json(reuse_band_edges_deg[b]) : nlohmann::json(nullptr)},
+                     {"points", r.points_by_band[b]},
+                     {"reused", r.reused_by_band[b]}});
   return {{"points", r.points},           {"reused", r.reused},           {"traced", r.traced},
           {"probe_rays", r.probe_rays},   {"rays_traced", r.rays_traced}, {"rays_reused", r.rays_reused},
-          {"reused_share", r.reused_share()}};
+          {"reused_share", r.reused_share()}, {"by_eccentricity", bands}};
 }
 
 nlohmann::json refinement_json(const frame_timing& t, const render_params& p, const nested_levels& levels) {

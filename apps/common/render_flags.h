@@ -41,7 +41,8 @@ std::shared_ptr<const pointset> select_level(std::shared_ptr<const pointset> set
 // An adaptive frame's report as JSON (fovrender, fovbench, fovview --json): the params, and
 // per level its scale, rays, points and blocks.
 nlohmann::json refinement_json(const frame_timing& t, const render_params& p, const nested_levels& levels);
-// A reusing frame's report as JSON: points kept and traced, probe and traced rays, the share kept.
+// A reusing frame's report as JSON: points kept and traced, probe and traced rays, the share
+// kept, and points and kept points per eccentricity band.
 nlohmann::json reuse_json(const reuse_report& r);
 // "warning: ..." when the frame's coarsest level alone passed the budget, else "".
 std::string refinement_warning(const frame_timing& t, const render_params& p);

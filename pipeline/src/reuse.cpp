@@ -58,6 +58,7 @@ reused_trace trace_reusing(const scene& s, const camera& cam, const pointset& se
   const uint32_t candidates = std::min<uint32_t>(std::min(params.k, stored_k(set)), 8);
   const float canvas_w = float(set.canvas_width()), canvas_h = float(set.canvas_height());
   std::vector<int64_t> source(m, -1);  // the history's point whose sample each listed point keeps
+  std::vector<uint8_t> band(m);        // each listed point's eccentricity band
   const bool usable = history.valid && history.colour.size() == n;
   // Each point's probe distance (+inf: a miss; NaN: not probed), for the edge test below.
   std::vector<float> seen_at;
@@ -65,62 +66,65 @@ reused_trace trace_reusing(const scene& s, const camera& cam, const pointset& se
     seen_at.assign(n, std::numeric_limits<float>::quiet_NaN());
     for (size_t j = 0; j < m; ++j) seen_at[probe.points[j]] = probe.distance[j];
   }
-  if (usable)
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, m, 1024), [&](const tbb::blocked_range<size_t>& r) {
-      uint32_t near[8];
-      for (size_t j = r.begin(); j < r.end(); ++j) {
-        const glm::vec2 at = probe.screen[j];
-        const double ce = eccentricity_confidence(eccentricity_deg(eye, std::hypot(at.x - gaze.x, at.y - gaze.y)), p.fovea_deg);
-        if (ce <= 0 || ce < p.threshold) continue;
-        const bool hit = probe.distance[j] != infinity;
-        // Near an edge (a neighbour's probe met another surface: over 10 % nearer or farther, or
-        // a hit beside a miss) the disc may hold what its centre does not see: traced.
-        {
-          const glm::vec2 here = canvas_position(at, probe.offset, probe.mirror_x, probe.mirror_y, disp);
-          if (!(here.x >= 0 && here.x < canvas_w && here.y >= 0 && here.y < canvas_h)) continue;
-          pixel_neighbours(set, uint32_t(here.x), uint32_t(here.y), candidates, near);
-          bool edge = false;
-          for (uint32_t k = 0; k < candidates && !edge; ++k) {
-            const float other = seen_at[near[k]];
-            if (std::isnan(other)) continue;
-            edge = hit ? !(std::fabs(other - probe.distance[j]) <= 0.1f * probe.distance[j]) : other != infinity;
-          }
-          if (edge) continue;
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, m, 1024), [&](const tbb::blocked_range<size_t>& r) {
+    uint32_t near[8];
+    for (size_t j = r.begin(); j < r.end(); ++j) {
+      const glm::vec2 at = probe.screen[j];
+      const double e = eccentricity_deg(eye, std::hypot(at.x - gaze.x, at.y - gaze.y));
+      band[j] = uint8_t(std::upper_bound(std::begin(reuse_band_edges_deg), std::end(reuse_band_edges_deg), e) -
+                        std::begin(reuse_band_edges_deg));
+      if (!usable) continue;
+      const double ce = eccentricity_confidence(e, p.fovea_deg);
+      if (ce <= 0 || ce < p.threshold) continue;
+      const bool hit = probe.distance[j] != infinity;
+      // Near an edge (a neighbour's probe met another surface: over 10 % nearer or farther, or
+      // a hit beside a miss) the disc may hold what its centre does not see: traced.
+      {
+        const glm::vec2 here = canvas_position(at, probe.offset, probe.mirror_x, probe.mirror_y, disp);
+        if (!(here.x >= 0 && here.x < canvas_w && here.y >= 0 && here.y < canvas_h)) continue;
+        pixel_neighbours(set, uint32_t(here.x), uint32_t(here.y), candidates, near);
+        bool edge = false;
+        for (uint32_t k = 0; k < candidates && !edge; ++k) {
+          const float other = seen_at[near[k]];
+          if (std::isnan(other)) continue;
+          edge = hit ? !(std::fabs(other - probe.distance[j]) <= 0.1f * probe.distance[j]) : other != infinity;
         }
-        float z = 0;
-        const glm::vec2 q = project(history.view, hit ? probe.where[j] : history.view.origin + probe.where[j], &z);
-        if (!(z > 0)) continue;
-        const glm::vec2 then = canvas_position(q, history.offset, history.mirror_x, history.mirror_y, disp);
-        if (!(then.x >= 0 && then.x < canvas_w && then.y >= 0 && then.y < canvas_h)) continue;
-        pixel_neighbours(set, uint32_t(then.x), uint32_t(then.y), candidates, near);
-        const reuse_history::seen want = hit ? reuse_history::seen::hit : reuse_history::seen::miss;
-        int64_t best = -1;
-        float best_distance = infinity, lo = infinity, hi = 0;
-        bool edge_then = false;
-        for (uint32_t c = 0; c < candidates; ++c) {
-          const uint32_t i = near[c];
-          edge_then |= history.kind[i] == reuse_history::seen::mixed;
-          if (history.kind[i] != want) continue;
-          const float l = luminance(history.colour[i]);
-          lo = std::min(lo, l), hi = std::max(hi, l);
-          if (history.age[i] >= p.max_age) continue;
-          // Hits: the world distance; misses: the chord between the directions (the angle, nearly).
-          const float d = glm::distance(history.where[i], probe.where[j]);
-          if (d < best_distance) best_distance = d, best = i;
-        }
-        if (best < 0 || edge_then) continue;
-        // The candidates' contrast (Michelson, of their luminances): a displaced sample shows
-        // where the colour changes, not where it is flat.
-        const double contrast = hi > 0 ? double(hi - lo) / double(hi + lo) : 0.0;
-        // The disc's radius where its centre ray meets the world: on a plane facing the camera at
-        // that depth (a hit), or as an angle (a miss; a pixel subtends less off the axis).
-        const float cos_axis = glm::dot(glm::normalize(probe.where[j] - (hit ? now.origin : glm::vec3(0))), now.forward);
-        const float disc = set.points[probe.points[j]].spacing * now.pixel_angle *
-                           (hit ? probe.distance[j] * cos_axis : cos_axis * cos_axis);
-        const double c = ce * (1 - contrast) * std::max(0.0, 1.0 - double(best_distance) / double(disc));
-        if (c > 0 && c >= p.threshold) source[j] = best;
+        if (edge) continue;
       }
-    });
+      float z = 0;
+      const glm::vec2 q = project(history.view, hit ? probe.where[j] : history.view.origin + probe.where[j], &z);
+      if (!(z > 0)) continue;
+      const glm::vec2 then = canvas_position(q, history.offset, history.mirror_x, history.mirror_y, disp);
+      if (!(then.x >= 0 && then.x < canvas_w && then.y >= 0 && then.y < canvas_h)) continue;
+      pixel_neighbours(set, uint32_t(then.x), uint32_t(then.y), candidates, near);
+      const reuse_history::seen want = hit ? reuse_history::seen::hit : reuse_history::seen::miss;
+      int64_t best = -1;
+      float best_distance = infinity, lo = infinity, hi = 0;
+      bool edge_then = false;
+      for (uint32_t c = 0; c < candidates; ++c) {
+        const uint32_t i = near[c];
+        edge_then |= history.kind[i] == reuse_history::seen::mixed;
+        if (history.kind[i] != want) continue;
+        const float l = luminance(history.colour[i]);
+        lo = std::min(lo, l), hi = std::max(hi, l);
+        if (history.age[i] >= p.max_age) continue;
+        // Hits: the world distance; misses: the chord between the directions (the angle, nearly).
+        const float d = glm::distance(history.where[i], probe.where[j]);
+        if (d < best_distance) best_distance = d, best = i;
+      }
+      if (best < 0 || edge_then) continue;
+      // The candidates' contrast (Michelson, of their luminances): a displaced sample shows
+      // where the colour changes, not where it is flat.
+      const double contrast = hi > 0 ? double(hi - lo) / double(hi + lo) : 0.0;
+      // The disc's radius where its centre ray meets the world: on a plane facing the camera at
+      // that depth (a hit), or as an angle (a miss; a pixel subtends less off the axis).
+      const float cos_axis = glm::dot(glm::normalize(probe.where[j] - (hit ? now.origin : glm::vec3(0))), now.forward);
+      const float disc = set.points[probe.points[j]].spacing * now.pixel_angle *
+                         (hit ? probe.distance[j] * cos_axis : cos_axis * cos_axis);
+      const double c = ce * (1 - contrast) * std::max(0.0, 1.0 - double(best_distance) / double(disc));
+      if (c > 0 && c >= p.threshold) source[j] = best;
+    }
+  });
   std::vector<uint32_t> to_trace;
   for (size_t j = 0; j < m; ++j)
     if (source[j] < 0) to_trace.push_back(probe.points[j]);
@@ -137,6 +141,8 @@ reused_trace trace_reusing(const scene& s, const camera& cam, const pointset& se
   reuse_report& rep = out.report;
   for (size_t j = 0; j < m; ++j) {
     const uint32_t pt = probe.points[j];
+    ++rep.points_by_band[band[j]];
+    if (source[j] >= 0) ++rep.reused_by_band[band[j]];
     if (source[j] >= 0) {
       const size_t i = size_t(source[j]);
       const bool hit = history.kind[i] == reuse_history::seen::hit;

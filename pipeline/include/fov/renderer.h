@@ -81,7 +81,8 @@ struct render_params {
   // rolling.start_ms; each line's rays are cast from the path's camera when that line is shown).
   rolling_params rolling;
   // Temporal reuse (fov/reuse.h): foveated frames keep earlier frames' samples where they
-  // still hold (not with adaptive refinement or a ray floor; no trace runs ahead).
+  // still hold (not with adaptive refinement, a ray floor or a rolling scanout; no trace runs
+  // ahead).
   reuse_params reuse;
 };
 

@@ -74,6 +74,10 @@ struct reuse_history {
   void clear() { *this = reuse_history{}; }
 };
 
+// The eccentricity bands a reuse report counts in: below 5, 5-10, 10-15, 15-30 and above 30 degrees.
+inline constexpr double reuse_band_edges_deg[] = {5, 10, 15, 30};
+constexpr size_t reuse_bands = 5;
+
 // What a frame reused.
 struct reuse_report {
   uint64_t points = 0;       // points the frame needed
@@ -82,6 +86,9 @@ struct reuse_report {
   uint64_t probe_rays = 0;   // one a point
   uint64_t rays_traced = 0;  // the traced points' rays (probes not included)
   uint64_t rays_reused = 0;  // the rays the reused points would have cast
+  // Per eccentricity band (reuse_band_edges_deg; the viewer's eccentricity of each point's
+  // screen position): the points the frame needed and those that kept a sample.
+  uint64_t points_by_band[reuse_bands] = {}, reused_by_band[reuse_bands] = {};
   double reused_share() const { return points ? double(reused) / double(points) : 0.0; }
 };
 
