@@ -127,6 +127,8 @@ void check_options(const render_options& o, const fov::render_params& p) {
     throw usage_error("--flicker turns the camera itself; drop --rolling");
   if (o.flicker == 0 && o.path_given) throw usage_error("--flicker-yaw, --flicker-shift and --flicker-gaze need --flicker");
   if (p.adaptive.enabled && o.reference) throw usage_error("--adaptive refines a point set; drop --reference");
+  if (p.reuse.mode != fov::reuse_mode::none && o.reference)
+    throw usage_error("--reuse keeps a point set's samples across frames; drop --reference");
   if (o.debug_asked && o.debug == fov::debug_view::refinement && !p.adaptive.enabled)
     throw usage_error("--debug-view refinement needs --adaptive");
 }
