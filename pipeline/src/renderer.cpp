@@ -107,6 +107,11 @@ trace_params renderer::with_lines(trace_params tp, const render_params& p, int w
   return tp;
 }
 
+trace_params renderer::point_trace_params(const render_params& p, uint64_t n) const {
+  const display_geometry& disp = set_->model.display;
+  return with_lines(frame_trace_params(p, n), p, disp.width, disp.height);
+}
+
 renderer::renderer(std::shared_ptr<const scene> s, const render_params& p)
     : scene_(std::move(s)), cam_(setup_camera(*scene_, p.view)), device_kind_(p.device), weight_caches_(p.weight_caches) {
   if (p.rolling.path) cam_ = p.rolling.path->at(p.rolling.start_ms, cam_);
@@ -171,8 +176,7 @@ points_trace renderer::trace(gaze_point gaze, const render_params& p, frame_timi
 }
 
 points_trace renderer::trace_frame(gaze_point gaze, const render_params& p, uint64_t n, frame_timing& t) {
-  const display_geometry& disp = set_->model.display;
-  const trace_params tp = with_lines(frame_trace_params(p, n), p, disp.width, disp.height);
+  const trace_params tp = point_trace_params(p, n);
   const std::shared_ptr<const traced_index> index = index_for(tp);
   const auto t0 = clock_type::now();
   points_trace out;
@@ -226,8 +230,7 @@ void renderer::begin_trace(gaze_point gaze, const camera& view, const render_par
   pending_.reset();  // waits for one still running
   if (p.adaptive.enabled) return;  // an adaptive frame chooses its points from its own samples: traced in foveated()
   if (p.reuse.mode != reuse_mode::none) return;  // a reusing frame reads the last one's samples: traced in foveated()
-  const display_geometry& disp = set_->model.display;
-  const trace_params tp = with_lines(frame_trace_params(p, frames_traced_++), p, disp.width, disp.height);
+  const trace_params tp = point_trace_params(p, frames_traced_++);
   auto job = [scn = scene_, set = set_, index = index_for(tp), view, gaze, tp] {
     const auto t0 = clock_type::now();
     points_trace out = trace_points(*scn, view, *set, *index, gaze, tp);
@@ -239,8 +242,7 @@ void renderer::begin_trace(gaze_point gaze, const camera& view, const render_par
 adaptive_trace renderer::trace_refined_frame(gaze_point gaze, const render_params& p, uint64_t n, frame_timing& t) {
   if (!levels_) throw std::invalid_argument("--adaptive needs a nested set (fovgen --levels); this set has one level");
   if (const std::string why = validate(p.adaptive); !why.empty()) throw std::invalid_argument(why);
-  const display_geometry& disp = set_->model.display;
-  const trace_params tp = with_lines(frame_trace_params(p, n), p, disp.width, disp.height);
+  const trace_params tp = point_trace_params(p, n);
   const bool same = last_map_ && same_view(last_map_camera_, cam_) && last_map_params_.threshold == p.adaptive.threshold &&
                     last_map_params_.depth_ratio == p.adaptive.depth_ratio && last_map_params_.budget == p.adaptive.budget;
   const auto t0 = clock_type::now();
@@ -430,8 +432,7 @@ warm_up_report renderer::warm_up(gaze_point gaze, const render_params& p) {
     r.reconstruct_ms = t.reconstruct_ms;
     return r;
   }
-  const display_geometry& disp = set_->model.display;
-  const trace_params tp = with_lines(frame_trace_params(p, 0), p, disp.width, disp.height);
+  const trace_params tp = point_trace_params(p, 0);
   const auto t_index = clock_type::now();
   const std::shared_ptr<const traced_index> index = index_for(tp);
   const double index_ms = ms_since(t_index);

@@ -161,8 +161,9 @@ reused_trace trace_reusing(const scene& s, const camera& cam, const pointset& se
       // A sample is kept only where all its rays saw what its centre saw: all hit or all missed.
       // ... and, for a hit, its rays' mean depth lies within half its disc's world radius of its
       // centre's (a disc across a depth edge has all its rays hit, on two surfaces).
-      const float bias = smp.depth[pt] - glm::dot(probe.where[j] - now.origin, now.forward);
-      const float disc = hit ? set.points[pt].spacing * now.pixel_angle * glm::dot(probe.where[j] - now.origin, now.forward) : 0;
+      const float centre_depth = glm::dot(probe.where[j] - now.origin, now.forward);
+      const float bias = smp.depth[pt] - centre_depth;
+      const float disc = hit ? set.points[pt].spacing * now.pixel_angle * centre_depth : 0;
       next.kind[pt] = reuse_history::seen::mixed;
       if (hit && smp.hits[pt] == params.spp && std::fabs(bias) <= 0.5f * disc) {
         next.kind[pt] = reuse_history::seen::hit;

@@ -445,6 +445,15 @@ void add_light(const scene::impl& d, const ready_light& l, const hit_material* m
   timing.timer.mark(t.shadow);
 }
 
+// Lane i of a packet: a camera ray from `origin` along `dir` to infinity, not yet hit.
+void set_camera_ray(RTCRayHit16& rh, int i, const glm::vec3& origin, const glm::vec3& dir) {
+  rh.ray.org_x[i] = origin.x, rh.ray.org_y[i] = origin.y, rh.ray.org_z[i] = origin.z;
+  rh.ray.dir_x[i] = dir.x, rh.ray.dir_y[i] = dir.y, rh.ray.dir_z[i] = dir.z;
+  rh.ray.tnear[i] = 0, rh.ray.tfar[i] = infinity, rh.ray.time[i] = 0;
+  rh.ray.mask[i] = 0xFFFFFFFFu, rh.ray.id[i] = unsigned(i), rh.ray.flags[i] = 0;
+  rh.hit.geomID[i] = rh.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
+}
+
 // The camera frames a trace casts from: the frame's, or one per screen line (trace_params::lines).
 struct view_frames {
   camera_frame global;
@@ -498,16 +507,7 @@ void trace_rays(const scene::impl& d, const trace_params& params, const view_fra
       const sample_ray& r = rays[base + std::min(i, n - 1)];
       const camera_frame& f = *(frames[i] = &view.at(r.sx, r.sy));
       dirs[i] = ray_direction(f, r.sx, r.sy);
-      rh.ray.org_x[i] = f.origin.x, rh.ray.org_y[i] = f.origin.y, rh.ray.org_z[i] = f.origin.z;
-      rh.ray.dir_x[i] = dirs[i].x, rh.ray.dir_y[i] = dirs[i].y, rh.ray.dir_z[i] = dirs[i].z;
-      rh.ray.tnear[i] = 0;
-      rh.ray.tfar[i] = infinity;
-      rh.ray.time[i] = 0;
-      rh.ray.mask[i] = 0xFFFFFFFFu;
-      rh.ray.id[i] = unsigned(i);
-      rh.ray.flags[i] = 0;
-      rh.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
-      rh.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
+      set_camera_ray(rh, i, f.origin, dirs[i]);
       if (i < n) timing.tally.add(recorded_ray::kind::primary, f.origin, dirs[i], infinity, i == 0);
     }
     rtcInitIntersectContext(&context);
@@ -849,11 +849,7 @@ point_probe probe_points(const scene& sc, const camera& cam, const pointset& set
         dirs[i] = ray_direction(f, at.x, at.y);
         origins[i] = f.origin;
         valid[i] = i < m ? -1 : 0;
-        rh.ray.org_x[i] = f.origin.x, rh.ray.org_y[i] = f.origin.y, rh.ray.org_z[i] = f.origin.z;
-        rh.ray.dir_x[i] = dirs[i].x, rh.ray.dir_y[i] = dirs[i].y, rh.ray.dir_z[i] = dirs[i].z;
-        rh.ray.tnear[i] = 0, rh.ray.tfar[i] = infinity, rh.ray.time[i] = 0;
-        rh.ray.mask[i] = 0xFFFFFFFFu, rh.ray.id[i] = unsigned(i), rh.ray.flags[i] = 0;
-        rh.hit.geomID[i] = rh.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
+        set_camera_ray(rh, i, f.origin, dirs[i]);
       }
       rtcInitIntersectContext(&context);
       context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;

@@ -229,6 +229,8 @@ class renderer {
   static trace_params frame_trace_params(const render_params& p, uint64_t n);
   // tp with a camera per line for a width x height screen when p.rolling asks for them.
   trace_params with_lines(trace_params tp, const render_params& p, int width, int height) const;
+  // The trace_params of foveated frame n on the set in use: frame_trace_params with its lines.
+  trace_params point_trace_params(const render_params& p, uint64_t n) const;
 
  private:
   std::shared_ptr<const scene> scene_;
