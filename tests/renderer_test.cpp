@@ -17,6 +17,7 @@
 #include "fov/metrics.h"
 #include "fov/renderer.h"
 #include "fov/speedup.h"
+#include "fov/stereo_renderer.h"
 #include "fov/usage_error.h"
 #include "opencl_required.h"
 #include "test_sets.h"
@@ -690,8 +691,9 @@ TEST_F(pipeline, EverySampleIsTracedAgainWithinItsMaximumAge) {
   EXPECT_EQ(t.reuse.reused, 0u);
 }
 
-// Two emitting quads, a red one in front of a blue wall, the red one placed at x0..x0 + 1.
-scene_description red_before_blue(float x0) {
+// Two emitting quads, a red one in front of a blue wall (at z = -10), the red one placed at
+// x0..x0 + 1 and depth z.
+scene_description red_before_blue(float x0, float z = -5) {
   scene_description d;
   for (glm::vec3 c : {glm::vec3(0, 0, 1), glm::vec3(1, 0, 0)}) {
     material m;
@@ -709,7 +711,7 @@ scene_description red_before_blue(float x0) {
     d.instances.push_back({uint32_t(d.meshes.size() - 1), glm::mat4(1.0f), ""});
   };
   quad(-50, 50, -50, 50, -10, 0);
-  quad(x0, x0 + 1, -1, 1, -5, 1);
+  quad(x0, x0 + 1, -1, 1, z, 1);
   d.lights.at(0).colour = glm::vec3(0);
   d.env.colour = glm::vec3(0);
   return d;
@@ -800,6 +802,180 @@ TEST(Reuse, SettingsOutOfRangeAreRefusedNamingTheFlag) {
   r.ray_floor = 0;
   r.adaptive.enabled = true;
   EXPECT_NE(validate(r).find("--adaptive"), std::string::npos);
+}
+
+// Two eyes (fov/stereo.h, fov/stereo_renderer.h).
+bool same_frame(const frame& a, const frame& b) {
+  return a.width == b.width && a.height == b.height && a.rgb == b.rgb && a.depth == b.depth;
+}
+
+TEST(Stereo, EyesSitHalfTheIpdToEitherSideLookingTheSameWay) {
+  const camera head = look_at({1, 2, 3}, {1, 2, -7}, 70);
+  const camera l = eye_camera(head, eye_side::left, 63), r = eye_camera(head, eye_side::right, 63);
+  EXPECT_NEAR(glm::distance(l.position, r.position), 0.063f, 1e-6f);
+  EXPECT_NEAR(l.position.x, 1 - 0.0315f, 1e-6f);  // looking down -z, the right is +x
+  EXPECT_NEAR(r.position.x, 1 + 0.0315f, 1e-6f);
+  EXPECT_NEAR(glm::distance(0.5f * (l.position + r.position), head.position), 0.0f, 1e-6f);
+  for (const camera& c : {l, r}) {
+    EXPECT_EQ(c.forward, head.forward);
+    EXPECT_EQ(c.up, head.up);
+    EXPECT_EQ(c.hfov_deg, head.hfov_deg);
+  }
+  EXPECT_TRUE(same_view(eye_camera(head, eye_side::right, 0), head));
+  stereo_params p;
+  EXPECT_EQ(validate(p), "");
+  for (double bad : {-1.0, 1000.5, std::nan("")}) {
+    p.ipd_mm = bad;
+    EXPECT_NE(validate(p).find("--ipd must lie in 0..1000 mm"), std::string::npos) << bad;
+  }
+  render_params rp;
+  rp.reuse.mode = reuse_mode::eyes;
+  EXPECT_NE(validate(rp).find("--reuse eyes needs --stereo"), std::string::npos);
+  rp.stereo.enabled = true;
+  EXPECT_EQ(validate(rp), "");
+  rp.ray_floor = 1;
+  EXPECT_NE(validate(rp).find("--reuse eyes traces every point"), std::string::npos);
+  rp = {};
+  rp.stereo.enabled = true;
+  rp.rolling.order = scanout::top_down;
+  auto path = std::make_shared<camera_path>();
+  path->keys.push_back({0, {0, 0, 0}, {0, 0, -1}});
+  rp.rolling.path = path;
+  EXPECT_NE(validate(rp).find("--stereo does not combine with --rolling"), std::string::npos);
+}
+
+TEST_F(pipeline, AtZeroIpdEachEyeIsTheHeadsFrame) {
+  render_params p = params;
+  p.stereo.enabled = true;
+  p.stereo.ipd_mm = 0;
+  stereo_renderer two(scn, p);
+  renderer one(scn, p);
+  two.use_pointset(set), one.use_pointset(set);
+  stereo_timing t;
+  const frame both = two.foveated({20, 30}, {40, 20}, p, &t);
+  ASSERT_EQ(both.width, 128);
+  ASSERT_EQ(both.height, 48);
+  const frame l = one.foveated({20, 30}, p), r = one.foveated({40, 20}, p);
+  EXPECT_TRUE(same_frame(both, side_by_side(l, r)));
+  EXPECT_EQ(t.left.rays, t.left.points_traced * p.spp);
+  EXPECT_EQ(t.right.rays, t.right.points_traced * p.spp);
+  EXPECT_FALSE(t.left.reused || t.right.reused);
+  // The full-resolution pair too.
+  EXPECT_TRUE(same_frame(two.reference(64, 48, p), side_by_side(one.reference(64, 48, p).image, one.reference(64, 48, p).image)));
+}
+
+TEST_F(pipeline, TheEyesImagesOfASceneAtInfinityMatch) {
+  const std::shared_ptr<const scene> env = load_scene(ramp_envmap());
+  render_params p = params;
+  p.stereo.enabled = true;
+  p.stereo.ipd_mm = 63;
+  p.taa = true;  // two frames, each eye's history and ray pattern advancing in step
+  stereo_renderer two(env, p);
+  two.use_pointset(set);
+  render_params reusing = p;
+  reusing.reuse.mode = reuse_mode::eyes;
+  reusing.reuse.fovea_deg = 0;
+  reusing.reuse.threshold = 0;
+  stereo_renderer shared(env, reusing);
+  shared.use_pointset(set);
+  for (int n = 0; n < 2; ++n) {
+    const frame both = two.foveated({30, 20}, {30, 20}, p);
+    stereo_timing t;
+    const frame kept = shared.foveated({30, 20}, {30, 20}, reusing, &t);
+    const size_t half = 64;
+    size_t differing = 0;
+    for (int y = 0; y < both.height; ++y)
+      for (size_t x = 0; x < half; ++x)
+        differing += both.rgb[size_t(y) * 128 + x] != both.rgb[size_t(y) * 128 + half + x];
+    EXPECT_EQ(differing, 0u) << "frame " << n;  // every direction is the same for both eyes
+    EXPECT_TRUE(same_frame(kept, both)) << "frame " << n;  // the right eye keeps what it would trace
+    // Every point the right eye needs keeps the left eye's sample: its only rays are the probes.
+    EXPECT_TRUE(t.right.reused);
+    EXPECT_EQ(t.right.reuse.reused, t.right.reuse.points);
+    EXPECT_EQ(t.right.rays, t.right.reuse.probe_rays);
+    EXPECT_EQ(t.right.reuse.rays_reused, t.left.rays);
+  }
+}
+
+// A red quad 2 m away before a blue wall 10 m away, seen by two eyes a metre apart: each eye
+// sees a strip of wall the other eye's view of the quad hides.
+TEST(Stereo, WhatTheLeftEyeDidNotSeeIsTraced) {
+  const scene s(red_before_blue(-0.5f, -2));
+  const auto set = small_set(64, 48);
+  const camera head = look_at({0, 0, 0}, {0, 0, -1}, 90);
+  const camera left = eye_camera(head, eye_side::left, 1000), right = eye_camera(head, eye_side::right, 1000);
+  trace_params tp;
+  tp.spp = 4;
+  tp.k = 5;
+  const traced_index index = make_traced_index(*set, 5);
+  reuse_params p;
+  p.mode = reuse_mode::eyes;
+  p.fovea_deg = 0;
+  p.max_age = max_reuse_age;
+  const gaze_point g{32, 24};
+  const points_trace seen = trace_points(s, left, *set, index, g, tp);
+  reuse_history history = history_of(seen.samples, left, *set, tp.spp);
+  const reused_trace kept = trace_reusing(s, right, *set, index, g, tp, p, history);
+  const points_trace fresh = trace_points(s, right, *set, index, g, tp);
+  const point_probe now = probe_points(s, right, *set, index, g, tp);
+  const camera_frame lf = make_frame(left, 64, 48);
+  ASSERT_GT(kept.report.reused, now.points.size() / 2);  // the wall both eyes see, and the quad's middle
+  uint64_t disoccluded = 0, disoccluded_kept = 0, kept_wrong = 0;
+  for (size_t j = 0; j < now.points.size(); ++j) {
+    const uint32_t i = now.points[j];
+    const bool reused = std::binary_search(kept.kept.begin(), kept.kept.end(), i);
+    // The right eye sees the wall here; from the left eye the quad hides that spot.
+    if (now.distance[j] > 9) {
+      const glm::vec3 wall = now.where[j];
+      const glm::vec3 to = glm::normalize(wall - lf.origin);
+      const float t = (-2 - lf.origin.z) / to.z;  // where the left eye's ray meets the quad's plane
+      const glm::vec3 at = lf.origin + t * to;
+      if (at.x > -0.5f && at.x < 0.5f && at.y > -1 && at.y < 1) {
+        ++disoccluded;
+        // Kept, it can only be a sample of the wall beside the quad in the left view.
+        if (reused) EXPECT_EQ(kept.trace.samples.colour[i].r, 0.0f) << "point " << i << " kept the quad for a wall the left eye did not see";
+        disoccluded_kept += reused;
+      }
+    }
+    if (reused) kept_wrong += kept.trace.samples.colour[i] != fresh.samples.colour[i];
+  }
+  std::printf("%llu of %zu points disoccluded, %llu of them kept (wall beside the quad), %llu kept in all\n",
+              (unsigned long long)disoccluded, now.points.size(), (unsigned long long)disoccluded_kept,
+              (unsigned long long)kept.report.reused);
+  EXPECT_GT(disoccluded, 10u);
+  EXPECT_LT(disoccluded_kept, disoccluded / 4) << disoccluded_kept << " of " << disoccluded;  // most are traced
+  EXPECT_LE(kept_wrong, now.points.size() / 100) << kept_wrong << " of " << now.points.size();
+  // Rays: the probes and the traced points' rays, fewer than the full trace's.
+  EXPECT_EQ(kept.trace.samples.rays, kept.report.probe_rays + kept.report.traced * tp.spp);
+  EXPECT_LT(kept.trace.samples.rays, fresh.samples.rays);
+}
+
+TEST_F(pipeline, EyesReuseIsDeterministicAndChangesLessThanAnotherSeed) {
+  render_params p = params;
+  p.spp = 4;  // a probe costs a ray a point: at 2 rays a point keeping half the points saves nothing
+  p.stereo.enabled = true;
+  p.stereo.ipd_mm = 63;
+  p.reuse.mode = reuse_mode::eyes;
+  p.reuse.fovea_deg = 3;
+  render_params full = p, other_seed = p;
+  full.reuse.mode = reuse_mode::none;
+  other_seed.reuse.mode = reuse_mode::none;
+  other_seed.seed = 2;
+  stereo_renderer a(scn, p), b(scn, p), c(scn, full);
+  a.use_pointset(set), b.use_pointset(set), c.use_pointset(set);
+  stereo_timing ta, tb;
+  const frame fa = a.foveated({30, 24}, {34, 24}, p, &ta);
+  EXPECT_TRUE(same_frame(fa, b.foveated({30, 24}, {34, 24}, p, &tb)));
+  EXPECT_EQ(ta.right.reuse.reused, tb.right.reuse.reused);
+  EXPECT_GT(ta.right.reuse.reused, 0u);
+  EXPECT_GT(ta.right.reuse.traced, 0u);  // the fovea and the edges
+  EXPECT_LT(ta.right.rays, ta.left.rays);
+  const frame traced = c.foveated({30, 24}, {34, 24}, full), noise = c.foveated({30, 24}, {34, 24}, other_seed);
+  const double kept_error = mean_abs(fa, traced), seed_difference = mean_abs(noise, traced);
+  std::printf("kept %.3f of the right eye's points, |reuse - full| %.4f, |seed 2 - full| %.4f\n",
+              ta.right.reuse.reused_share(), kept_error, seed_difference);
+  EXPECT_GT(kept_error, 0);
+  EXPECT_LT(kept_error, seed_difference);
 }
 
 }  // namespace

@@ -77,11 +77,15 @@ std::string validate(const render_params& p, const pointset* set) {
   if (const std::string why = validate(p.adaptive); !why.empty()) return why;
   if (const std::string why = validate(p.rolling); !why.empty()) return why;
   if (const std::string why = validate(p.reuse); !why.empty()) return why;
-  if (p.reuse.mode != reuse_mode::none && p.adaptive.enabled) return "--reuse temporal does not combine with --adaptive";
+  if (const std::string why = validate(p.stereo); !why.empty()) return why;
+  const std::string reuse = std::string("--reuse ") + label_of(reuse_mode_labels, p.reuse.mode);
+  if (p.reuse.mode != reuse_mode::none && p.adaptive.enabled) return reuse + " does not combine with --adaptive";
   if (p.reuse.mode != reuse_mode::none && p.rolling.order != scanout::global)
-    return "--reuse temporal does not combine with --rolling yet";
+    return reuse + " does not combine with --rolling yet";
   if (p.reuse.mode != reuse_mode::none && p.ray_floor > 0)
-    return "--reuse temporal traces every point at --spp rays: drop --ray-floor";
+    return reuse + " traces every point at --spp rays: drop --ray-floor";
+  if (p.reuse.mode == reuse_mode::eyes && !p.stereo.enabled) return "--reuse eyes needs --stereo (two eyes)";
+  if (p.stereo.enabled && p.rolling.order != scanout::global) return "--stereo does not combine with --rolling yet";
   if (p.adaptive.enabled && set && !set->nested())
     return "--adaptive needs a nested set (fovgen --levels); this set has one level";
   if (p.weight_caches < 1 || p.weight_caches > cl_reconstructor::max_weight_caches)
@@ -175,13 +179,21 @@ points_trace renderer::trace(gaze_point gaze, const render_params& p, frame_timi
   return trace_frame(gaze, p, frames_traced_++, t);
 }
 
-points_trace renderer::trace_frame(gaze_point gaze, const render_params& p, uint64_t n, frame_timing& t) {
+points_trace renderer::trace_frame(gaze_point gaze, const render_params& p, uint64_t n, frame_timing& t,
+                                   const reuse_history* other) {
   const trace_params tp = point_trace_params(p, n);
   const std::shared_ptr<const traced_index> index = index_for(tp);
   const auto t0 = clock_type::now();
   points_trace out;
-  t.reused = p.reuse.mode == reuse_mode::temporal;
-  if (t.reused) {
+  t.reused = p.reuse.mode == reuse_mode::temporal || other;
+  if (other) {
+    reuse_params rp = p.reuse;
+    rp.max_age = max_reuse_age;  // the other view's samples are of this instant (age 0)
+    reuse_history h = *other;
+    reused_trace r = trace_reusing(*scene_, cam_, *set_, *index, gaze, tp, rp, h);
+    out = std::move(r.trace);
+    t.reuse = r.report;
+  } else if (t.reused) {
     if (!same_trace(reuse_params_, p)) reuse_.clear();  // samples of other settings hold nothing now
     reuse_params_ = p;
     reused_trace r = trace_reusing(*scene_, cam_, *set_, *index, gaze, tp, p.reuse, reuse_);
@@ -330,6 +342,7 @@ const frame& renderer::foveated(gaze_point gaze, const render_params& p, frame_t
   if (p.adaptive.enabled) {
     pending_.reset();
     adaptive_frame(gaze, p, frames_traced_++, t);
+    last_samples_ = {};
     if (timing) *timing = t;
     return frame_;
   }
@@ -353,6 +366,24 @@ const frame& renderer::foveated(gaze_point gaze, const render_params& p, frame_t
   if (!traced) traced = trace(gaze, p, t);
   if (!p.taa) reset_history();
   reconstruct(traced->samples, gaze, p, t);
+  last_samples_ = std::move(traced->samples);
+  if (timing) *timing = t;
+  return frame_;
+}
+
+const frame& renderer::foveated_from(const reuse_history& other, gaze_point gaze, const render_params& p,
+                                     frame_timing* timing) {
+  require_set();
+  if (p.adaptive.enabled || p.ray_floor > 0 || p.rolling.order != scanout::global)
+    throw std::invalid_argument("foveated_from: not with adaptive refinement, a ray floor or a rolling scanout");
+  if (other.valid && other.colour.size() != set_->points.size())
+    throw std::invalid_argument("foveated_from: the other view's samples belong to another set");
+  pending_.reset();
+  frame_timing t;
+  points_trace traced = trace_frame(gaze, p, frames_traced_++, t, &other);
+  if (!p.taa) reset_history();
+  reconstruct(traced.samples, gaze, p, t);
+  last_samples_ = std::move(traced.samples);
   if (timing) *timing = t;
   return frame_;
 }

@@ -21,6 +21,7 @@
 #include "fov/reuse.h"
 #include "fov/rolling.h"
 #include "fov/scene.h"
+#include "fov/stereo.h"
 #include "fov/taa.h"
 #include "fov/trace.h"
 
@@ -82,8 +83,11 @@ struct render_params {
   rolling_params rolling;
   // Temporal reuse (fov/reuse.h): foveated frames keep earlier frames' samples where they
   // still hold (not with adaptive refinement, a ray floor or a rolling scanout; no trace runs
-  // ahead).
+  // ahead). Its mode `eyes` is the stereo renderer's (fov/stereo_renderer.h): a renderer
+  // traces every point then, and foveated_from keeps another view's samples.
   reuse_params reuse;
+  // Two eyes (fov/stereo.h): read by the stereo renderer; a renderer draws one eye.
+  stereo_params stereo;
 };
 
 // The empty string when `p` is valid (for `set`'s k when given), else the reason, naming
@@ -173,6 +177,16 @@ class renderer {
   // reconstruct), valid until the next call. Without TAA the history is dropped, so
   // turning TAA on starts afresh.
   const frame& foveated(gaze_point gaze, const render_params& p, frame_timing* t = nullptr);
+  // One foveated frame at the gaze whose points keep, where they hold, the samples another
+  // view traced of the same set (`other`: the other eye's, fov/stereo.h history_of), and
+  // trace the rest: trace_reusing with `other` as the last frame and p.reuse's fovea and
+  // threshold (not its age: `other` is of this instant). The frame's timing reports what it
+  // kept (reused, reuse) as temporal reuse's does. Not with adaptive refinement, a ray floor
+  // or a rolling scanout (validate refuses them with p.reuse.mode eyes).
+  const frame& foveated_from(const reuse_history& other, gaze_point gaze, const render_params& p,
+                             frame_timing* t = nullptr);
+  // The samples the last foveated() frame traced (with adaptive refinement: none, empty).
+  const point_samples& last_samples() const { return last_samples_; }
   // Pipelining: starts tracing the frame for this gaze, camera and params in the
   // background, so it overlaps whatever the caller does next (showing the frame before).
   // The next foveated() with the same gaze, camera (cam() set to `view`), tracing params
@@ -242,7 +256,9 @@ class renderer {
   std::shared_ptr<const traced_index> index_;
   std::shared_ptr<const traced_index> index_for(const trace_params& tp);
   // The trace of frame number n under p (frame_trace_params), timed: trace() and steady_state().
-  points_trace trace_frame(gaze_point gaze, const render_params& p, uint64_t n, frame_timing& t);
+  // With `other`, the points keep other's samples where they hold (foveated_from).
+  points_trace trace_frame(gaze_point gaze, const render_params& p, uint64_t n, frame_timing& t,
+                           const reuse_history* other = nullptr);
   // Every pixel of a width x height frame traced with tp (reference, falloff_frame), timed.
   reference_trace full_grid(int width, int height, const trace_params& tp, frame_timing* t);
   std::unique_ptr<cl_reconstructor> device_;
@@ -264,6 +280,7 @@ class renderer {
   render_params reuse_params_;  // the params reuse_ was traced with
   uint64_t frames_traced_ = 0;
   frame frame_;  // what reconstruct() and foveated() return
+  point_samples last_samples_;  // what the last foveated() frame traced
 
   struct pending_trace {
     gaze_point gaze;

@@ -32,9 +32,10 @@ namespace fov {
 enum class reuse_mode : uint8_t {
   none,      // every point traced every frame (what fovray always did)
   temporal,  // samples kept across frames where they still hold
+  eyes,      // with two eyes (fov/stereo.h): the right eye keeps the left eye's samples where they hold
 };
-inline constexpr std::pair<const char*, reuse_mode> reuse_mode_labels[] = {{"none", reuse_mode::none},
-                                                                          {"temporal", reuse_mode::temporal}};
+inline constexpr std::pair<const char*, reuse_mode> reuse_mode_labels[] = {
+    {"none", reuse_mode::none}, {"temporal", reuse_mode::temporal}, {"eyes", reuse_mode::eyes}};
 
 // Documented ranges.
 constexpr double max_reuse_fovea_deg = 60;

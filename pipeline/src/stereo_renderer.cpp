@@ -1,0 +1,54 @@
+#include "fov/stereo_renderer.h"
+
+#include <stdexcept>
+
+namespace fov {
+
+stereo_renderer::stereo_renderer(std::shared_ptr<const scene> s, const render_params& p)
+    : left_(s, p), right_(s, p), head_(left_.cam()), ipd_mm_(p.stereo.ipd_mm) {
+  if (const std::string why = validate(p.stereo); !why.empty()) throw std::invalid_argument(why);
+  place_eyes(ipd_mm_);
+}
+
+void stereo_renderer::use_pointset(std::shared_ptr<const pointset> set) {
+  left_.use_pointset(set);
+  right_.use_pointset(std::move(set));
+}
+
+void stereo_renderer::set_head(const camera& c) {
+  head_ = c;
+  place_eyes(ipd_mm_);
+}
+
+void stereo_renderer::place_eyes(double ipd_mm) {
+  ipd_mm_ = ipd_mm;
+  left_.cam() = eye_camera(head_, eye_side::left, ipd_mm);
+  right_.cam() = eye_camera(head_, eye_side::right, ipd_mm);
+}
+
+const frame& stereo_renderer::foveated(gaze_point left, gaze_point right, const render_params& p, stereo_timing* t) {
+  if (const std::string why = validate(p.stereo); !why.empty()) throw std::invalid_argument(why);
+  place_eyes(p.stereo.ipd_mm);
+  stereo_timing st;
+  const frame& l = left_.foveated(left, p, &st.left);
+  if (p.reuse.mode == reuse_mode::eyes) {
+    const reuse_history other = history_of(left_.last_samples(), left_.cam(), *left_.current_set(), p.spp);
+    frame_ = side_by_side(l, right_.foveated_from(other, right, p, &st.right));
+  } else {
+    frame_ = side_by_side(l, right_.foveated(right, p, &st.right));
+  }
+  if (t) *t = st;
+  return frame_;
+}
+
+frame stereo_renderer::reference(int width, int height, const render_params& p, stereo_timing* t) {
+  if (const std::string why = validate(p.stereo); !why.empty()) throw std::invalid_argument(why);
+  place_eyes(p.stereo.ipd_mm);
+  stereo_timing st;
+  const reference_trace l = left_.reference(width, height, p, &st.left);
+  const reference_trace r = right_.reference(width, height, p, &st.right);
+  if (t) *t = st;
+  return side_by_side(l.image, r.image);
+}
+
+}  // namespace fov
