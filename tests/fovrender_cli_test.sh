@@ -127,6 +127,36 @@ assert path["frames"] == 4 and len(path["per_frame"]) == 4 and 0 < path["rays_ra
 assert 0 < path["all_rays_ratio"] < 1 and path["per_frame"][0]["reused"] == 0 and path["per_frame"][1]["reused"] > 0, path
 assert all(k in path for k in ("jod_full", "jod_reuse", "jod_floor", "flicker_full", "flicker_reuse")), path
 PY
+# Two eyes (docs/reuse.md).
+check "ipd negative"       2 -- "$fovrender" "${set[@]}" --stereo --ipd -1 -o "$dir/a.png"
+check "ipd too wide"       2 -- "$fovrender" "${set[@]}" --stereo --ipd 1001 -o "$dir/a.png"
+check "gaze right alone"   2 -- "$fovrender" "${set[@]}" --gaze-right 10,10 -o "$dir/a.png"
+check "gaze right off"     2 -- "$fovrender" "${set[@]}" --stereo --gaze-right 65,10 -o "$dir/a.png"
+check "eyes without stereo" 2 -- "$fovrender" "${set[@]}" --reuse eyes -o "$dir/a.png"
+check "stereo compare"     2 -- "$fovrender" "${set[@]}" --stereo --compare "$dir/set.fovset" -o "$dir/a.png"
+check "stereo speedup"     2 -- "$fovrender" "${set[@]}" --stereo --speedup 2 -o "$dir/a.png"
+check "stereo rolling"     2 -- "$fovrender" "${set[@]}" --stereo --camera "$dir/path.csv" --rolling top-down -o "$dir/a.png"
+check "eyes ray floor"     2 -- "$fovrender" "${set[@]}" --stereo --reuse eyes --ray-floor 1 -o "$dir/a.png"
+[[ -e "$dir/a.png" ]] && fail "a refused stereo run wrote its output"
+python3 - "$fovrender" "$dir" <<'PY' || { echo "FAIL --stereo"; failures=$((failures + 1)); }
+import json, subprocess, sys
+run = lambda *a: json.loads(subprocess.run([sys.argv[1], "--points", sys.argv[2] + "/set.fovset", "--spp", "8", "--json",
+                                            "--device", "cpp", "--stereo", *a],
+                                           check=True, capture_output=True, text=True).stdout)
+both = run("--gaze", "30,36", "--gaze-right", "26,36", "-o", sys.argv[2] + "/stereo.png")
+assert both["width"] == 128 and both["eye_width"] == 64 and both["height"] == 72, both
+l, r = both["eyes"]["left"], both["eyes"]["right"]
+assert l["gaze"] == [30, 36] and r["gaze"] == [26, 36] and both["rays"] == l["rays"] + r["rays"], both
+assert l["rays"] == 8 * l["points_traced"] and "reuse" not in r, both
+eyes = run("--reuse", "eyes", "--reuse-fovea", "3", "--reference-spp", "16", "-o", sys.argv[2] + "/eyes.png")
+l, r = eyes["eyes"]["left"], eyes["eyes"]["right"]
+kept = r["reuse"]
+assert kept["reused"] > 0 and kept["reused"] + kept["traced"] == kept["points"], kept
+assert r["rays"] == kept["probe_rays"] + 8 * kept["traced"] and r["rays"] < l["rays"], eyes
+assert all(0 < e["metrics"]["jod"] <= 10 and 0 < e["noise_floor"]["jod"] <= 10 for e in (l, r)), eyes
+ref = run("--reference", "-o", sys.argv[2] + "/stereo-ref.png")
+assert ref["width"] == 128 and ref["eyes"]["right"]["points_traced"] is None and ref["rays"] == 2 * 64 * 72 * 8, ref
+PY
 check "rolling"            0 -- "$fovrender" "${set[@]}" --spp 1 --camera "$dir/path.csv" --rolling bottom-up --frame-period 100 -o "$dir/roll.png"
 cmp -s "$dir/cam-file.png" "$dir/roll.png" && fail "--rolling on a moving path changed nothing"
 check "bad size"           2 -- "$fovrender" --reference --width 0 -o "$dir/a.png"

@@ -857,6 +857,8 @@ TEST_F(pipeline, AtZeroIpdEachEyeIsTheHeadsFrame) {
   ASSERT_EQ(both.height, 48);
   const frame l = one.foveated({20, 30}, p), r = one.foveated({40, 20}, p);
   EXPECT_TRUE(same_frame(both, side_by_side(l, r)));
+  EXPECT_TRUE(same_frame(eye_half(both, eye_side::left), l));
+  EXPECT_TRUE(same_frame(eye_half(both, eye_side::right), r));
   EXPECT_EQ(t.left.rays, t.left.points_traced * p.spp);
   EXPECT_EQ(t.right.rays, t.right.points_traced * p.spp);
   EXPECT_FALSE(t.left.reused || t.right.reused);

@@ -108,17 +108,26 @@ void add_render_flags(CLI::App& app, render_params& p, unsigned groups) {
   }
   if (groups & flags_reuse) {
     add_label_option(app, "--reuse", p.reuse.mode, reuse_mode_labels,
-                     "Keep earlier frames' samples where a probe ray says they still hold (docs/reuse.md)");
+                     "Keep earlier frames' samples (temporal) or, with --stereo, the left eye's in the right eye "
+                     "(eyes) where a probe ray says they still hold (docs/reuse.md)");
     app.add_option("--reuse-fovea", p.reuse.fovea_deg,
-                   "With --reuse temporal: points within this eccentricity (degrees) are always traced; full "
+                   "With --reuse: points within this eccentricity (degrees) are always traced; full "
                    "confidence from 3x it")
         ->check(CLI::Range(0.0, max_reuse_fovea_deg))
         ->capture_default_str();
-    app.add_option("--reuse-threshold", p.reuse.threshold, "With --reuse temporal: the least confidence a kept sample needs")
+    app.add_option("--reuse-threshold", p.reuse.threshold, "With --reuse: the least confidence a kept sample needs")
         ->check(CLI::Range(0.0, 1.0))
         ->capture_default_str();
     app.add_option("--reuse-max-age", p.reuse.max_age, "With --reuse temporal: the most frames in a row a sample is kept")
         ->check(CLI::Range(1u, max_reuse_age))
+        ->capture_default_str();
+  }
+  if (groups & flags_stereo) {
+    app.add_flag("--stereo", p.stereo.enabled,
+                 "Two eyes side by side, each the set's screen with its own gaze (--gaze-right) and a camera half "
+                 "--ipd to its side of the head's (docs/reuse.md)");
+    app.add_option("--ipd", p.stereo.ipd_mm, "With --stereo: interpupillary distance in mm of a world in metres")
+        ->check(CLI::Range(0.0, max_ipd_mm))
         ->capture_default_str();
   }
   if (groups & flags_view) {

@@ -30,6 +30,8 @@ enum render_flags : unsigned {
   // --reuse, --reuse-fovea, --reuse-threshold, --reuse-max-age: temporal reuse (fov/reuse.h),
   // for tools that render frames in sequence.
   flags_reuse = 512,
+  // --stereo, --ipd: two eyes side by side (fov/stereo.h), each its own gaze (the tool's --gaze-right).
+  flags_stereo = 1024,
 };
 void add_render_flags(CLI::App& app, render_params& p, unsigned groups = flags_all);
 

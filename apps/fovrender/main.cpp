@@ -20,6 +20,7 @@
 #include "fov/pointset_io.h"
 #include "fov/renderer.h"
 #include "fov/speedup.h"
+#include "fov/stereo_renderer.h"
 
 namespace {
 
@@ -29,6 +30,7 @@ using fov::usage_error;
 // What fovrender does beyond the render parameters.
 struct render_options {
   std::string scene = "builtin", points, gaze = "centre", compare, debug_output, flip_map, foveated_flip_map;
+  std::string gaze_right;  // with --stereo: the right eye's gaze (default: --gaze)
   std::vector<std::string> outputs;
   fov::debug_view debug = fov::debug_view::points;
   bool debug_asked = false;  // --debug-view given
@@ -98,7 +100,7 @@ void check_options(const render_options& o, const fov::render_params& p) {
   // A frame's buffers (colour, depth, samples, the file's pixels) take a few tens of bytes a
   // pixel: a size the range check passes may still not fit (65536 x 65536 is 275 GB).
   if (o.points.empty())
-    if (const std::string why = fov::memory_problem(uint64_t(o.width) * uint64_t(o.height) * 64,
+    if (const std::string why = fov::memory_problem(uint64_t(o.width) * uint64_t(o.height) * (p.stereo.enabled ? 128 : 64),
                                                     fmt::format("a {} x {} frame (about 64 bytes a pixel)", o.width, o.height));
         !why.empty())
       throw usage_error("--width/--height: " + why);
@@ -131,6 +133,114 @@ void check_options(const render_options& o, const fov::render_params& p) {
     throw usage_error("--reuse keeps a point set's samples across frames; drop --reference");
   if (o.debug_asked && o.debug == fov::debug_view::refinement && !p.adaptive.enabled)
     throw usage_error("--debug-view refinement needs --adaptive");
+  if (!p.stereo.enabled && !o.gaze_right.empty()) throw usage_error("--gaze-right is the right eye's: give --stereo");
+  if (p.stereo.enabled) {
+    const std::pair<bool, const char*> one_eye_only[] = {
+        {o.speedup > 0, "--speedup"}, {o.flicker > 0, "--flicker"}, {o.debug_asked, "--debug-view"},
+        {!o.compare.empty(), "--compare (--reference-spp compares each eye with its own converged reference)"},
+        {!o.flip_map.empty() || !o.foveated_flip_map.empty(), "--flip-map and --foveated-flip-map"},
+        {o.ray_floor > 0, "--ray-floor"}};
+    for (const auto& [given, flag] : one_eye_only)
+      if (given) throw usage_error(fmt::format("--stereo does not take {}", flag));
+  }
+}
+
+// The cost and rays of one eye's frame as JSON.
+json eye_json(const fov::frame_timing& t, fov::gaze_point gaze, bool foveated) {
+  json e{{"gaze", {gaze.x, gaze.y}},
+         {"trace_ms", t.trace_ms},
+         {"reconstruct_ms", t.reconstruct_ms},
+         {"taa_ms", t.taa_ms},
+         {"total_ms", t.total_ms()},
+         {"rays", t.rays},
+         {"rays_cast", {{"primary", t.cast.primary}, {"shadow", t.cast.shadow}, {"bounce", t.cast.bounce}}},
+         {"points_traced", foveated ? json(t.points_traced) : json(nullptr)}};
+  if (t.reused) e["reuse"] = fov::reuse_json(t.reuse);
+  return e;
+}
+
+// --stereo: both eyes, each the screen of the set (or of --width/--height, --display with
+// --reference), written side by side; per eye its cost, rays and, with --reference-spp, its
+// error against its own converged reference with its noise floor.
+int render_stereo(const render_options& o, const fov::render_params& p, std::shared_ptr<const fov::scene> scene,
+                  std::shared_ptr<const fov::pointset> set, const fov::display_geometry& display, fov::gaze_point gaze_left,
+                  fov::gaze_point gaze_right, json j) {
+  using fov::eye_side;
+  fov::stereo_renderer sr(scene, p);
+  fov::stereo_timing t;
+  fov::frame image;
+  const int w = display.width, h = display.height;
+  if (o.reference) {
+    if (!o.no_warmup)
+      j["warmup_ms"] = sr.eye(eye_side::left).warm_up_reference(w, h, p).trace_ms +
+                       sr.eye(eye_side::right).warm_up_reference(w, h, p).trace_ms;
+    if (o.taa_frames > 0)
+      image = fov::side_by_side(sr.eye(eye_side::left).full_steady_state(display, gaze_left, p, o.taa_frames, nullptr, &t.left),
+                                sr.eye(eye_side::right).full_steady_state(display, gaze_right, p, o.taa_frames, nullptr, &t.right));
+    else
+      image = sr.reference(w, h, p, &t);
+  } else {
+    sr.use_pointset(set);
+    if (p.device == fov::reconstruct_device::opencl)
+      j["device_setup_ms"] = sr.eye(eye_side::left).device_setup_ms() + sr.eye(eye_side::right).device_setup_ms();
+    if (const std::string warn = sr.eye(eye_side::left).device_warning(); !warn.empty()) std::cerr << "fovrender: " << warn << "\n";
+    if (!o.no_warmup)
+      j["warmup_ms"] = sr.eye(eye_side::left).warm_up(gaze_left, p).trace_ms + sr.eye(eye_side::right).warm_up(gaze_right, p).trace_ms;
+    for (uint32_t n = 0; n < std::max<uint32_t>(1, o.taa_frames); ++n) image = sr.foveated(gaze_left, gaze_right, p, &t);
+    j["device"] = sr.eye(eye_side::left).device();
+    j["k"] = p.reconstruct.k;
+  }
+  if (p.taa) j["taa_frames"] = o.taa_frames, j["pattern"] = fov::label_of(fov::ray_pattern_labels, p.pattern);
+  j["stereo"] = true;
+  j["ipd_mm"] = p.stereo.ipd_mm;
+  j["reuse_mode"] = fov::label_of(fov::reuse_mode_labels, p.reuse.mode);
+  json eyes{{"left", eye_json(t.left, gaze_left, !o.reference)}, {"right", eye_json(t.right, gaze_right, !o.reference)}};
+  std::string compared;
+  if (o.reference_spp > 0) {
+    fov::spacing_model eye;  // the viewer's eye: the set's acuity model at its true eccentricity
+    eye.display = display;
+    if (set) eye.acuity = set->model.acuity;
+    fov::comparison_params what;
+    what.flip = !o.no_flip, what.jod = !o.no_jod, what.photometry = o.photometry;
+    for (const eye_side e : {eye_side::left, eye_side::right}) {
+      const char* name = fov::label_of(fov::eye_side_labels, e);
+      const fov::converged_comparison cc = fov::compare_converged(sr.eye(e), fov::eye_half(image, e), eye,
+                                                                  e == eye_side::left ? gaze_left : gaze_right, p,
+                                                                  o.reference_spp, what);
+      eyes[name]["metrics"] = fov::comparison_json(cc.against);
+      eyes[name]["noise_floor"] = fov::comparison_json(cc.floor);
+      eyes[name]["converged_reference_ms"] = cc.reference_ms;
+      compared += fmt::format("{} eye: {}\n  noise floor, a second reference {}\n", name,
+                              fov::comparison_text(cc.against, fmt::format("a {}-spp converged reference", o.reference_spp)),
+                              fov::comparison_text(cc.floor, "the first"));
+    }
+    j["reference_spp"] = o.reference_spp;
+  }
+  j["eyes"] = eyes;
+  j["trace_ms"] = t.left.trace_ms + t.right.trace_ms;
+  j["reconstruct_ms"] = t.left.reconstruct_ms + t.right.reconstruct_ms;
+  j["taa_ms"] = p.taa ? json(t.left.taa_ms + t.right.taa_ms) : json(nullptr);
+  j["total_ms"] = t.left.total_ms() + t.right.total_ms();
+  j["rays"] = t.left.rays + t.right.rays;
+  j["rays_cast"] = {{"primary", t.left.cast.primary + t.right.cast.primary},
+                    {"shadow", t.left.cast.shadow + t.right.cast.shadow},
+                    {"bounce", t.left.cast.bounce + t.right.cast.bounce}};
+  j["width"] = image.width;  // both eyes
+  j["height"] = image.height;
+  j["eye_width"] = w;
+  j["spp"] = p.spp;
+  j["method"] = o.reference ? "reference" : fov::method_name(p.reconstruct.how);
+  for (const std::string& output : o.outputs) fov::write_frame(image, output);
+  if (o.json) {
+    std::cout << j.dump(2) << "\n";
+    return 0;
+  }
+  fmt::print("{} stereo, two {}x{} eyes: left {} rays, right {} rays{}; trace {:.1f} ms, reconstruct {:.1f} ms\n",
+             j["method"].get<std::string>(), w, h, t.left.rays, t.right.rays,
+             t.right.reused ? fmt::format(" (kept {} of {} points)", t.right.reuse.reused, t.right.reuse.points) : "",
+             j["trace_ms"].get<double>(), j["reconstruct_ms"].get<double>());
+  if (!compared.empty()) fmt::print("{}", compared);
+  return 0;
 }
 
 }  // namespace
@@ -141,8 +251,9 @@ int main(int argc, char** argv) {
   fov::render_params p;
   app.add_option("--scene", o.scene, "builtin, builtin:cornell (a room where bounces matter), a glTF/OBJ file, or env:IMAGE");
   app.add_option("--points", o.points, "Point set (.fovset); gives the screen size");
-  app.add_option("--gaze", o.gaze, "X,Y in screen pixels, centre or corner");
-  fov::add_render_flags(app, p, fov::flags_all | fov::flags_rolling | fov::flags_reuse);
+  app.add_option("--gaze", o.gaze, "X,Y in screen pixels, centre or corner (with --stereo: the left eye's, in its screen)");
+  app.add_option("--gaze-right", o.gaze_right, "With --stereo: the right eye's gaze in its screen (default: --gaze)");
+  fov::add_render_flags(app, p, fov::flags_all | fov::flags_rolling | fov::flags_reuse | fov::flags_stereo);
   app.add_flag("--reference", o.reference, "Render at full resolution instead");
   app.add_option("--ray-floor", o.ray_floor,
                  "Rays falling with eccentricity from --spp at the gaze to this floor as the acuity model's point density "
@@ -251,6 +362,7 @@ int main(int argc, char** argv) {
     const std::string problem = fov::validate(p, set.get());
     if (!problem.empty()) throw usage_error(set ? fmt::format("{} for {}", problem, o.points) : problem);
     const fov::gaze_point gaze = fov::require_gaze("--gaze", o.gaze, display);
+    const fov::gaze_point gaze_right = o.gaze_right.empty() ? gaze : fov::require_gaze("--gaze-right", o.gaze_right, display);
     // The reference is read and checked before anything is rendered or written.
     fov::frame compare_to;
     if (!o.compare.empty()) {
@@ -275,6 +387,14 @@ int main(int argc, char** argv) {
         if (const std::string why = fov::output_file_problem(out, scene->description().files); !why.empty())
           throw usage_error(fmt::format("{} {}: {}", flag, out, why));
     for (const std::string& w : scene->warnings()) std::cerr << "fovrender: warning: " << w << "\n";
+    if (p.stereo.enabled) {
+      if (set) {
+        j["acuity"] = fov::acuity_model_name(set->model.acuity.model);
+        j["sampler"] = fov::label_of(fov::point_sampler_labels, set->darts.sampler);
+        j["set_load_ms"] = set_load_ms;
+      }
+      return render_stereo(o, p, scene, set, display, gaze, gaze_right, j);
+    }
     fov::renderer r(scene, p);
     fov::frame image;
     fov::frame_timing t;

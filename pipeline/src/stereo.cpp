@@ -84,4 +84,21 @@ frame side_by_side(const frame& left, const frame& right) {
   return out;
 }
 
+frame eye_half(const frame& both, eye_side e) {
+  if (both.width % 2 != 0 || both.rgb.size() != size_t(both.width) * both.height)
+    throw std::invalid_argument(fmt::format("eye_half: a {}x{} frame is not two eyes side by side", both.width, both.height));
+  frame out;
+  out.width = both.width / 2, out.height = both.height;
+  const size_t w = size_t(out.width), skip = e == eye_side::left ? 0 : w;
+  out.rgb.resize(w * out.height);
+  out.depth.resize(out.rgb.size(), std::numeric_limits<float>::infinity());
+  const bool depth = both.depth.size() == both.rgb.size();
+  for (int y = 0; y < out.height; ++y) {
+    const size_t from = size_t(y) * both.width + skip, to = size_t(y) * w;
+    std::copy_n(both.rgb.begin() + from, w, out.rgb.begin() + to);
+    if (depth) std::copy_n(both.depth.begin() + from, w, out.depth.begin() + to);
+  }
+  return out;
+}
+
 }  // namespace fov

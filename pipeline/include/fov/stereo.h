@@ -52,5 +52,7 @@ reuse_history history_of(const point_samples& samples, const camera& cam, const 
 // The eyes' frames side by side (left | right), as a head-mounted display's panel shows
 // them; both the same size.
 frame side_by_side(const frame& left, const frame& right);
+// One eye's half of a side-by-side frame (its width even).
+frame eye_half(const frame& both, eye_side e);
 
 }  // namespace fov
