@@ -36,6 +36,9 @@ mkfifo "$dir/cal.fifo"  # read as a calibration it would block forever: refused
 check "calibration FIFO"   1 -- timeout 20 "$fovview" "${set[@]}" --gaze-udp 47999 --gaze-calibration "$dir/cal.fifo"
 check "no Pupil Remote"    1 -- env -u DISPLAY -u WAYLAND_DISPLAY "$fovview" "${set[@]}" --gaze-pupil tcp://127.0.0.1:1
 check "exit without frames" 2 -- "$fovview" "${set[@]}" --exit
+check "ipd negative"       2 -- "$fovview" "${set[@]}" --stereo --ipd -1
+check "stereo pipeline"    2 -- "$fovview" "${set[@]}" --stereo --pipeline
+check "eyes without stereo" 2 -- "$fovview" "${set[@]}" --reuse eyes
 check "replay and a trace"  2 -- "$fovview" "${set[@]}" --gaze-replay "$dir/gaze.csv" --gaze-trace "$dir/gaze.csv"
 check "replay adapting"    2 -- "$fovview" "${set[@]}" --gaze-replay "$dir/gaze.csv" --target-fps 60
 check "replay not a log"   1 -- "$fovview" "${set[@]}" --gaze-replay "$dir/gaze.csv" --frames 1 --exit
@@ -131,6 +134,25 @@ PY
       --screenshot-at 5 "$dir/$mode.png" --exit "${flags[@]}" 2>"$dir/err.txt" || fail "$mode run: $(cat "$dir/err.txt")"
   done
   cmp -s "$dir/plain.png" "$dir/pipeline.png" || fail "--pipeline changed the frame"
+  # Two eyes side by side: at zero IPD both eyes see the head's view at the same gaze; with
+  # --reuse eyes the right eye keeps samples of the left.
+  for mode in ipd0 eyes; do
+    flags=(--stereo --ipd 0); [[ $mode == eyes ]] && flags=(--stereo --reuse eyes --reuse-fovea 0)
+    xvfb-run -a -s "-screen 0 1024x768x24" "$fovview" "${set[@]}" --gaze 90,100 --no-taa --frames 3 \
+      --screenshot-at 2 "$dir/$mode.png" --exit "${flags[@]}" 2>"$dir/err.txt" || fail "stereo $mode run: $(cat "$dir/err.txt")"
+  done
+  python3 - "$dir" <<'PY' || fail "stereo screenshots"
+import json, struct, sys
+d = sys.argv[1]
+for mode in ("ipd0", "eyes"):
+    w, h = struct.unpack(">II", open(f"{d}/{mode}.png", "rb").read(24)[16:24])
+    assert (w, h) == (512, 288), (mode, w, h)
+    j = json.load(open(f"{d}/{mode}.png.json"))
+    assert j["stereo"] and j["eye_width"] == 256, j
+a, b = (json.load(open(f"{d}/{m}.png.json"))["eyes"] for m in ("ipd0", "eyes"))
+assert a["left"]["rays"] == a["right"]["rays"] > 0, a
+assert 0 < b["right"]["rays"] < b["left"]["rays"], b
+PY
 fi
 
 echo "$passes passed, $failures failed"

@@ -935,7 +935,9 @@ TEST(Stereo, WhatTheLeftEyeDidNotSeeIsTraced) {
       if (at.x > -0.5f && at.x < 0.5f && at.y > -1 && at.y < 1) {
         ++disoccluded;
         // Kept, it can only be a sample of the wall beside the quad in the left view.
-        if (reused) EXPECT_EQ(kept.trace.samples.colour[i].r, 0.0f) << "point " << i << " kept the quad for a wall the left eye did not see";
+        if (reused) {
+          EXPECT_EQ(kept.trace.samples.colour[i].r, 0.0f) << "point " << i << " kept the quad for a wall the left eye did not see";
+        }
         disoccluded_kept += reused;
       }
     }

@@ -217,14 +217,13 @@ int render_stereo(const render_options& o, const fov::render_params& p, std::sha
     j["reference_spp"] = o.reference_spp;
   }
   j["eyes"] = eyes;
-  j["trace_ms"] = t.left.trace_ms + t.right.trace_ms;
-  j["reconstruct_ms"] = t.left.reconstruct_ms + t.right.reconstruct_ms;
-  j["taa_ms"] = p.taa ? json(t.left.taa_ms + t.right.taa_ms) : json(nullptr);
-  j["total_ms"] = t.left.total_ms() + t.right.total_ms();
-  j["rays"] = t.left.rays + t.right.rays;
-  j["rays_cast"] = {{"primary", t.left.cast.primary + t.right.cast.primary},
-                    {"shadow", t.left.cast.shadow + t.right.cast.shadow},
-                    {"bounce", t.left.cast.bounce + t.right.cast.bounce}};
+  const fov::frame_timing both = fov::both_eyes(t);
+  j["trace_ms"] = both.trace_ms;
+  j["reconstruct_ms"] = both.reconstruct_ms;
+  j["taa_ms"] = p.taa ? json(both.taa_ms) : json(nullptr);
+  j["total_ms"] = both.total_ms();
+  j["rays"] = both.rays;
+  j["rays_cast"] = {{"primary", both.cast.primary}, {"shadow", both.cast.shadow}, {"bounce", both.cast.bounce}};
   j["width"] = image.width;  // both eyes
   j["height"] = image.height;
   j["eye_width"] = w;

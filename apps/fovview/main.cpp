@@ -30,7 +30,7 @@ int main(int argc, char** argv) {
   app.add_option("--points-dir", o.points_dir, "A family of point sets to switch between with [ and ]");
   app.add_option("--scale", o.scale, "With --points-dir: the scale to start at (default the smallest)");
   app.add_option("--display", o.display, "With --points-dir holding several displays' sets: whose to show. " + fov::display_help());
-  fov::add_render_flags(app, settings, fov::flags_all | fov::flags_reuse);
+  fov::add_render_flags(app, settings, fov::flags_all | fov::flags_reuse | fov::flags_stereo);
   app.add_option("--target-fps", o.target_fps, "Adapt rays per point to keep this frame rate (0: off, the default)");
   app.add_flag("--no-taa", o.no_taa, "Start with TAA off");
   app.add_flag("--pipeline", o.pipeline,
@@ -56,6 +56,9 @@ int main(int argc, char** argv) {
       throw usage_error("--adaptive refines one nested set: give --points SET (fovgen --levels), not --points-dir");
     if (!o.display.empty() && o.points_dir.empty()) throw usage_error("--display chooses among --points-dir's sets; --points names one");
     fov::require_valid(o.gaze);
+    if (settings.stereo.enabled && o.pipeline) throw usage_error("--stereo does not take --pipeline yet");
+    if (settings.stereo.enabled && !o.compare.empty())
+      throw usage_error("--compare: a reference of one eye's screen; --stereo shows two");
     if (o.gaze.sources() + !o.fixed_gaze.empty() + !o.gaze_replay.empty() > 1) throw usage_error("choose one gaze source");
     if (!o.gaze_replay.empty() && o.target_fps > 0)
       throw usage_error("--target-fps adapts to measured frame times, which a --gaze-replay cannot repeat");

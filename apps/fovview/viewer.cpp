@@ -28,6 +28,7 @@
 #include "fov/files.h"
 #include "fov/pointset_io.h"
 #include "fov/renderer.h"
+#include "fov/stereo_renderer.h"
 #include "fov/scene.h"
 
 namespace {
@@ -179,13 +180,33 @@ int run_viewer(const viewer_options& o, render_params settings) {
   const uint64_t last_frame = replay.empty() ? frames : frames ? std::min<uint64_t>(frames, replay.size()) : replay.size();
   size_t safe_from_level = SIZE_MAX;  // the set's level before the safe mode switched to the densest
 
-  fov::renderer renderer(scn, settings);
-  renderer.use_pointset(set);
+  // Two eyes (--stereo): both shown side by side, each at the gaze in its own screen; the
+  // keys and a camera path move the head, and the left eye's renderer answers for both where
+  // one answer does (the set, the device, the levels).
+  const bool two_eyes = settings.stereo.enabled;
+  std::optional<fov::stereo_renderer> stereo;
+  std::optional<fov::renderer> mono;
+  if (two_eyes)
+    stereo.emplace(scn, settings);
+  else
+    mono.emplace(scn, settings);
+  fov::renderer& renderer = two_eyes ? stereo->eye(fov::eye_side::left) : *mono;
+  fov::camera head = two_eyes ? stereo->head() : fov::camera{};
+  auto view_cam = [&]() -> fov::camera& { return two_eyes ? head : renderer.cam(); };
+  auto use_set = [&](std::shared_ptr<const fov::pointset> s) {
+    if (two_eyes)
+      stereo->use_pointset(std::move(s));
+    else
+      renderer.use_pointset(std::move(s));
+  };
+  use_set(set);
   if (const std::string warning = renderer.device_warning(); !warning.empty()) std::cerr << "fovview: " << warning << "\n";
-  fov::view_window window("fovview", w, h);
+  fov::view_window window("fovview", two_eyes ? 2 * w : w, h);
   bool show_reference = false, show_cursor = true, show_help = false;
-  std::vector<std::string> views = {"", "points", "density", "eccentricity", "error"};
-  if (settings.adaptive.enabled) views.push_back("refinement");
+  // The debug views draw one eye's screen: not offered with two eyes.
+  std::vector<std::string> views = two_eyes ? std::vector<std::string>{""}
+                                            : std::vector<std::string>{"", "points", "density", "eccentricity", "error"};
+  if (settings.adaptive.enabled && !two_eyes) views.push_back("refinement");
   size_t view = 0;
   uint64_t rbf_fallbacks_said = 0;  // RBF pixels that fell back to Shepard, as last said
   bool budget_warned = false;  // --adaptive-budget below the coarsest level: said once
@@ -222,7 +243,7 @@ int run_viewer(const viewer_options& o, render_params settings) {
     const double now_ms = ms_between(start, clock_type::now());
     if (mouse) {
       double x, y;
-      if (window.mouse(x, y)) mouse->set(x, y);
+      if (window.mouse(x, y)) mouse->set(two_eyes && x >= w ? x - w : x, y);  // either eye's screen
     }
     fresh.clear();
     const double clock_ms = fov::gaze_clock_ms();
@@ -238,28 +259,35 @@ int run_viewer(const viewer_options& o, render_params settings) {
   for (uint64_t frame_index = 0; last_frame == 0 || frame_index < last_frame; ++frame_index) {
     const auto frame_start = clock_type::now();
     const double now_ms = ms_between(start, frame_start);
-    const frame_inputs in = next ? *next : read_inputs(renderer.cam());
+    const frame_inputs in = next ? *next : read_inputs(view_cam());
     next.reset();
     const fov::gaze_point g = in.gaze;
     const fov::gaze_estimate& ge = in.estimate;
-    if (path) renderer.cam() = in.cam;
+    if (path) view_cam() = in.cam;
     // A saccade landed: the TAA history counts as seen from where it began, so the new
     // fovea takes the current frame (taa_params::focus_lag_deg).
-    if (ge.landed) renderer.history_gaze(ge.saccade_onset);
+    if (ge.landed) {
+      renderer.history_gaze(ge.saccade_onset);
+      if (two_eyes) stereo->eye(fov::eye_side::right).history_gaze(ge.saccade_onset);
+    }
     // The safe mode renders the densest set (the smallest scale) until the gaze returns.
     if (ge.state == fov::gaze_state::safe && ge.has_sample && safe_from_level == SIZE_MAX && level > 0) {
       safe_from_level = level, level = 0;
-      renderer.use_pointset(family.get(level));
+      use_set(family.get(level));
     } else if (ge.state != fov::gaze_state::safe && safe_from_level != SIZE_MAX) {
       level = safe_from_level, safe_from_level = SIZE_MAX;
-      renderer.use_pointset(family.get(level));
+      use_set(family.get(level));
     }
 
     fov::frame_timing timing;
+    fov::stereo_timing eyes;
     fov::frame reference_frame;
-    const fov::frame& image = show_reference
-                                  ? (reference_frame = renderer.reference(w, h, settings, &timing).image)
-                                  : renderer.foveated(g, settings, &timing);
+    if (two_eyes) stereo->set_head(head);
+    const fov::frame& image =
+        two_eyes ? (show_reference ? (reference_frame = stereo->reference(w, h, settings, &eyes)) : stereo->foveated(g, g, settings, &eyes))
+        : show_reference ? (reference_frame = renderer.reference(w, h, settings, &timing).image)
+                         : renderer.foveated(g, settings, &timing);
+    if (two_eyes) timing = fov::both_eyes(eyes);
     if (pipeline && !show_reference) {  // the next frame traces while this one is shown
       next = read_inputs(renderer.cam());
       renderer.begin_trace(next->gaze, next->cam, settings);
@@ -290,6 +318,7 @@ int run_viewer(const viewer_options& o, render_params settings) {
     const auto display_start = clock_type::now();
     cv::Mat bgr = fov::display_image(*shown);
     if (show_cursor) fov::draw_gaze_cursor(bgr, g);
+    if (show_cursor && two_eyes) fov::draw_gaze_cursor(bgr, {g.x + w, g.y});
     std::vector<std::string> lines = {
         fmt::format("{:.1f} fps  trace {:.1f}{}  reconstruct {:.1f}  TAA {:.1f}  display {:.1f}  gaze-to-screen {:.1f} ms",
                     fps, timing.trace_ms, timing.traced_ahead ? " (ahead)" : "", timing.reconstruct_ms, timing.taa_ms,
@@ -307,6 +336,12 @@ int run_viewer(const viewer_options& o, render_params settings) {
                     fov::label_of(fov::gaze_state_labels, ge.state),
                     ge.has_sample ? fmt::format(" age {:.0f} ms conf {:.2f}", ge.age_ms, ge.newest.confidence) : "",
                     v.empty() ? "frame" : v, timing.on_device ? "OpenCL" : "C++")};
+    if (two_eyes)
+      lines.push_back(fmt::format("two eyes, IPD {:g} mm: left {} rays, right {} rays{}", settings.stereo.ipd_mm, eyes.left.rays,
+                                  eyes.right.rays,
+                                  eyes.right.reused ? fmt::format(" (kept {} of {} points from the left)", eyes.right.reuse.reused,
+                                                                  eyes.right.reuse.points)
+                                                    : ""));
     if (gaze->malformed || gaze->clamped || conditioner.low_confidence || conditioner.dropouts || gaze->clock_jumps)
       lines.push_back(fmt::format("gaze: {} malformed  {} clamped  {} low confidence  {} dropouts  {} clock jumps{}",
                                   gaze->malformed, gaze->clamped, conditioner.low_confidence, conditioner.dropouts,
@@ -325,7 +360,8 @@ int run_viewer(const viewer_options& o, render_params settings) {
 
     auto save_screenshot = [&](const std::string& file) {
       fov::write_frame(image, file);  // the clean frame: no overlay, no cursor
-      const fov::camera_frame view = fov::make_frame(renderer.cam(), w, h);
+      const fov::camera& cam = view_cam();  // with two eyes, the head's
+      const fov::camera_frame view = fov::make_frame(cam, w, h);
       json j = {{"frame", frame_index},
                 {"time_ms", now_ms},
                 {"scene", scene_spec},
@@ -337,12 +373,12 @@ int run_viewer(const viewer_options& o, render_params settings) {
                 {"taa", settings.taa},
                 {"gaze", {g.x, g.y}},
                 {"gaze_source", gaze->name()},
-                {"camera", {{"position", {renderer.cam().position.x, renderer.cam().position.y, renderer.cam().position.z}},
-                            {"forward", {renderer.cam().forward.x, renderer.cam().forward.y, renderer.cam().forward.z}},
-                            {"up", {renderer.cam().up.x, renderer.cam().up.y, renderer.cam().up.z}},
+                {"camera", {{"position", {cam.position.x, cam.position.y, cam.position.z}},
+                            {"forward", {cam.forward.x, cam.forward.y, cam.forward.z}},
+                            {"up", {cam.up.x, cam.up.y, cam.up.z}},
                             {"hfov_deg", 2 * glm::degrees(std::atan(view.half_width))},
                             {"vfov_deg", 2 * glm::degrees(std::atan(view.half_height))},
-                            {"fov_given", renderer.cam().vfov_deg > 0 ? "vertical" : "horizontal"}}},
+                            {"fov_given", cam.vfov_deg > 0 ? "vertical" : "horizontal"}}},
                 {"view", v.empty() ? "frame" : v},
                 {"trace_ms", timing.trace_ms},
                 {"reconstruct_ms", timing.reconstruct_ms},
@@ -350,6 +386,11 @@ int run_viewer(const viewer_options& o, render_params settings) {
                 {"rays", timing.rays},
                 {"points_traced", timing.points_traced}};
       if (timing.reused) j["reuse"] = fov::reuse_json(timing.reuse);
+      if (two_eyes) {  // the image holds both eyes side by side
+        j["stereo"] = true, j["ipd_mm"] = settings.stereo.ipd_mm, j["eye_width"] = w;
+        j["eyes"] = {{"left", {{"rays", eyes.left.rays}, {"points_traced", eyes.left.points_traced}}},
+                     {"right", {{"rays", eyes.right.rays}, {"points_traced", eyes.right.points_traced}}}};
+      }
       if (!reference_image.rgb.empty()) {
         // The schema every tool writes (fovrender --compare's "metrics"); PSNR/SSIM only: FLIP
         // takes seconds on a large frame, JOD a third of one, and a screenshot is taken live.
@@ -381,7 +422,7 @@ int run_viewer(const viewer_options& o, render_params settings) {
     if (c == '-') settings.reconstruct.k = std::max(settings.reconstruct.k - 1, 1u);
     if ((c == '[' && level > 0) || (c == ']' && level + 1 < family.files.size())) {
       level += c == ']' ? 1 : -1;
-      renderer.use_pointset(family.get(level));
+      use_set(family.get(level));
       settings.reconstruct.k = std::min(settings.reconstruct.k, stored_k(*renderer.current_set()));
     }
     if (c == 't') settings.taa = !settings.taa;
@@ -392,7 +433,7 @@ int run_viewer(const viewer_options& o, render_params settings) {
     if (c == 'p' || (c == 's' && mouse))
       save_screenshot((fs::path(screenshot_dir) / fmt::format("fovview-{:04d}.png", screenshots++)).string());
     // Camera: WASD moves, right-drag turns, while the mouse is not the gaze (and no path plays).
-    fov::camera& cc = renderer.cam();
+    fov::camera& cc = view_cam();
     const glm::vec3 right = glm::normalize(glm::cross(cc.forward, cc.up));
     const float step = 0.1f;
     const bool free_camera = !mouse && !path;
@@ -495,7 +536,9 @@ int run_viewer(const viewer_options& o, render_params settings) {
                 {"dropouts", conditioner.dropouts},
                 {"safe_ms", conditioner.safe_ms}}},
               {"pipelined", pipeline}};
-    j["rays"] = stats([](const frame_stats& f) { return f.rays; });
+    j["rays"] = stats([](const frame_stats& f) { return f.rays; });  // both eyes' with --stereo
+    j["stereo"] = two_eyes;
+    if (two_eyes) j["ipd_mm"] = settings.stereo.ipd_mm;
     if (settings.adaptive.enabled) {
       uint64_t short_frames = 0;
       for (const frame_stats& f : history) short_frames += f.budget_short;
@@ -506,7 +549,8 @@ int run_viewer(const viewer_options& o, render_params settings) {
                        {"budget_short_frames", short_frames}};
     }
     if (settings.reuse.mode != fov::reuse_mode::none)
-      j["reuse"] = {{"fovea_deg", settings.reuse.fovea_deg},
+      j["reuse"] = {{"mode", fov::label_of(fov::reuse_mode_labels, settings.reuse.mode)},
+                    {"fovea_deg", settings.reuse.fovea_deg},
                     {"threshold", settings.reuse.threshold},
                     {"max_age", settings.reuse.max_age},
                     {"reused_share", stats([](const frame_stats& f) { return f.reused_share; })}};

@@ -51,4 +51,17 @@ frame stereo_renderer::reference(int width, int height, const render_params& p, 
   return side_by_side(l.image, r.image);
 }
 
+frame_timing both_eyes(const stereo_timing& t) {
+  frame_timing b = t.left;
+  const frame_timing& r = t.right;
+  b.trace_ms += r.trace_ms, b.reconstruct_ms += r.reconstruct_ms, b.taa_ms += r.taa_ms, b.trace_wait_ms += r.trace_wait_ms;
+  b.traced_ahead = b.traced_ahead && r.traced_ahead;
+  b.rays += r.rays, b.points_traced += r.points_traced;
+  b.cast.primary += r.cast.primary, b.cast.shadow += r.cast.shadow, b.cast.bounce += r.cast.bounce;
+  b.on_device = b.on_device && r.on_device;
+  b.weights += r.weights;
+  b.reused = r.reused, b.reuse = r.reuse;
+  return b;
+}
+
 }  // namespace fov

@@ -14,6 +14,10 @@ namespace fov {
 struct stereo_timing {
   frame_timing left, right;
 };
+// Both eyes' costs as one frame's: times, rays and points added up (cast by kind too); the
+// right eye's reuse report (what --reuse eyes kept), the left eye's adaptive report, and
+// on_device / traced_ahead when both eyes were.
+frame_timing both_eyes(const stereo_timing& t);
 
 class stereo_renderer {
  public:
