@@ -145,16 +145,22 @@ void check_options(const render_options& o, const fov::render_params& p) {
   }
 }
 
+// A frame's cost as JSON: tracing, reconstruction and TAA (null without it; setup, loading
+// and warm-up are reported apart) and its rays, primary and cast by kind.
+json cost_json(const fov::frame_timing& t, bool taa) {
+  return {{"trace_ms", t.trace_ms},
+          {"reconstruct_ms", t.reconstruct_ms},
+          {"taa_ms", taa ? json(t.taa_ms) : json(nullptr)},
+          {"total_ms", t.total_ms()},
+          {"rays", t.rays},
+          {"rays_cast", {{"primary", t.cast.primary}, {"shadow", t.cast.shadow}, {"bounce", t.cast.bounce}}}};
+}
+
 // The cost and rays of one eye's frame as JSON.
-json eye_json(const fov::frame_timing& t, fov::gaze_point gaze, bool foveated) {
-  json e{{"gaze", {gaze.x, gaze.y}},
-         {"trace_ms", t.trace_ms},
-         {"reconstruct_ms", t.reconstruct_ms},
-         {"taa_ms", t.taa_ms},
-         {"total_ms", t.total_ms()},
-         {"rays", t.rays},
-         {"rays_cast", {{"primary", t.cast.primary}, {"shadow", t.cast.shadow}, {"bounce", t.cast.bounce}}},
-         {"points_traced", foveated ? json(t.points_traced) : json(nullptr)}};
+json eye_json(const fov::frame_timing& t, fov::gaze_point gaze, bool taa, bool foveated) {
+  json e = cost_json(t, taa);
+  e["gaze"] = {gaze.x, gaze.y};
+  e["points_traced"] = foveated ? json(t.points_traced) : json(nullptr);
   if (t.reused) e["reuse"] = fov::reuse_json(t.reuse);
   return e;
 }
@@ -194,7 +200,8 @@ int render_stereo(const render_options& o, const fov::render_params& p, std::sha
   j["stereo"] = true;
   j["ipd_mm"] = p.stereo.ipd_mm;
   j["reuse_mode"] = fov::label_of(fov::reuse_mode_labels, p.reuse.mode);
-  json eyes{{"left", eye_json(t.left, gaze_left, !o.reference)}, {"right", eye_json(t.right, gaze_right, !o.reference)}};
+  json eyes{{"left", eye_json(t.left, gaze_left, p.taa, !o.reference)},
+            {"right", eye_json(t.right, gaze_right, p.taa, !o.reference)}};
   std::string compared;
   if (o.reference_spp > 0) {
     fov::spacing_model eye;  // the viewer's eye: the set's acuity model at its true eccentricity
@@ -217,13 +224,7 @@ int render_stereo(const render_options& o, const fov::render_params& p, std::sha
     j["reference_spp"] = o.reference_spp;
   }
   j["eyes"] = eyes;
-  const fov::frame_timing both = fov::both_eyes(t);
-  j["trace_ms"] = both.trace_ms;
-  j["reconstruct_ms"] = both.reconstruct_ms;
-  j["taa_ms"] = p.taa ? json(both.taa_ms) : json(nullptr);
-  j["total_ms"] = both.total_ms();
-  j["rays"] = both.rays;
-  j["rays_cast"] = {{"primary", both.cast.primary}, {"shadow", both.cast.shadow}, {"bounce", both.cast.bounce}};
+  j.update(cost_json(fov::both_eyes(t), p.taa));
   j["width"] = image.width;  // both eyes
   j["height"] = image.height;
   j["eye_width"] = w;
@@ -494,13 +495,7 @@ int main(int argc, char** argv) {
       if (p.ray_floor > 0) j["ray_floor"] = p.ray_floor;
       j["texture_footprint"] = fov::texture_footprint_name(p.footprint);
     }
-    // A frame's cost: tracing, reconstruction and TAA (setup, loading and warm-up are reported apart).
-    j["trace_ms"] = t.trace_ms;
-    j["reconstruct_ms"] = t.reconstruct_ms;
-    j["taa_ms"] = p.taa ? json(t.taa_ms) : json(nullptr);
-    j["total_ms"] = t.total_ms();
-    j["rays"] = t.rays;
-    j["rays_cast"] = {{"primary", t.cast.primary}, {"shadow", t.cast.shadow}, {"bounce", t.cast.bounce}};
+    j.update(cost_json(t, p.taa));
     j["points_traced"] = o.reference ? json(nullptr) : json(t.points_traced);
     j["width"] = display.width;
     j["height"] = display.height;

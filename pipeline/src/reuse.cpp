@@ -23,6 +23,16 @@ std::string validate(const reuse_params& p) {
   return "";
 }
 
+void reuse_history::reset(size_t n) {
+  colour.assign(n, glm::vec3(0));
+  where.assign(n, glm::vec3(0));
+  depth_bias.assign(n, 0.0f);
+  hits.assign(n, 0);
+  kind.assign(n, seen::nothing);
+  age.assign(n, 0);
+  valid = false;
+}
+
 namespace {
 
 constexpr float infinity = std::numeric_limits<float>::infinity();
@@ -132,12 +142,7 @@ reused_trace trace_reusing(const scene& s, const camera& cam, const pointset& se
   out.trace = trace_listed_points(s, cam, set, to_trace, gaze, params);
   point_samples& smp = out.trace.samples;
   reuse_history next;
-  next.colour.assign(n, glm::vec3(0));
-  next.where.assign(n, glm::vec3(0));
-  next.depth_bias.assign(n, 0.0f);
-  next.hits.assign(n, 0);
-  next.kind.assign(n, reuse_history::seen::nothing);
-  next.age.assign(n, 0);
+  next.reset(n);
   reuse_report& rep = out.report;
   for (size_t j = 0; j < m; ++j) {
     const uint32_t pt = probe.points[j];

@@ -29,12 +29,7 @@ reuse_history history_of(const point_samples& samples, const camera& cam, const 
   if (samples.colour.size() != n || samples.depth.size() != n || samples.hits.size() != n)
     throw std::invalid_argument("history_of: the samples belong to another set");
   reuse_history h;
-  h.colour.assign(n, glm::vec3(0));
-  h.where.assign(n, glm::vec3(0));
-  h.depth_bias.assign(n, 0.0f);
-  h.hits.assign(n, 0);
-  h.kind.assign(n, reuse_history::seen::nothing);
-  h.age.assign(n, 0);
+  h.reset(n);
   h.view = make_frame(cam, d.width, d.height);
   h.offset = samples.offset;
   h.mirror_x = samples.mirror_x, h.mirror_y = samples.mirror_y;

@@ -73,6 +73,8 @@ struct reuse_history {
   bool mirror_x = false, mirror_y = false;
   bool valid = false;
   void clear() { *this = reuse_history{}; }
+  // n points, none seen (its view and placement left as they are; not valid).
+  void reset(size_t n);
 };
 
 // The eccentricity bands a reuse report counts in: below 5, 5-10, 10-15, 15-30 and above 30 degrees.
