@@ -784,6 +784,48 @@ TEST_F(pipeline, AMovingCameraKeepsWhatStillHoldsAndTracesTheRest) {
   }
 }
 
+TEST_F(pipeline, AReuseBudgetIsHonouredAndKeepsTheMostConfidentSamples) {
+  render_params unlimited = params, large = params, tight = params;
+  unlimited.reuse.mode = large.reuse.mode = tight.reuse.mode = reuse_mode::temporal;
+  unlimited.reuse.fovea_deg = large.reuse.fovea_deg = tight.reuse.fovea_deg = 3;
+  large.reuse.budget = max_reuse_budget;
+  tight.reuse.budget = 7500;  // between what must be traced (edges, disocclusion) and what the threshold traces
+  renderer a(scn, unlimited), b(scn, large), c(scn, tight);
+  a.use_pointset(set), b.use_pointset(set), c.use_pointset(set);
+  const camera start = a.cam();
+  flicker_params slide;
+  slide.yaw_deg_per_frame = 0.3f;
+  slide.shift_per_frame = 0.05f;
+  bool kept_for_budget = false;
+  for (uint32_t n = 0; n < 4; ++n) {
+    a.cam() = b.cam() = c.cam() = path_camera(start, slide, n);
+    frame_timing ta, tb, tc;
+    const frame fa = a.foveated({32, 24}, unlimited, &ta);
+    const frame fb = b.foveated({32, 24}, large, &tb);
+    c.foveated({32, 24}, tight, &tc);
+    // A budget never reached changes nothing.
+    EXPECT_EQ(fa.rgb, fb.rgb) << "frame " << n;
+    EXPECT_EQ(tb.reuse.kept_for_budget, 0u);
+    EXPECT_FALSE(tb.reuse.budget_short);
+    std::printf("frame %u: unlimited traces %llu rays; budget 7500: %llu rays, %llu kept for it%s\n", n,
+                (unsigned long long)ta.reuse.rays_traced, (unsigned long long)tc.reuse.rays_traced,
+                (unsigned long long)tc.reuse.kept_for_budget, tc.reuse.budget_short ? " (short)" : "");
+    EXPECT_EQ(tc.reuse.points, tc.reuse.reused + tc.reuse.traced);
+    if (n == 0) {  // nothing to keep: every point is traced whatever the budget
+      EXPECT_TRUE(tc.reuse.budget_short);
+      EXPECT_EQ(tc.reuse.traced, tc.reuse.points);
+      continue;
+    }
+    if (!tc.reuse.budget_short) {
+      EXPECT_LE(tc.reuse.rays_traced, tight.reuse.budget) << "frame " << n;
+      kept_for_budget |= tc.reuse.kept_for_budget > 0;
+    }
+    EXPECT_GE(tc.reuse.reused, ta.reuse.reused);
+    EXPECT_LE(tc.reuse.rays_traced, ta.reuse.rays_traced);
+  }
+  EXPECT_TRUE(kept_for_budget);  // a frame within the budget that kept samples for it
+}
+
 TEST(Reuse, SettingsOutOfRangeAreRefusedNamingTheFlag) {
   reuse_params p;
   EXPECT_EQ(validate(p), "");
@@ -795,6 +837,9 @@ TEST(Reuse, SettingsOutOfRangeAreRefusedNamingTheFlag) {
   p = {};
   p.max_age = 0;
   EXPECT_NE(validate(p).find("--reuse-max-age"), std::string::npos);
+  p = {};
+  p.budget = max_reuse_budget + 1;
+  EXPECT_NE(validate(p).find("--reuse-budget"), std::string::npos);
   render_params r;
   r.reuse.mode = reuse_mode::temporal;
   r.ray_floor = 1;

@@ -121,6 +121,11 @@ void add_render_flags(CLI::App& app, render_params& p, unsigned groups) {
     app.add_option("--reuse-max-age", p.reuse.max_age, "With --reuse temporal: the most frames in a row a sample is kept")
         ->check(CLI::Range(1u, max_reuse_age))
         ->capture_default_str();
+    app.add_option("--reuse-budget", p.reuse.budget,
+                   "With --reuse: the most rays a frame's traced points cast (probes not counted; 0: no limit); "
+                   "points with no sample near are traced regardless, the least confident of the rest first")
+        ->check(CLI::Range(uint64_t(0), max_reuse_budget))
+        ->capture_default_str();
   }
   if (groups & flags_stereo) {
     app.add_flag("--stereo", p.stereo.enabled,
@@ -195,7 +200,8 @@ nlohmann::json reuse_json(const reuse_report& r) {
                      {"reused", r.reused_by_band[b]}});
   return {{"points", r.points},           {"reused", r.reused},           {"traced", r.traced},
           {"probe_rays", r.probe_rays},   {"rays_traced", r.rays_traced}, {"rays_reused", r.rays_reused},
-          {"reused_share", r.reused_share()}, {"by_eccentricity", bands}};
+          {"reused_share", r.reused_share()}, {"kept_for_budget", r.kept_for_budget}, {"budget_short", r.budget_short},
+          {"by_eccentricity", bands}};
 }
 
 nlohmann::json refinement_json(const frame_timing& t, const render_params& p, const nested_levels& levels) {

@@ -20,6 +20,7 @@ std::string validate(const reuse_params& p) {
   if (!(p.threshold >= 0 && p.threshold <= 1)) return fmt::format("--reuse-threshold must lie in 0..1 (got {})", p.threshold);
   if (p.max_age < 1 || p.max_age > max_reuse_age)
     return fmt::format("--reuse-max-age must lie in 1..{} frames (got {})", max_reuse_age, p.max_age);
+  if (p.budget > max_reuse_budget) return fmt::format("--reuse-budget must lie in 0..{} rays (got {})", max_reuse_budget, p.budget);
   return "";
 }
 
@@ -69,6 +70,11 @@ reused_trace trace_reusing(const scene& s, const camera& cam, const pointset& se
   const float canvas_w = float(set.canvas_width()), canvas_h = float(set.canvas_height());
   std::vector<int64_t> source(m, -1);  // the history's point whose sample each listed point keeps
   std::vector<uint8_t> band(m);        // each listed point's eccentricity band
+  // Under a budget: each point's candidate below the threshold (-1: none within its disc, or
+  // an edge), its confidence and eccentricity, which order the points the budget traces.
+  const bool budgeted = p.budget > 0;
+  std::vector<int64_t> fallback(budgeted ? m : 0, -1);
+  std::vector<float> confidence(budgeted ? m : 0, 0.0f), eccentricity(budgeted ? m : 0, 0.0f);
   const bool usable = history.valid && history.colour.size() == n;
   // Each point's probe distance (+inf: a miss; NaN: not probed), for the edge test below.
   std::vector<float> seen_at;
@@ -85,7 +91,7 @@ reused_trace trace_reusing(const scene& s, const camera& cam, const pointset& se
                         std::begin(reuse_band_edges_deg));
       if (!usable) continue;
       const double ce = eccentricity_confidence(e, p.fovea_deg);
-      if (ce <= 0 || ce < p.threshold) continue;
+      if (!budgeted && (ce <= 0 || ce < p.threshold)) continue;
       const bool hit = probe.distance[j] != infinity;
       // Near an edge (a neighbour's probe met another surface: over 10 % nearer or farther, or
       // a hit beside a miss) the disc may hold what its centre does not see: traced.
@@ -131,19 +137,49 @@ reused_trace trace_reusing(const scene& s, const camera& cam, const pointset& se
       const float cos_axis = glm::dot(glm::normalize(probe.where[j] - (hit ? now.origin : glm::vec3(0))), now.forward);
       const float disc = set.points[probe.points[j]].spacing * now.pixel_angle *
                          (hit ? probe.distance[j] * cos_axis : cos_axis * cos_axis);
-      const double c = ce * (1 - contrast) * std::max(0.0, 1.0 - double(best_distance) / double(disc));
-      if (c > 0 && c >= p.threshold) source[j] = best;
+      const double reprojection = std::max(0.0, 1.0 - double(best_distance) / double(disc));
+      const double c = ce * (1 - contrast) * reprojection;
+      if (c > 0 && c >= p.threshold) {
+        source[j] = best;
+      } else if (budgeted && reprojection > 0) {
+        fallback[j] = best, confidence[j] = float(c), eccentricity[j] = float(e);
+      }
     }
   });
+
+  reused_trace out;
+  reuse_report& rep = out.report;
+  if (budgeted) {
+    // Points without a candidate are traced whatever the budget; of those with one below the
+    // threshold, the least confident (then the nearest the gaze) are traced while the budget
+    // lasts and the rest keep their candidate.
+    std::vector<uint32_t> below;
+    uint64_t must = 0;
+    for (size_t j = 0; j < m; ++j) {
+      if (source[j] >= 0) continue;
+      if (fallback[j] >= 0)
+        below.push_back(uint32_t(j));
+      else
+        ++must;
+    }
+    std::stable_sort(below.begin(), below.end(), [&](uint32_t a, uint32_t b) {
+      return confidence[a] != confidence[b] ? confidence[a] < confidence[b] : eccentricity[a] < eccentricity[b];
+    });
+    const uint64_t must_rays = must * params.spp;
+    rep.budget_short = must_rays > p.budget;
+    const uint64_t affordable = rep.budget_short ? 0 : (p.budget - must_rays) / params.spp;
+    for (size_t q = std::min<uint64_t>(affordable, below.size()); q < below.size(); ++q) {
+      source[below[q]] = fallback[below[q]];
+      ++rep.kept_for_budget;
+    }
+  }
   std::vector<uint32_t> to_trace;
   for (size_t j = 0; j < m; ++j)
     if (source[j] < 0) to_trace.push_back(probe.points[j]);
-  reused_trace out;
   out.trace = trace_listed_points(s, cam, set, to_trace, gaze, params);
   point_samples& smp = out.trace.samples;
   reuse_history next;
   next.reset(n);
-  reuse_report& rep = out.report;
   for (size_t j = 0; j < m; ++j) {
     const uint32_t pt = probe.points[j];
     ++rep.points_by_band[band[j]];

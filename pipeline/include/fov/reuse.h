@@ -40,6 +40,7 @@ inline constexpr std::pair<const char*, reuse_mode> reuse_mode_labels[] = {
 // Documented ranges.
 constexpr double max_reuse_fovea_deg = 60;
 constexpr uint32_t max_reuse_age = 1000;
+constexpr uint64_t max_reuse_budget = uint64_t(1) << 40;
 
 struct reuse_params {
   reuse_mode mode = reuse_mode::none;
@@ -50,8 +51,15 @@ struct reuse_params {
   // The most frames in a row a sample may be reused: every point is traced again at least
   // every max_age + 1 frames (1..max_reuse_age).
   uint32_t max_age = 16;
+  // The most rays a frame's traced points may cast (probes not counted; 0: no limit). Points
+  // that find no sample within their disc (disocclusion, an edge, a sample past its age) are
+  // traced whatever it says; of the rest below the threshold the least confident (then the
+  // nearest the gaze) are traced while it lasts, and the others keep their sample
+  // (0..max_reuse_budget).
+  uint64_t budget = 0;
 };
-// "" when valid, else the reason naming the flag (--reuse-fovea, --reuse-threshold, --reuse-max-age).
+// "" when valid, else the reason naming the flag (--reuse-fovea, --reuse-threshold, --reuse-max-age,
+// --reuse-budget).
 std::string validate(const reuse_params& p);
 
 // What earlier frames left, per point of the set: its last sample, where in the world that
@@ -92,6 +100,11 @@ struct reuse_report {
   // Per eccentricity band (reuse_band_edges_deg; the viewer's eccentricity of each point's
   // screen position): the points the frame needed and those that kept a sample.
   uint64_t points_by_band[reuse_bands] = {}, reused_by_band[reuse_bands] = {};
+  // Under a budget (reuse_params::budget): the points kept below the threshold because it ran
+  // out (counted in `reused` too), and whether the points that had to be traced alone
+  // passed it.
+  uint64_t kept_for_budget = 0;
+  bool budget_short = false;
   double reused_share() const { return points ? double(reused) / double(points) : 0.0; }
 };
 
