@@ -999,6 +999,37 @@ TEST(Stereo, WhatTheLeftEyeDidNotSeeIsTraced) {
   EXPECT_LT(kept.trace.samples.rays, fresh.samples.rays);
 }
 
+// The same pair of eyes a metre apart: from the right eye the wall 10 m away is seen turned
+// 2.9 (at the screen's edge) to 5.7 degrees (ahead) from where the left eye saw it, the quad
+// 2 m away about 28 degrees.
+TEST(Stereo, AViewLimitTracesSurfacesSeenFromTooFarAround) {
+  const scene s(red_before_blue(-0.5f, -2));
+  const auto set = small_set(64, 48);
+  const camera head = look_at({0, 0, 0}, {0, 0, -1}, 90);
+  const camera left = eye_camera(head, eye_side::left, 1000), right = eye_camera(head, eye_side::right, 1000);
+  trace_params tp;
+  tp.spp = 4;
+  tp.k = 5;
+  const traced_index index = make_traced_index(*set, 5);
+  const points_trace seen = trace_points(s, left, *set, index, {32, 24}, tp);
+  reuse_params p;
+  p.mode = reuse_mode::eyes;
+  p.fovea_deg = 0;
+  uint64_t kept[3];
+  const double limits[] = {0, 60, 1};
+  for (int i = 0; i < 3; ++i) {
+    p.view_deg = limits[i];
+    reuse_history history = history_of(seen.samples, left, *set, tp.spp);
+    kept[i] = trace_reusing(s, right, *set, index, {32, 24}, tp, p, history).report.reused;
+  }
+  EXPECT_GT(kept[0], 1000u);
+  EXPECT_GT(kept[1], kept[0] / 2);  // 60 degrees: every surface, with less confidence
+  EXPECT_LT(kept[1], kept[0]);
+  EXPECT_EQ(kept[2], 0u);  // 1 degree: neither surface
+  p.view_deg = -1;
+  EXPECT_NE(validate(p).find("--reuse-view"), std::string::npos);
+}
+
 TEST_F(pipeline, EyesReuseIsDeterministicAndChangesLessThanAnotherSeed) {
   render_params p = params;
   p.spp = 4;  // a probe costs a ray a point: at 2 rays a point keeping half the points saves nothing

@@ -126,6 +126,11 @@ void add_render_flags(CLI::App& app, render_params& p, unsigned groups) {
                    "points with no sample near are traced regardless, the least confident of the rest first")
         ->check(CLI::Range(uint64_t(0), max_reuse_budget))
         ->capture_default_str();
+    app.add_option("--reuse-view", p.reuse.view_deg,
+                   "With --reuse: the most the view onto a kept sample's surface may turn, degrees (0: no limit); "
+                   "glossy shading moves with it")
+        ->check(CLI::Range(0.0, max_reuse_view_deg))
+        ->capture_default_str();
   }
   if (groups & flags_stereo) {
     app.add_flag("--stereo", p.stereo.enabled,

@@ -21,6 +21,8 @@ std::string validate(const reuse_params& p) {
   if (p.max_age < 1 || p.max_age > max_reuse_age)
     return fmt::format("--reuse-max-age must lie in 1..{} frames (got {})", max_reuse_age, p.max_age);
   if (p.budget > max_reuse_budget) return fmt::format("--reuse-budget must lie in 0..{} rays (got {})", max_reuse_budget, p.budget);
+  if (!(p.view_deg >= 0 && p.view_deg <= max_reuse_view_deg))
+    return fmt::format("--reuse-view must lie in 0..{} degrees (got {})", max_reuse_view_deg, p.view_deg);
   return "";
 }
 
@@ -137,7 +139,12 @@ reused_trace trace_reusing(const scene& s, const camera& cam, const pointset& se
       const float cos_axis = glm::dot(glm::normalize(probe.where[j] - (hit ? now.origin : glm::vec3(0))), now.forward);
       const float disc = set.points[probe.points[j]].spacing * now.pixel_angle *
                          (hit ? probe.distance[j] * cos_axis : cos_axis * cos_axis);
-      const double reprojection = std::max(0.0, 1.0 - double(best_distance) / double(disc));
+      double reprojection = std::max(0.0, 1.0 - double(best_distance) / double(disc));
+      if (p.view_deg > 0 && hit) {  // how far the view onto the surface turned since
+        const float cos_turn = glm::dot(glm::normalize(probe.where[j] - now.origin), glm::normalize(probe.where[j] - history.view.origin));
+        const double turn = glm::degrees(std::acos(std::clamp(double(cos_turn), -1.0, 1.0)));
+        reprojection *= std::max(0.0, 1.0 - turn / p.view_deg);
+      }
       const double c = ce * (1 - contrast) * reprojection;
       if (c > 0 && c >= p.threshold) {
         source[j] = best;

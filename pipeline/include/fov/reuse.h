@@ -6,7 +6,7 @@
 // sample lies nearest to the hit in the world is the candidate. Its confidence is the product
 // of Time-Warped Foveated Rendering's eccentricity term, a contrast term after its contrast
 // term, and a reprojection term (docs/reuse.md):
-//   c = S((e - fovea) / (2 fovea)) x (1 - C) x max(0, 1 - |hit - sample| / r)
+//   c = S((e - fovea) / (2 fovea)) x (1 - C) x max(0, 1 - |hit - sample| / r) [x max(0, 1 - turn / view_deg)]
 // with S the smoothstep, e the point's eccentricity in degrees (3 x fovea: fully peripheral),
 // C the Michelson contrast of the candidates' luminances and r the point's disc radius carried
 // to the hit's depth (for misses, the angle between the directions against the disc's angular
@@ -41,6 +41,7 @@ inline constexpr std::pair<const char*, reuse_mode> reuse_mode_labels[] = {
 constexpr double max_reuse_fovea_deg = 60;
 constexpr uint32_t max_reuse_age = 1000;
 constexpr uint64_t max_reuse_budget = uint64_t(1) << 40;
+constexpr double max_reuse_view_deg = 180;
 
 struct reuse_params {
   reuse_mode mode = reuse_mode::none;
@@ -57,9 +58,14 @@ struct reuse_params {
   // nearest the gaze) are traced while it lasts, and the others keep their sample
   // (0..max_reuse_budget).
   uint64_t budget = 0;
+  // The most the direction from the eye to a kept sample's surface may have turned since it
+  // was traced, in degrees (0: no limit, TWFR's rule): confidence falls linearly from 1 at no
+  // turn to 0 at this. Shading that depends on the view (a glossy highlight) moves with it;
+  // a second eye looks at a near surface from another direction (0..max_reuse_view_deg).
+  double view_deg = 0;
 };
 // "" when valid, else the reason naming the flag (--reuse-fovea, --reuse-threshold, --reuse-max-age,
-// --reuse-budget).
+// --reuse-budget, --reuse-view).
 std::string validate(const reuse_params& p);
 
 // What earlier frames left, per point of the set: its last sample, where in the world that
