@@ -6,9 +6,10 @@
 # Scenes (SCENES, default "builtin helmet env"; scripts/study-scene.sh): both gazes at the
 # screens' centres; on builtin also a converged pair (GAZE_PAIR, default left 700,800 and right
 # 660,800: 40 px of crossed disparity, the eyes converging at about 2 m on FOVE). Variants:
-# every point of both eyes traced (none), --reuse eyes at its defaults, with --reuse-fovea 0,
-# and with --reuse-fovea 0 --reuse-threshold 0. One JSON a run and summary.md in
-# out/stereo/DISPLAY.
+# every point of both eyes traced (none; none-seed2 at seed 2 with its own references: the
+# JOD's spread between seeds), --reuse eyes at its defaults, with --reuse-fovea 0, with
+# --reuse-fovea 0 --reuse-threshold 0, and with --reuse-fovea 0 --reuse-view 2 or 5 (the view
+# term). One JSON a run and summary.md in out/stereo/DISPLAY.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 source scripts/study-scene.sh
@@ -21,8 +22,11 @@ out=out/stereo/$display
 mkdir -p "$out"
 set_file=out/stereo/$display-s1.0.fovset
 [[ -s $set_file ]] || "$fovgen" --display "$display" --scale 1.0 -o "$set_file" > /dev/null
-declare -A variants=([none]="--reuse none" [eyes]="--reuse eyes" [eyes-f0]="--reuse eyes --reuse-fovea 0"
-                     [eyes-f0-t0]="--reuse eyes --reuse-fovea 0 --reuse-threshold 0")
+names=(none none-seed2 eyes eyes-f0 eyes-f0-t0 eyes-f0-v2 eyes-f0-v5)
+declare -A variants=([none]="--reuse none" [none-seed2]="--reuse none --seed 2" [eyes]="--reuse eyes"
+                     [eyes-f0]="--reuse eyes --reuse-fovea 0" [eyes-f0-t0]="--reuse eyes --reuse-fovea 0 --reuse-threshold 0"
+                     [eyes-f0-v2]="--reuse eyes --reuse-fovea 0 --reuse-view 2"
+                     [eyes-f0-v5]="--reuse eyes --reuse-fovea 0 --reuse-view 5")
 for name in ${SCENES:-builtin helmet env}; do
   if [[ $name == helmet && ! -f ../shared/scenes/flight-helmet/FlightHelmet.gltf ]]; then echo "(no helmet: ../shared absent)"; continue; fi
   study_scene "$name" "$display"
@@ -31,7 +35,7 @@ for name in ${SCENES:-builtin helmet env}; do
   for g in "${gazes[@]}"; do
     gaze=(--gaze centre)
     [[ $g == converged ]] && gaze=(--gaze "${pair[0]}" --gaze-right "${pair[1]}")
-    for v in none eyes eyes-f0 eyes-f0-t0; do
+    for v in "${names[@]}"; do
       json=$out/$name-$g-$v.json
       read -r -a flags <<< "${variants[$v]}"
       [[ -s $json ]] || "$render" "${scene[@]}" --points "$set_file" --device cpp --spp "$spp" --stereo --ipd 63 "${gaze[@]}" \
@@ -53,7 +57,7 @@ def total(e):
 for base in sorted(glob.glob(f"{out}/*-none.json")):
     stem = os.path.basename(base)[:-len("-none.json")]
     full = json.load(open(base))
-    for v in ("none", "eyes", "eyes-f0", "eyes-f0-t0"):
+    for v in ("none", "none-seed2", "eyes", "eyes-f0", "eyes-f0-t0", "eyes-f0-v2", "eyes-f0-v5"):
         path = f"{out}/{stem}-{v}.json"
         if not os.path.exists(path):
             continue
