@@ -784,6 +784,33 @@ TEST_F(pipeline, AMovingCameraKeepsWhatStillHoldsAndTracesTheRest) {
   }
 }
 
+TEST_F(pipeline, SilhouetteEdgesKeepMoreAndStillChangeLessThanAnotherSeed) {
+  render_params strict = params, silhouettes = params, other_seed = params;
+  strict.reuse.mode = silhouettes.reuse.mode = reuse_mode::temporal;
+  strict.reuse.fovea_deg = silhouettes.reuse.fovea_deg = 3;
+  silhouettes.reuse.edges = reuse_edges::silhouettes;
+  other_seed.seed = 2;
+  renderer full(scn, params), a(scn, strict), b(scn, silhouettes);
+  full.use_pointset(set), a.use_pointset(set), b.use_pointset(set);
+  const camera start = a.cam();
+  flicker_params slide;
+  slide.yaw_deg_per_frame = 0.3f;
+  slide.shift_per_frame = 0.05f;
+  uint64_t more = 0;
+  for (uint32_t n = 0; n < 4; ++n) {
+    full.cam() = a.cam() = b.cam() = path_camera(start, slide, n);
+    frame_timing ta, tb;
+    a.foveated({32, 24}, strict, &ta);
+    const frame kept = b.foveated({32, 24}, silhouettes, &tb);
+    const frame traced = full.foveated({32, 24}, params), noise = full.foveated({32, 24}, other_seed);
+    if (n == 0) continue;
+    EXPECT_GE(tb.reuse.reused, ta.reuse.reused) << "frame " << n;
+    more += tb.reuse.reused - std::min(tb.reuse.reused, ta.reuse.reused);
+    EXPECT_LT(mean_abs(kept, traced), mean_abs(noise, traced)) << "frame " << n;
+  }
+  EXPECT_GT(more, 0u);
+}
+
 TEST_F(pipeline, AReuseBudgetIsHonouredAndKeepsTheMostConfidentSamples) {
   render_params unlimited = params, large = params, tight = params;
   unlimited.reuse.mode = large.reuse.mode = tight.reuse.mode = reuse_mode::temporal;

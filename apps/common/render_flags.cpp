@@ -126,6 +126,9 @@ void add_render_flags(CLI::App& app, render_params& p, unsigned groups) {
                    "points with no sample near are traced regardless, the least confident of the rest first")
         ->check(CLI::Range(uint64_t(0), max_reuse_budget))
         ->capture_default_str();
+    add_label_option(app, "--reuse-edges", p.reuse.edges, reuse_edges_labels,
+                     "With --reuse: the last frame's edges that keep their neighbours traced: silhouettes and "
+                     "sloped discs (strict), or silhouettes only");
     app.add_option("--reuse-view", p.reuse.view_deg,
                    "With --reuse: the most the view onto a kept sample's surface may turn, degrees (0: no limit); "
                    "glossy shading moves with it")

@@ -121,7 +121,8 @@ reused_trace trace_reusing(const scene& s, const camera& cam, const pointset& se
       bool edge_then = false;
       for (uint32_t c = 0; c < candidates; ++c) {
         const uint32_t i = near[c];
-        edge_then |= history.kind[i] == reuse_history::seen::mixed;
+        edge_then |= history.kind[i] == reuse_history::seen::mixed ||
+                     (history.kind[i] == reuse_history::seen::sloped && p.edges == reuse_edges::strict);
         if (history.kind[i] != want) continue;
         const float l = luminance(history.colour[i]);
         lo = std::min(lo, l), hi = std::max(hi, l);
@@ -213,8 +214,8 @@ reused_trace trace_reusing(const scene& s, const camera& cam, const pointset& se
       const float bias = smp.depth[pt] - centre_depth;
       const float disc = hit ? set.points[pt].spacing * now.pixel_angle * centre_depth : 0;
       next.kind[pt] = reuse_history::seen::mixed;
-      if (hit && smp.hits[pt] == params.spp && std::fabs(bias) <= 0.5f * disc) {
-        next.kind[pt] = reuse_history::seen::hit;
+      if (hit && smp.hits[pt] == params.spp) {
+        next.kind[pt] = std::fabs(bias) <= 0.5f * disc ? reuse_history::seen::hit : reuse_history::seen::sloped;
         next.depth_bias[pt] = bias;
       }
       if (!hit && smp.hits[pt] == 0) next.kind[pt] = reuse_history::seen::miss;

@@ -34,6 +34,14 @@ enum class reuse_mode : uint8_t {
   temporal,  // samples kept across frames where they still hold
   eyes,      // with two eyes (fov/stereo.h): the right eye keeps the left eye's samples where they hold
 };
+// Which discs of the last frame count as edges that keep their neighbours from being kept.
+enum class reuse_edges : uint8_t {
+  strict,       // silhouettes (some rays hit, some missed) and slopes (all hit, their mean depth
+                // over half a disc from the centre's: a step or a grazing surface)
+  silhouettes,  // silhouettes only: a step the new view shows is still caught by its probes
+};
+inline constexpr std::pair<const char*, reuse_edges> reuse_edges_labels[] = {{"strict", reuse_edges::strict},
+                                                                            {"silhouettes", reuse_edges::silhouettes}};
 inline constexpr std::pair<const char*, reuse_mode> reuse_mode_labels[] = {
     {"none", reuse_mode::none}, {"temporal", reuse_mode::temporal}, {"eyes", reuse_mode::eyes}};
 
@@ -63,6 +71,8 @@ struct reuse_params {
   // turn to 0 at this. Shading that depends on the view (a glossy highlight) moves with it;
   // a second eye looks at a near surface from another direction (0..max_reuse_view_deg).
   double view_deg = 0;
+  // What counts as an edge then (reuse_edges): a point whose candidates include one is traced.
+  reuse_edges edges = reuse_edges::strict;
 };
 // "" when valid, else the reason naming the flag (--reuse-fovea, --reuse-threshold, --reuse-max-age,
 // --reuse-budget, --reuse-view).
@@ -72,8 +82,9 @@ std::string validate(const reuse_params& p);
 // sample was seen from its centre, and how many frames it has been reused.
 struct reuse_history {
   // nothing: not traced last frame; mixed: its rays saw more than its centre did (some hit and
-  // some missed, or their mean depth lies over half a disc from the centre's), an edge.
-  enum class seen : uint8_t { nothing, hit, miss, mixed };
+  // some missed), a silhouette; sloped: all hit but their mean depth lies over half a disc from
+  // the centre's (a depth step within the disc, or a surface seen at a grazing angle).
+  enum class seen : uint8_t { nothing, hit, miss, mixed, sloped };
   std::vector<glm::vec3> colour;
   std::vector<glm::vec3> where;  // world position (hit) or unit direction (miss)
   // A hit's mean depth over its rays less its centre's depth, as traced: a reused sample's
