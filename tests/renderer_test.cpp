@@ -972,26 +972,33 @@ TEST_F(pipeline, TheEyesImagesOfASceneAtInfinityMatch) {
 }
 
 // A red quad 2 m away before a blue wall 10 m away, seen by two eyes a metre apart: each eye
-// sees a strip of wall the other eye's view of the quad hides.
-TEST(Stereo, WhatTheLeftEyeDidNotSeeIsTraced) {
-  const scene s(red_before_blue(-0.5f, -2));
-  const auto set = small_set(64, 48);
+// sees a strip of wall the other eye's view of the quad hides; the left eye traced.
+struct eyes_apart : ::testing::Test {
+  const scene s{red_before_blue(-0.5f, -2)};
+  const std::shared_ptr<const pointset> set = small_set(64, 48);
   const camera head = look_at({0, 0, 0}, {0, 0, -1}, 90);
   const camera left = eye_camera(head, eye_side::left, 1000), right = eye_camera(head, eye_side::right, 1000);
-  trace_params tp;
-  tp.spp = 4;
-  tp.k = 5;
-  const traced_index index = make_traced_index(*set, 5);
-  reuse_params p;
-  p.mode = reuse_mode::eyes;
-  p.fovea_deg = 0;
-  p.max_age = max_reuse_age;
   const gaze_point g{32, 24};
-  const points_trace seen = trace_points(s, left, *set, index, g, tp);
+  trace_params tp;
+  reuse_params p;
+  std::unique_ptr<traced_index> index;
+  points_trace seen;
+  void SetUp() override {
+    tp.spp = 4;
+    tp.k = 5;
+    p.mode = reuse_mode::eyes;
+    p.fovea_deg = 0;
+    index = std::make_unique<traced_index>(make_traced_index(*set, 5));
+    seen = trace_points(s, left, *set, *index, g, tp);
+  }
+};
+
+TEST_F(eyes_apart, WhatTheLeftEyeDidNotSeeIsTraced) {
+  const traced_index& idx = *index;
   reuse_history history = history_of(seen.samples, left, *set, tp.spp);
-  const reused_trace kept = trace_reusing(s, right, *set, index, g, tp, p, history);
-  const points_trace fresh = trace_points(s, right, *set, index, g, tp);
-  const point_probe now = probe_points(s, right, *set, index, g, tp);
+  const reused_trace kept = trace_reusing(s, right, *set, idx, g, tp, p, history);
+  const points_trace fresh = trace_points(s, right, *set, idx, g, tp);
+  const point_probe now = probe_points(s, right, *set, idx, g, tp);
   const camera_frame lf = make_frame(left, 64, 48);
   ASSERT_GT(kept.report.reused, now.points.size() / 2);  // the wall both eyes see, and the quad's middle
   uint64_t disoccluded = 0, disoccluded_kept = 0, kept_wrong = 0;
@@ -1026,28 +1033,16 @@ TEST(Stereo, WhatTheLeftEyeDidNotSeeIsTraced) {
   EXPECT_LT(kept.trace.samples.rays, fresh.samples.rays);
 }
 
-// The same pair of eyes a metre apart: from the right eye the wall 10 m away is seen turned
-// 2.9 (at the screen's edge) to 5.7 degrees (ahead) from where the left eye saw it, the quad
-// 2 m away about 28 degrees.
-TEST(Stereo, AViewLimitTracesSurfacesSeenFromTooFarAround) {
-  const scene s(red_before_blue(-0.5f, -2));
-  const auto set = small_set(64, 48);
-  const camera head = look_at({0, 0, 0}, {0, 0, -1}, 90);
-  const camera left = eye_camera(head, eye_side::left, 1000), right = eye_camera(head, eye_side::right, 1000);
-  trace_params tp;
-  tp.spp = 4;
-  tp.k = 5;
-  const traced_index index = make_traced_index(*set, 5);
-  const points_trace seen = trace_points(s, left, *set, index, {32, 24}, tp);
-  reuse_params p;
-  p.mode = reuse_mode::eyes;
-  p.fovea_deg = 0;
+// From the right eye the wall 10 m away is seen turned 2.9 (at the screen's edge) to 5.7
+// degrees (ahead) from where the left eye saw it, the quad 2 m away about 28 degrees.
+TEST_F(eyes_apart, AViewLimitTracesSurfacesSeenFromTooFarAround) {
+  const traced_index& idx = *index;
   uint64_t kept[3];
   const double limits[] = {0, 60, 1};
   for (int i = 0; i < 3; ++i) {
     p.view_deg = limits[i];
     reuse_history history = history_of(seen.samples, left, *set, tp.spp);
-    kept[i] = trace_reusing(s, right, *set, index, {32, 24}, tp, p, history).report.reused;
+    kept[i] = trace_reusing(s, right, *set, idx, {32, 24}, tp, p, history).report.reused;
   }
   EXPECT_GT(kept[0], 1000u);
   EXPECT_GT(kept[1], kept[0] / 2);  // 60 degrees: every surface, with less confidence
