@@ -101,7 +101,9 @@ void check_options(const render_options& o, const fov::render_params& p) {
   // pixel: a size the range check passes may still not fit (65536 x 65536 is 275 GB).
   if (o.points.empty())
     if (const std::string why = fov::memory_problem(uint64_t(o.width) * uint64_t(o.height) * (p.stereo.enabled ? 128 : 64),
-                                                    fmt::format("a {} x {} frame (about 64 bytes a pixel)", o.width, o.height));
+                                                    fmt::format("{} {} x {} frame{} (about 64 bytes a pixel)",
+                                                                p.stereo.enabled ? "two" : "a", o.width, o.height,
+                                                                p.stereo.enabled ? "s" : ""));
         !why.empty())
       throw usage_error("--width/--height: " + why);
   if (o.reference && o.speedup > 0) throw usage_error("--speedup compares a foveated frame with --reference; give --points instead");
@@ -143,6 +145,31 @@ void check_options(const render_options& o, const fov::render_params& p) {
     for (const auto& [given, flag] : one_eye_only)
       if (given) throw usage_error(fmt::format("--stereo does not take {}", flag));
   }
+}
+
+// The point set's description: the scheme that placed the points, their sampler, and the
+// time reading and checking the file took (a table's decoding, a cells file's build).
+void set_json(json& j, const fov::pointset& set, double load_ms) {
+  j["acuity"] = fov::acuity_model_name(set.model.acuity.model);
+  j["sampler"] = fov::label_of(fov::point_sampler_labels, set.darts.sampler);
+  j["set_load_ms"] = load_ms;
+}
+
+// The viewer's eye a comparison weighs errors with: the set's acuity model (the default one
+// without a set) at its true eccentricity on `display`.
+fov::spacing_model viewer_eye(const fov::display_geometry& display, const fov::pointset* set) {
+  fov::spacing_model eye;
+  eye.display = display;
+  if (set) eye.acuity = set->model.acuity;
+  return eye;
+}
+
+// What --compare and --reference-spp measure, as the flags say.
+fov::comparison_params comparison_wanted(const render_options& o) {
+  fov::comparison_params what;
+  what.flip = !o.no_flip, what.jod = !o.no_jod, what.photometry = o.photometry;
+  what.keep_maps = !o.flip_map.empty() || !o.foveated_flip_map.empty();
+  return what;
 }
 
 // A frame's cost as JSON: tracing, reconstruction and TAA (null without it; setup, loading
@@ -204,11 +231,8 @@ int render_stereo(const render_options& o, const fov::render_params& p, std::sha
             {"right", eye_json(t.right, gaze_right, p.taa, !o.reference)}};
   std::string compared;
   if (o.reference_spp > 0) {
-    fov::spacing_model eye;  // the viewer's eye: the set's acuity model at its true eccentricity
-    eye.display = display;
-    if (set) eye.acuity = set->model.acuity;
-    fov::comparison_params what;
-    what.flip = !o.no_flip, what.jod = !o.no_jod, what.photometry = o.photometry;
+    const fov::spacing_model eye = viewer_eye(display, set.get());
+    const fov::comparison_params what = comparison_wanted(o);
     for (const eye_side e : {eye_side::left, eye_side::right}) {
       const char* name = fov::label_of(fov::eye_side_labels, e);
       const fov::converged_comparison cc = fov::compare_converged(sr.eye(e), fov::eye_half(image, e), eye,
@@ -388,11 +412,7 @@ int main(int argc, char** argv) {
           throw usage_error(fmt::format("{} {}: {}", flag, out, why));
     for (const std::string& w : scene->warnings()) std::cerr << "fovrender: warning: " << w << "\n";
     if (p.stereo.enabled) {
-      if (set) {
-        j["acuity"] = fov::acuity_model_name(set->model.acuity.model);
-        j["sampler"] = fov::label_of(fov::point_sampler_labels, set->darts.sampler);
-        j["set_load_ms"] = set_load_ms;
-      }
+      if (set) set_json(j, *set, set_load_ms);
       return render_stereo(o, p, scene, set, display, gaze, gaze_right, j);
     }
     fov::renderer r(scene, p);
@@ -414,10 +434,8 @@ int main(int argc, char** argv) {
       if (p.taa) j["taa_frames"] = o.taa_frames, j["pattern"] = fov::label_of(fov::ray_pattern_labels, p.pattern);
     } else {
       r.use_pointset(set);
-      j["acuity"] = fov::acuity_model_name(set->model.acuity.model);  // the scheme that placed the points
-      j["sampler"] = fov::label_of(fov::point_sampler_labels, set->darts.sampler);
+      set_json(j, *set, set_load_ms);
       if (p.device == fov::reconstruct_device::opencl) j["device_setup_ms"] = r.device_setup_ms();
-      j["set_load_ms"] = set_load_ms;  // reading and checking the file (a table's decoding, a cells file's build)
       if (r.levels()) {  // the levels' k-NN cells, then those and a reconstructor per coarser level
         j["levels_cells_ms"] = 1e3 * r.levels()->seconds;
         j["levels_setup_ms"] = r.levels_setup_ms();
@@ -510,12 +528,8 @@ int main(int argc, char** argv) {
     }
     std::string compared;
     if (!o.compare.empty() || o.reference_spp > 0) {
-      fov::spacing_model eye;  // the viewer's eye: the set's acuity model at its true eccentricity
-      eye.display = display;
-      if (set) eye.acuity = set->model.acuity;
-      fov::comparison_params what;
-      what.flip = !o.no_flip, what.jod = !o.no_jod, what.photometry = o.photometry;
-      what.keep_maps = !o.flip_map.empty() || !o.foveated_flip_map.empty();
+      const fov::spacing_model eye = viewer_eye(display, set.get());
+      const fov::comparison_params what = comparison_wanted(o);
       fov::comparison c;
       if (o.reference_spp > 0) {
         const fov::converged_comparison cc = fov::compare_converged(r, image, eye, gaze, p, o.reference_spp, what);

@@ -186,17 +186,20 @@ points_trace renderer::trace_frame(gaze_point gaze, const render_params& p, uint
   const auto t0 = clock_type::now();
   points_trace out;
   t.reused = p.reuse.mode == reuse_mode::temporal || other;
-  if (other) {
+  if (t.reused) {
+    // Another view's samples (of this instant: age 0), or the earlier frames' own.
     reuse_params rp = p.reuse;
-    rp.max_age = max_reuse_age;  // the other view's samples are of this instant (age 0)
-    reuse_history h = *other;
-    reused_trace r = trace_reusing(*scene_, cam_, *set_, *index, gaze, tp, rp, h);
-    out = std::move(r.trace);
-    t.reuse = r.report;
-  } else if (t.reused) {
-    if (!same_trace(reuse_params_, p)) reuse_.clear();  // samples of other settings hold nothing now
-    reuse_params_ = p;
-    reused_trace r = trace_reusing(*scene_, cam_, *set_, *index, gaze, tp, p.reuse, reuse_);
+    reuse_history copy;
+    reuse_history* from = &reuse_;
+    if (other) {
+      rp.max_age = max_reuse_age;
+      copy = *other;
+      from = &copy;
+    } else {
+      if (!same_trace(reuse_params_, p)) reuse_.clear();  // samples of other settings hold nothing now
+      reuse_params_ = p;
+    }
+    reused_trace r = trace_reusing(*scene_, cam_, *set_, *index, gaze, tp, rp, *from);
     out = std::move(r.trace);
     t.reuse = r.report;
   } else {
@@ -364,9 +367,14 @@ const frame& renderer::foveated(gaze_point gaze, const render_params& p, frame_t
     }
   }
   if (!traced) traced = trace(gaze, p, t);
+  return finish_frame(std::move(traced->samples), gaze, p, t, timing);
+}
+
+const frame& renderer::finish_frame(point_samples&& samples, gaze_point gaze, const render_params& p, frame_timing& t,
+                                    frame_timing* timing) {
   if (!p.taa) reset_history();
-  reconstruct(traced->samples, gaze, p, t);
-  last_samples_ = std::move(traced->samples);
+  reconstruct(samples, gaze, p, t);
+  last_samples_ = std::move(samples);
   if (timing) *timing = t;
   return frame_;
 }
@@ -380,12 +388,7 @@ const frame& renderer::foveated_from(const reuse_history& other, gaze_point gaze
     throw std::invalid_argument("foveated_from: the other view's samples belong to another set");
   pending_.reset();
   frame_timing t;
-  points_trace traced = trace_frame(gaze, p, frames_traced_++, t, &other);
-  if (!p.taa) reset_history();
-  reconstruct(traced.samples, gaze, p, t);
-  last_samples_ = std::move(traced.samples);
-  if (timing) *timing = t;
-  return frame_;
+  return finish_frame(trace_frame(gaze, p, frames_traced_++, t, &other).samples, gaze, p, t, timing);
 }
 
 const frame& renderer::steady_state(gaze_point gaze, const render_params& p, uint32_t frames) {

@@ -51,11 +51,6 @@ double eccentricity_confidence(double e_deg, double fovea_deg) {
   return smoothstep((e_deg - fovea_deg) / (2 * fovea_deg));
 }
 
-// The canvas position of screen position `s` for a set placed at `offset` (and mirrored).
-glm::vec2 canvas_position(glm::vec2 s, canvas_offset offset, bool mirror_x, bool mirror_y, const display_geometry& d) {
-  return {(mirror_x ? float(d.width) - s.x : s.x) + float(offset.x), (mirror_y ? float(d.height) - s.y : s.y) + float(offset.y)};
-}
-
 }  // namespace
 
 reused_trace trace_reusing(const scene& s, const camera& cam, const pointset& set, const traced_index& index,
@@ -98,7 +93,7 @@ reused_trace trace_reusing(const scene& s, const camera& cam, const pointset& se
       // Near an edge (a neighbour's probe met another surface: over 10 % nearer or farther, or
       // a hit beside a miss) the disc may hold what its centre does not see: traced.
       {
-        const glm::vec2 here = canvas_position(at, probe.offset, probe.mirror_x, probe.mirror_y, disp);
+        const glm::vec2 here = canvas_position(disp, at, probe.offset, probe.mirror_x, probe.mirror_y);
         if (!(here.x >= 0 && here.x < canvas_w && here.y >= 0 && here.y < canvas_h)) continue;
         pixel_neighbours(set, uint32_t(here.x), uint32_t(here.y), candidates, near);
         bool edge = false;
@@ -112,7 +107,7 @@ reused_trace trace_reusing(const scene& s, const camera& cam, const pointset& se
       float z = 0;
       const glm::vec2 q = project(history.view, hit ? probe.where[j] : history.view.origin + probe.where[j], &z);
       if (!(z > 0)) continue;
-      const glm::vec2 then = canvas_position(q, history.offset, history.mirror_x, history.mirror_y, disp);
+      const glm::vec2 then = canvas_position(disp, q, history.offset, history.mirror_x, history.mirror_y);
       if (!(then.x >= 0 && then.x < canvas_w && then.y >= 0 && then.y < canvas_h)) continue;
       pixel_neighbours(set, uint32_t(then.x), uint32_t(then.y), candidates, near);
       const reuse_history::seen want = hit ? reuse_history::seen::hit : reuse_history::seen::miss;

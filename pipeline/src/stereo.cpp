@@ -35,11 +35,8 @@ reuse_history history_of(const point_samples& samples, const camera& cam, const 
   h.mirror_x = samples.mirror_x, h.mirror_y = samples.mirror_y;
   for (const uint32_t i : samples.traced) {
     if (i >= n) throw std::invalid_argument("history_of: a traced point beyond the set");
-    // The point's screen position: its canvas position less the placement, mirrored back.
-    float sx = set.points[i].x - float(samples.offset.x), sy = set.points[i].y - float(samples.offset.y);
-    if (samples.mirror_x) sx = float(d.width) - sx;
-    if (samples.mirror_y) sy = float(d.height) - sy;
-    const glm::vec3 dir = ray_direction(h.view, sx, sy);
+    const glm::vec2 at = placed_position(d, set.points[i], samples.offset, samples.mirror_x, samples.mirror_y);
+    const glm::vec3 dir = ray_direction(h.view, at.x, at.y);
     h.colour[i] = samples.colour[i];
     h.hits[i] = samples.hits[i];
     if (samples.hits[i] == 0) {

@@ -5,9 +5,8 @@
 namespace fov {
 
 stereo_renderer::stereo_renderer(std::shared_ptr<const scene> s, const render_params& p)
-    : left_(s, p), right_(s, p), head_(left_.cam()), ipd_mm_(p.stereo.ipd_mm) {
-  if (const std::string why = validate(p.stereo); !why.empty()) throw std::invalid_argument(why);
-  place_eyes(ipd_mm_);
+    : left_(s, p), right_(s, p), head_(left_.cam()) {
+  place_eyes(p.stereo.ipd_mm);
 }
 
 void stereo_renderer::use_pointset(std::shared_ptr<const pointset> set) {
@@ -21,13 +20,15 @@ void stereo_renderer::set_head(const camera& c) {
 }
 
 void stereo_renderer::place_eyes(double ipd_mm) {
+  stereo_params checked;
+  checked.ipd_mm = ipd_mm;
+  if (const std::string why = validate(checked); !why.empty()) throw std::invalid_argument(why);
   ipd_mm_ = ipd_mm;
   left_.cam() = eye_camera(head_, eye_side::left, ipd_mm);
   right_.cam() = eye_camera(head_, eye_side::right, ipd_mm);
 }
 
 const frame& stereo_renderer::foveated(gaze_point left, gaze_point right, const render_params& p, stereo_timing* t) {
-  if (const std::string why = validate(p.stereo); !why.empty()) throw std::invalid_argument(why);
   place_eyes(p.stereo.ipd_mm);
   stereo_timing st;
   const frame& l = left_.foveated(left, p, &st.left);
@@ -42,7 +43,6 @@ const frame& stereo_renderer::foveated(gaze_point left, gaze_point right, const 
 }
 
 frame stereo_renderer::reference(int width, int height, const render_params& p, stereo_timing* t) {
-  if (const std::string why = validate(p.stereo); !why.empty()) throw std::invalid_argument(why);
   place_eyes(p.stereo.ipd_mm);
   stereo_timing st;
   const reference_trace l = left_.reference(width, height, p, &st.left);

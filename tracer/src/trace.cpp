@@ -593,14 +593,6 @@ void pixel_rays(int x, int y, int width, const trace_params& params, uint32_t fi
 // samples m n .. (m + 1) n - 1 in it.
 uint32_t pattern_of(const trace_params& params) { return (params.mirror_x ? 1u : 0u) + (params.mirror_y ? 2u : 0u); }
 
-// Where point p lands on the screen: the set placed at `offset` (canvas = screen + offset),
-// then mirrored left-right and/or top-bottom (exact in float: the offset is whole pixels).
-glm::vec2 placed_position(const display_geometry& disp, const point& p, canvas_offset offset, bool mirror_x, bool mirror_y) {
-  float cx = p.x - float(offset.x), cy = p.y - float(offset.y);
-  if (mirror_x) cx = float(disp.width) - cx;
-  if (mirror_y) cy = float(disp.height) - cy;
-  return {cx, cy};
-}
 
 // Calls emit(x, y) with the screen position of each of point i's first n rays (n <= params.spp). A grid
 // point (grid_point: is_grid_point, asked once by the caller) stands for the screen pixel it lands on and casts that pixel's rays
@@ -1027,6 +1019,18 @@ uint32_t falloff_rule::rays_at(double d) const {
   // thresholds is non-increasing: count the entries that still reach d.
   const auto reach = std::partition_point(thresholds.begin(), thresholds.end(), [d](double t) { return t >= d; });
   return floor + uint32_t(reach - thresholds.begin());
+}
+
+glm::vec2 placed_position(const display_geometry& disp, const point& p, canvas_offset offset, bool mirror_x, bool mirror_y) {
+  float cx = p.x - float(offset.x), cy = p.y - float(offset.y);
+  if (mirror_x) cx = float(disp.width) - cx;
+  if (mirror_y) cy = float(disp.height) - cy;
+  return {cx, cy};
+}
+
+glm::vec2 canvas_position(const display_geometry& disp, glm::vec2 s, canvas_offset offset, bool mirror_x, bool mirror_y) {
+  return {(mirror_x ? float(disp.width) - s.x : s.x) + float(offset.x),
+          (mirror_y ? float(disp.height) - s.y : s.y) + float(offset.y)};
 }
 
 }  // namespace fov

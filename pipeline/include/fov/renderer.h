@@ -271,6 +271,10 @@ class renderer {
   std::optional<refinement_map> last_map_;
   camera last_map_camera_;
   adaptive_params last_map_params_;
+  // A traced frame's rest: reconstruct (with TAA when p.taa, else the history dropped), keep
+  // the samples as last_samples_, report the timing.
+  const frame& finish_frame(point_samples&& samples, gaze_point gaze, const render_params& p, frame_timing& t,
+                            frame_timing* timing);
   // An adaptive frame numbered n (trace, reconstruct every level in use, composite, TAA).
   const frame& adaptive_frame(gaze_point gaze, const render_params& p, uint64_t n, frame_timing& t);
   adaptive_trace trace_refined_frame(gaze_point gaze, const render_params& p, uint64_t n, frame_timing& t);

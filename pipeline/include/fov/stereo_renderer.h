@@ -42,9 +42,9 @@ class stereo_renderer {
  private:
   renderer left_, right_;
   camera head_;
-  double ipd_mm_;
+  double ipd_mm_ = 0;
   frame frame_;
-  void place_eyes(double ipd_mm);
+  void place_eyes(double ipd_mm);  // throws std::invalid_argument for an IPD out of range
 };
 
 }  // namespace fov

@@ -254,6 +254,12 @@ struct point_probe {
   std::vector<float> distance;    // along the ray to the hit; +inf on a miss
   uint64_t rays = 0;              // one a point
 };
+// Where point p lands on the screen: the set placed at `offset` (canvas = screen + offset),
+// then mirrored left-right and/or top-bottom (exact in float: the offset is whole pixels);
+// and back, the canvas position of screen position `s` under the same placement.
+glm::vec2 placed_position(const display_geometry& disp, const point& p, canvas_offset offset, bool mirror_x, bool mirror_y);
+glm::vec2 canvas_position(const display_geometry& disp, glm::vec2 s, canvas_offset offset, bool mirror_x, bool mirror_y);
+
 point_probe probe_points(const scene& s, const camera& cam, const pointset& set, const traced_index& index, gaze_point gaze,
                          const trace_params& params);
 
