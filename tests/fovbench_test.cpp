@@ -637,7 +637,9 @@ TEST(Summary, AnswersEachIntegratorOnItsOwn) {
   for (const scheme_answer& a : r.answers) {
     ASSERT_TRUE(a.reached) << a.integrator;
     const bool direct_run = a.integrator == "direct";
-    if (!direct_run) EXPECT_EQ(a.integrator, "path, 3 bounces");
+    if (!direct_run) {
+      EXPECT_EQ(a.integrator, "path, 3 bounces");
+    }
     EXPECT_EQ(a.yardstick_spp, direct_run ? 2.0 : 4.0) << a.integrator;
     EXPECT_NEAR(a.speedup.estimate, direct_run ? 4.0 : 6.0, 1e-12) << a.integrator;
   }
