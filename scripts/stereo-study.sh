@@ -8,8 +8,9 @@
 # 660,800: 40 px of crossed disparity, the eyes converging at about 2 m on FOVE). Variants:
 # every point of both eyes traced (none; none-seed2 at seed 2 with its own references: the
 # JOD's spread between seeds), --reuse eyes at its defaults, with --reuse-fovea 0, with
-# --reuse-fovea 0 --reuse-threshold 0, and with --reuse-fovea 0 --reuse-view 2 or 5 (the view
-# term). One JSON a run and summary.md in out/stereo/DISPLAY.
+# --reuse-fovea 0 --reuse-threshold 0, with --reuse-fovea 0 --reuse-view 2 or 5 (the view
+# term), and with --reuse-fovea 0 --reuse-edges silhouettes --reuse-distance screen (VARIANTS
+# picks some). One JSON a run and summary.md in out/stereo/DISPLAY.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 source scripts/study-scene.sh
@@ -22,11 +23,12 @@ out=out/stereo/$display
 mkdir -p "$out"
 set_file=out/stereo/$display-s1.0.fovset
 [[ -s $set_file ]] || "$fovgen" --display "$display" --scale 1.0 -o "$set_file" > /dev/null
-names=(none none-seed2 eyes eyes-f0 eyes-f0-t0 eyes-f0-v2 eyes-f0-v5)
+read -r -a names <<< "${VARIANTS:-none none-seed2 eyes eyes-f0 eyes-f0-t0 eyes-f0-v2 eyes-f0-v5 eyes-f0-screen}"
 declare -A variants=([none]="--reuse none" [none-seed2]="--reuse none --seed 2" [eyes]="--reuse eyes"
                      [eyes-f0]="--reuse eyes --reuse-fovea 0" [eyes-f0-t0]="--reuse eyes --reuse-fovea 0 --reuse-threshold 0"
                      [eyes-f0-v2]="--reuse eyes --reuse-fovea 0 --reuse-view 2"
-                     [eyes-f0-v5]="--reuse eyes --reuse-fovea 0 --reuse-view 5")
+                     [eyes-f0-v5]="--reuse eyes --reuse-fovea 0 --reuse-view 5"
+                     [eyes-f0-screen]="--reuse eyes --reuse-fovea 0 --reuse-edges silhouettes --reuse-distance screen")
 for name in ${SCENES:-builtin helmet env}; do
   if [[ $name == helmet && ! -f ../shared/scenes/flight-helmet/FlightHelmet.gltf ]]; then echo "(no helmet: ../shared absent)"; continue; fi
   study_scene "$name" "$display"
@@ -57,7 +59,7 @@ def total(e):
 for base in sorted(glob.glob(f"{out}/*-none.json")):
     stem = os.path.basename(base)[:-len("-none.json")]
     full = json.load(open(base))
-    for v in ("none", "none-seed2", "eyes", "eyes-f0", "eyes-f0-t0", "eyes-f0-v2", "eyes-f0-v5"):
+    for v in ("none", "none-seed2", "eyes", "eyes-f0", "eyes-f0-t0", "eyes-f0-v2", "eyes-f0-v5", "eyes-f0-screen"):
         path = f"{out}/{stem}-{v}.json"
         if not os.path.exists(path):
             continue

@@ -112,6 +112,7 @@ check "reuse budget"       2 -- "$fovrender" "${set[@]}" --reuse temporal --reus
 check "reuse budget huge"  2 -- "$fovrender" "${set[@]}" --reuse temporal --reuse-budget 1099511627777 -o "$dir/a.png"
 check "reuse view"         2 -- "$fovrender" "${set[@]}" --reuse temporal --reuse-view 181 -o "$dir/a.png"
 check "reuse edges"        2 -- "$fovrender" "${set[@]}" --reuse temporal --reuse-edges loose -o "$dir/a.png"
+check "reuse distance"     2 -- "$fovrender" "${set[@]}" --reuse temporal --reuse-distance far -o "$dir/a.png"
 check "reuse reference"    2 -- "$fovrender" --reference --width 32 --height 24 --reuse temporal -o "$dir/a.png"
 check "reuse ray floor"    2 -- "$fovrender" "${set[@]}" --reuse temporal --ray-floor 1 -o "$dir/a.png"
 check "path without flicker" 2 -- "$fovrender" "${set[@]}" --flicker-yaw 1 -o "$dir/a.png"

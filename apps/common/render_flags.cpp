@@ -129,6 +129,9 @@ void add_render_flags(CLI::App& app, render_params& p, unsigned groups) {
     add_label_option(app, "--reuse-edges", p.reuse.edges, reuse_edges_labels,
                      "With --reuse: the last frame's edges that keep their neighbours traced: silhouettes and "
                      "sloped discs (strict), or silhouettes only");
+    add_label_option(app, "--reuse-distance", p.reuse.distance, reuse_distance_labels,
+                     "With --reuse: where a kept sample's distance from what the point sees is measured: in the "
+                     "world against the disc at that depth, or on the screen against the point's spacing");
     app.add_option("--reuse-view", p.reuse.view_deg,
                    "With --reuse: the most the view onto a kept sample's surface may turn, degrees (0: no limit); "
                    "glossy shading moves with it")
@@ -206,10 +209,12 @@ nlohmann::json reuse_json(const reuse_report& r) {
                      {"to_deg", b + 1 < reuse_bands ? nlohmann::json(reuse_band_edges_deg[b]) : nlohmann::json(nullptr)},
                      {"points", r.points_by_band[b]},
                      {"reused", r.reused_by_band[b]}});
+  nlohmann::json verdicts;
+  for (const auto& [label, v] : reuse_verdict_labels) verdicts[label] = r.by_verdict[size_t(v)];
   return {{"points", r.points},           {"reused", r.reused},           {"traced", r.traced},
           {"probe_rays", r.probe_rays},   {"rays_traced", r.rays_traced}, {"rays_reused", r.rays_reused},
           {"reused_share", r.reused_share()}, {"kept_for_budget", r.kept_for_budget}, {"budget_short", r.budget_short},
-          {"by_eccentricity", bands}};
+          {"by_eccentricity", bands}, {"by_verdict", verdicts}};
 }
 
 nlohmann::json refinement_json(const frame_timing& t, const render_params& p, const nested_levels& levels) {

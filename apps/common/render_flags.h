@@ -27,7 +27,8 @@ enum render_flags : unsigned {
   // --camera path, its lines each at their own time. Only for tools that render one frame
   // at a time they are given (fovrender); a viewer moves its camera itself.
   flags_rolling = 256,
-  // --reuse, --reuse-fovea, --reuse-threshold, --reuse-max-age, --reuse-budget, --reuse-view, --reuse-edges: reuse (fov/reuse.h),
+  // --reuse, --reuse-fovea, --reuse-threshold, --reuse-max-age, --reuse-budget, --reuse-view, --reuse-edges,
+  // --reuse-distance: reuse (fov/reuse.h),
   // for tools that render frames in sequence.
   flags_reuse = 512,
   // --stereo, --ipd: two eyes side by side (fov/stereo.h), each its own gaze (the tool's --gaze-right).

@@ -553,6 +553,10 @@ int run_viewer(const viewer_options& o, render_params settings) {
                     {"fovea_deg", settings.reuse.fovea_deg},
                     {"threshold", settings.reuse.threshold},
                     {"max_age", settings.reuse.max_age},
+                    {"budget", settings.reuse.budget},
+                    {"view_deg", settings.reuse.view_deg},
+                    {"edges", fov::label_of(fov::reuse_edges_labels, settings.reuse.edges)},
+                    {"distance", fov::label_of(fov::reuse_distance_labels, settings.reuse.distance)},
                     {"reused_share", stats([](const frame_stats& f) { return f.reused_share; })}};
     std::cout << j.dump(2) << "\n";
   }

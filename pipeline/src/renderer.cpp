@@ -30,7 +30,8 @@ bool same_trace(const render_params& a, const render_params& b) {
          a.rolling.frame_period_ms == b.rolling.frame_period_ms && a.rolling.path == b.rolling.path &&
          a.rolling.start_ms == b.rolling.start_ms && a.reuse.mode == b.reuse.mode &&
          a.reuse.fovea_deg == b.reuse.fovea_deg && a.reuse.threshold == b.reuse.threshold &&
-         a.reuse.max_age == b.reuse.max_age && a.reuse.budget == b.reuse.budget && a.reuse.view_deg == b.reuse.view_deg && a.reuse.edges == b.reuse.edges;
+         a.reuse.max_age == b.reuse.max_age && a.reuse.budget == b.reuse.budget && a.reuse.view_deg == b.reuse.view_deg &&
+         a.reuse.edges == b.reuse.edges && a.reuse.distance == b.reuse.distance;
 }
 
 // The tracing half of the params, without a frame's pattern.

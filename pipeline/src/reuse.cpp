@@ -67,6 +67,7 @@ reused_trace trace_reusing(const scene& s, const camera& cam, const pointset& se
   const float canvas_w = float(set.canvas_width()), canvas_h = float(set.canvas_height());
   std::vector<int64_t> source(m, -1);  // the history's point whose sample each listed point keeps
   std::vector<uint8_t> band(m);        // each listed point's eccentricity band
+  std::vector<reuse_verdict> verdict(m, reuse_verdict::no_history);
   // Under a budget: each point's candidate below the threshold (-1: none within its disc, or
   // an edge), its confidence and eccentricity, which order the points the budget traces.
   const bool budgeted = p.budget > 0;
@@ -87,8 +88,11 @@ reused_trace trace_reusing(const scene& s, const camera& cam, const pointset& se
       band[j] = uint8_t(std::upper_bound(std::begin(reuse_band_edges_deg), std::end(reuse_band_edges_deg), e) -
                         std::begin(reuse_band_edges_deg));
       if (!usable) continue;
+      reuse_verdict& why = verdict[j];
       const double ce = eccentricity_confidence(e, p.fovea_deg);
+      why = reuse_verdict::eccentricity;
       if (!budgeted && (ce <= 0 || ce < p.threshold)) continue;
+      why = reuse_verdict::off_canvas;
       const bool hit = probe.distance[j] != infinity;
       // Near an edge (a neighbour's probe met another surface: over 10 % nearer or farther, or
       // a hit beside a miss) the disc may hold what its centre does not see: traced.
@@ -102,7 +106,10 @@ reused_trace trace_reusing(const scene& s, const camera& cam, const pointset& se
           if (std::isnan(other)) continue;
           edge = hit ? !(std::fabs(other - probe.distance[j]) <= 0.1f * probe.distance[j]) : other != infinity;
         }
-        if (edge) continue;
+        if (edge) {
+          why = reuse_verdict::edge_now;
+          continue;
+        }
       }
       float z = 0;
       const glm::vec2 q = project(history.view, hit ? probe.where[j] : history.view.origin + probe.where[j], &z);
@@ -111,6 +118,8 @@ reused_trace trace_reusing(const scene& s, const camera& cam, const pointset& se
       if (!(then.x >= 0 && then.x < canvas_w && then.y >= 0 && then.y < canvas_h)) continue;
       pixel_neighbours(set, uint32_t(then.x), uint32_t(then.y), candidates, near);
       const reuse_history::seen want = hit ? reuse_history::seen::hit : reuse_history::seen::miss;
+      const bool sloped_is_hit = hit && p.edges == reuse_edges::silhouettes;
+      const float centre_depth = hit ? glm::dot(probe.where[j] - now.origin, now.forward) : 0.0f;
       int64_t best = -1;
       float best_distance = infinity, lo = infinity, hi = 0;
       bool edge_then = false;
@@ -118,15 +127,27 @@ reused_trace trace_reusing(const scene& s, const camera& cam, const pointset& se
         const uint32_t i = near[c];
         edge_then |= history.kind[i] == reuse_history::seen::mixed ||
                      (history.kind[i] == reuse_history::seen::sloped && p.edges == reuse_edges::strict);
-        if (history.kind[i] != want) continue;
+        if (history.kind[i] != want && !(sloped_is_hit && history.kind[i] == reuse_history::seen::sloped)) continue;
         const float l = luminance(history.colour[i]);
         lo = std::min(lo, l), hi = std::max(hi, l);
         if (history.age[i] >= p.max_age) continue;
-        // Hits: the world distance; misses: the chord between the directions (the angle, nearly).
-        const float d = glm::distance(history.where[i], probe.where[j]);
+        // world: for hits the world distance, for misses the chord between the directions (the
+        // angle, nearly); screen: the pixels between the point and the sample seen from here.
+        float d = 0;
+        if (p.distance == reuse_distance::world) {
+          d = glm::distance(history.where[i], probe.where[j]);
+        } else {
+          float z = 0;
+          const glm::vec2 seen = project(now, hit ? history.where[i] : now.origin + history.where[i], &z);
+          if (!(z > 0) || (hit && !(std::fabs(z - centre_depth) <= 0.1f * centre_depth))) continue;
+          d = glm::distance(seen, at);
+        }
         if (d < best_distance) best_distance = d, best = i;
       }
-      if (best < 0 || edge_then) continue;
+      if (best < 0 || edge_then) {
+        why = edge_then ? reuse_verdict::edge_then : reuse_verdict::no_candidate;
+        continue;
+      }
       // The candidates' contrast (Michelson, of their luminances): a displaced sample shows
       // where the colour changes, not where it is flat.
       const double contrast = hi > 0 ? double(hi - lo) / double(hi + lo) : 0.0;
@@ -135,15 +156,18 @@ reused_trace trace_reusing(const scene& s, const camera& cam, const pointset& se
       const float cos_axis = glm::dot(glm::normalize(probe.where[j] - (hit ? now.origin : glm::vec3(0))), now.forward);
       const float disc = set.points[probe.points[j]].spacing * now.pixel_angle *
                          (hit ? probe.distance[j] * cos_axis : cos_axis * cos_axis);
-      double reprojection = std::max(0.0, 1.0 - double(best_distance) / double(disc));
+      const float radius = p.distance == reuse_distance::world ? disc : set.points[probe.points[j]].spacing;
+      double reprojection = std::max(0.0, 1.0 - double(best_distance) / double(radius));
       if (p.view_deg > 0 && hit) {  // how far the view onto the surface turned since
         const float cos_turn = glm::dot(glm::normalize(probe.where[j] - now.origin), glm::normalize(probe.where[j] - history.view.origin));
         const double turn = glm::degrees(std::acos(std::clamp(double(cos_turn), -1.0, 1.0)));
         reprojection *= std::max(0.0, 1.0 - turn / p.view_deg);
       }
       const double c = ce * (1 - contrast) * reprojection;
+      why = reprojection > 0 ? reuse_verdict::below_threshold : reuse_verdict::out_of_reach;
       if (c > 0 && c >= p.threshold) {
         source[j] = best;
+        why = reuse_verdict::kept;
       } else if (budgeted && reprojection > 0) {
         fallback[j] = best, confidence[j] = float(c), eccentricity[j] = float(e);
       }
@@ -173,6 +197,7 @@ reused_trace trace_reusing(const scene& s, const camera& cam, const pointset& se
     const uint64_t affordable = rep.budget_short ? 0 : (p.budget - must_rays) / params.spp;
     for (size_t q = std::min<uint64_t>(affordable, below.size()); q < below.size(); ++q) {
       source[below[q]] = fallback[below[q]];
+      verdict[below[q]] = reuse_verdict::kept;
       ++rep.kept_for_budget;
     }
   }
@@ -186,10 +211,11 @@ reused_trace trace_reusing(const scene& s, const camera& cam, const pointset& se
   for (size_t j = 0; j < m; ++j) {
     const uint32_t pt = probe.points[j];
     ++rep.points_by_band[band[j]];
+    ++rep.by_verdict[size_t(verdict[j])];
     if (source[j] >= 0) ++rep.reused_by_band[band[j]];
     if (source[j] >= 0) {
       const size_t i = size_t(source[j]);
-      const bool hit = history.kind[i] == reuse_history::seen::hit;
+      const bool hit = history.kind[i] == reuse_history::seen::hit || history.kind[i] == reuse_history::seen::sloped;
       smp.colour[pt] = history.colour[i];
       smp.hits[pt] = history.hits[i];
       smp.depth[pt] = hit ? glm::dot(history.where[i] - now.origin, now.forward) + history.depth_bias[i] : infinity;

@@ -10,13 +10,15 @@
 // with S the smoothstep, e the point's eccentricity in degrees (3 x fovea: fully peripheral),
 // C the Michelson contrast of the candidates' luminances and r the point's disc radius carried
 // to the hit's depth (for misses, the angle between the directions against the disc's angular
-// radius). A sample with c >= threshold is kept. Not kept either: a point near an edge now (a
+// radius); with reuse_distance::screen, the pixels between the point and the sample projected
+// into the new view against the point's spacing. A sample with c >= threshold is kept. Not kept either: a point near an edge now (a
 // neighbour's probe meets a surface 10 % nearer or farther, or a hit beside a miss) or then (a
 // candidate's rays saw more than its centre: some hit and some missed, or their mean depth lay
 // over half a disc from the centre's). A still view so keeps each point's own sample.
 #pragma once
 
 #include <cstdint>
+#include <iterator>
 #include <string>
 #include <utility>
 #include <vector>
@@ -42,6 +44,16 @@ enum class reuse_edges : uint8_t {
 };
 inline constexpr std::pair<const char*, reuse_edges> reuse_edges_labels[] = {{"strict", reuse_edges::strict},
                                                                             {"silhouettes", reuse_edges::silhouettes}};
+// How far a candidate sample lies from what the point's probe sees, against the point's disc.
+enum class reuse_distance : uint8_t {
+  world,   // in the world: |hit - sample| against the disc carried to the hit's depth on a plane
+           // facing the camera (a surface seen at a grazing angle spreads its samples farther)
+  screen,  // on the screen, as TWFR reprojects: the sample projected into the new view, its
+           // pixel distance from the point against the point's spacing, and (a hit) its depth
+           // there within 10 % of the probe's
+};
+inline constexpr std::pair<const char*, reuse_distance> reuse_distance_labels[] = {{"world", reuse_distance::world},
+                                                                                  {"screen", reuse_distance::screen}};
 inline constexpr std::pair<const char*, reuse_mode> reuse_mode_labels[] = {
     {"none", reuse_mode::none}, {"temporal", reuse_mode::temporal}, {"eyes", reuse_mode::eyes}};
 
@@ -72,7 +84,9 @@ struct reuse_params {
   // a second eye looks at a near surface from another direction (0..max_reuse_view_deg).
   double view_deg = 0;
   // What counts as an edge then (reuse_edges): a point whose candidates include one is traced.
+  // With silhouettes, a sloped sample is a candidate as a hit is.
   reuse_edges edges = reuse_edges::strict;
+  reuse_distance distance = reuse_distance::world;  // the reprojection term's distance
 };
 // "" when valid, else the reason naming the flag (--reuse-fovea, --reuse-threshold, --reuse-max-age,
 // --reuse-budget, --reuse-view).
@@ -106,6 +120,32 @@ struct reuse_history {
 inline constexpr double reuse_band_edges_deg[] = {5, 10, 15, 30};
 constexpr size_t reuse_bands = 5;
 
+// Why a point the frame needed was traced (or that it kept its sample), in the order the
+// tests run: the first that holds.
+enum class reuse_verdict : uint8_t {
+  kept,
+  no_history,       // the first frame, or the set changed
+  eccentricity,     // too near the gaze: the eccentricity term alone is below the threshold
+  off_canvas,       // its screen position falls off the set's canvas, or its probe's hit off (or
+                    // behind) the last frame's view
+  edge_now,         // a neighbour's probe met another surface (10 % off, or a hit beside a miss)
+  edge_then,        // a candidate was an edge then (reuse_edges)
+  no_candidate,     // no candidate saw what its probe sees (hit or miss, within age, [depth])
+  out_of_reach,     // the nearest candidate lies a disc or more away: the reprojection term is 0
+  below_threshold,  // the confidence is below the threshold (under a budget: and it was traced)
+};
+inline constexpr std::pair<const char*, reuse_verdict> reuse_verdict_labels[] = {
+    {"kept", reuse_verdict::kept},
+    {"no_history", reuse_verdict::no_history},
+    {"eccentricity", reuse_verdict::eccentricity},
+    {"off_canvas", reuse_verdict::off_canvas},
+    {"edge_now", reuse_verdict::edge_now},
+    {"edge_then", reuse_verdict::edge_then},
+    {"no_candidate", reuse_verdict::no_candidate},
+    {"out_of_reach", reuse_verdict::out_of_reach},
+    {"below_threshold", reuse_verdict::below_threshold}};
+constexpr size_t reuse_verdicts = std::size(reuse_verdict_labels);
+
 // What a frame reused.
 struct reuse_report {
   uint64_t points = 0;       // points the frame needed
@@ -122,6 +162,8 @@ struct reuse_report {
   // passed it.
   uint64_t kept_for_budget = 0;
   bool budget_short = false;
+  // The points by verdict (reuse_verdict; the budget's kept count as kept).
+  uint64_t by_verdict[reuse_verdicts] = {};
   double reused_share() const { return points ? double(reused) / double(points) : 0.0; }
 };
 
