@@ -7,7 +7,8 @@
 # Each path is traced twice, every point every frame and with --reuse temporal (default
 # settings), and compared with converged frames along it (REFERENCE_SPP Sobol rays a pixel,
 # default 64; their floor a second seed): rays a frame, flicker and video JOD (FovVideoVDP, the
-# gaze per frame). REUSE adds reuse flags (e.g. "--reuse-fovea 2 --reuse-threshold 0.05") and
+# gaze per frame), and the trace time of both in turn frame by frame over three more passes
+# (median ratio and its range). REUSE adds reuse flags (e.g. "--reuse-fovea 2 --reuse-threshold 0.05") and
 # PATHS picks paths (default "slow-pan fast-turn sideways"). Results in out/reuse/DISPLAY
 # (DISPLAY-TAG with TAG set): one JSON a path and summary.md.
 set -euo pipefail
@@ -39,8 +40,8 @@ out, spp, frames, reference_spp, reuse = sys.argv[1:]
 print(f"{frames} frames, {spp} rays a point, reuse settings: {reuse}; video JOD against converged frames of "
       f"{reference_spp} rays a pixel (floor: a second seed); rays: the mean over frames 1.. (frame 0 has nothing to reuse).\n")
 print("| path | kept (share of points) | kept by eccentricity, frame 1..: <5 / 5-10 / 10-15 / 15-30 / >30 degrees | primary rays a frame, full -> reuse (ratio) | every ray, full -> reuse (ratio) | "
-      "video JOD full / reuse (floor) | flicker full / reuse |")
-print("|---|---|---|---|---|---|---|")
+      "video JOD full / reuse (floor) | flicker full / reuse | trace time reuse / full: median (min-max), pairs |")
+print("|---|---|---|---|---|---|---|---|")
 for name in ("slow-pan", "fast-turn", "sideways"):
     if not os.path.exists(f"{out}/{name}.json"):
         continue
@@ -51,6 +52,7 @@ for name in ("slow-pan", "fast-turn", "sideways"):
                        for b in range(len(later[0]["by_eccentricity"])))
     print(f"| {name} | {min(kept):.2f}-{max(kept):.2f} | {bands} | {r['rays_full']:.0f} -> {r['rays_reuse']:.0f} ({r['rays_ratio']:.2f}) | "
           f"{r['all_rays_full']:.0f} -> {r['all_rays_reuse']:.0f} ({r['all_rays_ratio']:.2f}) | "
-          f"{r['jod_full']:.3f} / {r['jod_reuse']:.3f} ({r['jod_floor']:.2f}) | {r['flicker_full']:.4f} / {r['flicker_reuse']:.4f} |")
+          f"{r['jod_full']:.3f} / {r['jod_reuse']:.3f} ({r['jod_floor']:.2f}) | {r['flicker_full']:.4f} / {r['flicker_reuse']:.4f} | "
+          + (f"{t['ratio_median']:.2f} ({t['ratio_min']:.2f}-{t['ratio_max']:.2f}), {t['pairs']} |" if (t := r.get('trace_time')) else "- |"))
 PY
 cat "$out/summary.md"

@@ -832,6 +832,40 @@ void looser_keeps_more(const pipeline& f, const render_params& tighter, const re
   EXPECT_GT(kept_looser, kept_tighter);
 }
 
+// measure_reuse times the path with full and reusing traces in turn on one renderer: a full
+// trace between two reusing ones leaves what they keep as it was.
+TEST_F(pipeline, AFullTraceBetweenReusingFramesLeavesTheReuseAsItWas) {
+  render_params reusing = params, full = params;
+  reusing.reuse.mode = reuse_mode::temporal;
+  reusing.reuse.fovea_deg = 3;
+  renderer a(scn, reusing), b(scn, reusing);
+  a.use_pointset(set), b.use_pointset(set);
+  const camera start = a.cam();
+  flicker_params slide;
+  slide.yaw_deg_per_frame = 0.3f;
+  slide.shift_per_frame = 0.05f;
+  for (uint32_t n = 0; n < 4; ++n) {
+    a.cam() = b.cam() = path_camera(start, slide, n);
+    frame_timing between, ta, tb;
+    a.trace({32, 24}, full, between);
+    const points_trace pa = a.trace({32, 24}, reusing, ta), pb = b.trace({32, 24}, reusing, tb);
+    EXPECT_EQ(ta.reuse.reused, tb.reuse.reused) << "frame " << n;
+    EXPECT_EQ(ta.rays, tb.rays) << "frame " << n;
+    EXPECT_EQ(pa.samples.colour, pb.samples.colour) << "frame " << n;
+    if (n > 0) {
+      EXPECT_GT(ta.reuse.reused, 0u);
+    }
+  }
+  slide.frames = 3;
+  const reuse_path_report rp = measure_reuse(a, {32, 24}, reusing, slide, {}, 2);
+  EXPECT_EQ(rp.trace_ms_full.size(), 2u * 2u);  // two passes of frames 1 and 2
+  ASSERT_EQ(rp.trace_ms_reuse.size(), rp.trace_ms_full.size());
+  for (size_t i = 0; i < rp.trace_ms_full.size(); ++i) {
+    EXPECT_GT(rp.trace_ms_full[i], 0.0);
+    EXPECT_GT(rp.trace_ms_reuse[i], 0.0);
+  }
+}
+
 TEST_F(pipeline, SilhouetteEdgesKeepMoreAndStillChangeLessThanAnotherSeed) {
   render_params strict = params;
   strict.reuse.mode = reuse_mode::temporal;

@@ -68,6 +68,11 @@ flicker_report measure_flicker(renderer& r, gaze_point start, const render_param
 // JOD against them. The renderer's camera and histories are restored or dropped afterwards.
 struct reuse_path_report {
   std::vector<uint64_t> rays_full, rays_reuse;  // primary rays (with reuse: the probes too)
+  // Trace time (probes, candidates and traced points; reconstruction is the same work for
+  // both), side by side: `timing_repeats` more passes along the path, each frame traced in full
+  // and then with reuse (its history carried along that pass), frame 0 left out. Per pair the
+  // two times in ms.
+  std::vector<double> trace_ms_full, trace_ms_reuse;
   std::vector<uint64_t> cast_full, cast_reuse;  // every ray: primary, shadow and bounce
   std::vector<reuse_report> reuse;
   double flicker_full = 0, flicker_reuse = 0;
@@ -75,7 +80,7 @@ struct reuse_path_report {
   fvvdp_result jod_full, jod_reuse;
 };
 reuse_path_report measure_reuse(renderer& r, gaze_point start, const render_params& p, const flicker_params& f,
-                                const std::vector<frame>& converged = {});
+                                const std::vector<frame>& converged = {}, uint32_t timing_repeats = 3);
 
 // Video JOD of one converged path against another (converged_path with the two seeds of
 // converged_seeds): the noise floor of every video JOD measured against the first.
