@@ -1,5 +1,4 @@
 // fovrender: renders one frame headless, foveated or at full resolution, and compares.
-#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -91,17 +90,13 @@ json reuse_path_json(const fov::reuse_path_report& rp, const fov::flicker_params
   if (!rp.trace_ms_full.empty()) {
     std::vector<double> ratio(rp.trace_ms_full.size());
     for (size_t i = 0; i < ratio.size(); ++i) ratio[i] = rp.trace_ms_reuse[i] / rp.trace_ms_full[i];
-    auto median = [](std::vector<double> v) {
-      std::sort(v.begin(), v.end());
-      return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
-    };
-    const auto [lo, hi] = std::minmax_element(ratio.begin(), ratio.end());
+    const fov::timing r = fov::summarise(ratio);
     j["trace_time"] = {{"pairs", ratio.size()},
-                       {"ms_full_median", median(rp.trace_ms_full)},
-                       {"ms_reuse_median", median(rp.trace_ms_reuse)},
-                       {"ratio_median", median(ratio)},
-                       {"ratio_min", *lo},
-                       {"ratio_max", *hi}};
+                       {"ms_full_median", fov::summarise(rp.trace_ms_full).median},
+                       {"ms_reuse_median", fov::summarise(rp.trace_ms_reuse).median},
+                       {"ratio_median", r.median},
+                       {"ratio_min", r.min},
+                       {"ratio_max", r.max}};
   }
   return j;
 }

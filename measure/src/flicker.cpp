@@ -159,8 +159,9 @@ reuse_path_report measure_reuse(renderer& r, gaze_point start, const render_para
     if (jod) (reusing ? out.jod_reuse : out.jod_full) = jod->result();
   }
   out.has_jod = !converged.empty();
-  // Timing, interleaved (each pass puts the other first): a full trace leaves the reuse history as it was (trace() reads and
-  // writes it only when reusing), so one renderer times both, frame by frame.
+  // Timing, interleaved (each pass puts the other first): a full trace leaves the reuse
+  // history as it was (trace() reads and writes it only when reusing), so one renderer times
+  // both, frame by frame.
   render_params full = p;
   full.reuse.mode = reuse_mode::none;
   for (uint32_t k = 0; k < timing_repeats; ++k) {
