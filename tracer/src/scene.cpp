@@ -4,8 +4,7 @@
 #include <stdexcept>
 
 #include <fmt/format.h>
-#include <OpenImageIO/imagebuf.h>
-#include <OpenImageIO/imagebufalgo.h>
+#include <tbb/parallel_for.h>
 
 #include "fov/files.h"
 #include "fov/scene.h"
@@ -51,16 +50,6 @@ void alpha_filter(const RTCFilterFunctionNArguments* args) {
     const bool kept = g->mat->alpha == alpha_mode::mask ? alpha >= g->mat->alpha_cutoff : blend_coin(args, i) < alpha;
     if (!kept) args->valid[i] = 0;
   }
-}
-
-// Bilinear within a MIP level, linear between levels, isotropic footprint: what a GPU
-// does, and about 3x cheaper than OpenImageIO's default bicubic-when-magnifying
-// (docs/benchmarks.md).
-OIIO::TextureOpt lookup_options() {
-  OIIO::TextureOpt opt;
-  opt.interpmode = OIIO::TextureOpt::InterpBilinear;
-  opt.mipmode = OIIO::TextureOpt::MipModeTrilinear;
-  return opt;
 }
 
 double square_wave_integral(double x) {  // integral of a 0/1 square wave of period 2, high on [1, 2)
@@ -117,24 +106,13 @@ float leaf_alpha(glm::vec2 uv) {
   return std::fabs(uv.x - 0.5f) < half ? 1.0f : 0.0f;
 }
 
-bool scene::impl::texture4(OIIO::TextureSystem::TextureHandle* t, glm::vec2 uv, float duv, float out[4]) const {
-  if (!t) return false;
-  OIIO::TextureOpt opt = lookup_options();
-  opt.swrap = opt.twrap = OIIO::TextureOpt::WrapPeriodic;
-  opt.fill = 1.0f;
-  out[0] = out[1] = out[2] = out[3] = 1;
-  return textures->texture(t, textures->get_perthread_info(), opt, uv.x, uv.y, duv, 0, 0, duv, 4, out);
-}
-
 glm::vec4 scene::impl::base_colour(const material& mat, glm::vec2 uv, float duv) const {
   glm::vec4 c = mat.base_colour;
-  if (!mat.base_texture.file.empty()) {
-    float t[4];
-    if (texture4(handles_of(mat).base, uv, duv, t)) {
-      glm::vec3 rgb(t[0], t[1], t[2]);
-      if (mat.base_texture.srgb) rgb = srgb_decode(rgb);
-      c *= glm::vec4(rgb, t[3]);
-    }
+  if (const texture_pyramid* image = textures_of(mat).base) {
+    const glm::vec4 t = image->lookup(uv, duv);
+    glm::vec3 rgb(t);
+    if (mat.base_texture.srgb) rgb = srgb_decode(rgb);
+    c *= glm::vec4(rgb, t.a);
   }
   const glm::vec2 p = uv * mat.pattern_repeats;
   const float w = duv * mat.pattern_repeats;
@@ -157,32 +135,30 @@ glm::vec4 scene::impl::base_colour(const material& mat, glm::vec2 uv, float duv)
 
 glm::vec2 scene::impl::metallic_roughness(const material& mat, glm::vec2 uv, float duv) const {
   glm::vec2 mr(mat.metallic, mat.roughness);
-  float t[4];
-  if (!mat.metallic_roughness_texture.file.empty() && texture4(handles_of(mat).metallic_roughness, uv, duv, t))
-    mr *= glm::vec2(t[2], t[1]);
+  if (const texture_pyramid* image = textures_of(mat).metallic_roughness) {
+    const glm::vec4 t = image->lookup(uv, duv);
+    mr *= glm::vec2(t.b, t.g);
+  }
   return glm::clamp(mr, 0.0f, 1.0f);
 }
 
 float scene::impl::occlusion(const material& mat, glm::vec2 uv, float duv) const {
-  float t[4];
-  if (mat.occlusion_texture.file.empty() || !texture4(handles_of(mat).occlusion, uv, duv, t)) return 1;
-  return std::clamp(1 + mat.occlusion_strength * (t[0] - 1), 0.0f, 1.0f);
+  const texture_pyramid* image = textures_of(mat).occlusion;
+  if (!image) return 1;
+  return std::clamp(1 + mat.occlusion_strength * (image->lookup(uv, duv).r - 1), 0.0f, 1.0f);
 }
 
 glm::vec3 scene::impl::emission(const material& mat, glm::vec2 uv, float duv) const {
   glm::vec3 e = mat.emissive;
-  if (!mat.emissive_texture.file.empty() && e != glm::vec3(0)) {
-    float t[4];
-    if (texture4(handles_of(mat).emissive, uv, duv, t)) e *= srgb_decode(glm::vec3(t[0], t[1], t[2]));
-  }
+  if (const texture_pyramid* image = textures_of(mat).emissive; image && e != glm::vec3(0))
+    e *= srgb_decode(glm::vec3(image->lookup(uv, duv)));
   return e;
 }
 
 glm::vec3 scene::impl::normal_map(const material& mat, glm::vec2 uv, float duv) const {
-  if (mat.normal_texture.file.empty()) return {0, 0, 1};
-  float t[4];
-  if (!texture4(handles_of(mat).normal, uv, duv, t)) return {0, 0, 1};
-  const glm::vec3 n(2 * t[0] - 1, 2 * t[1] - 1, 2 * t[2] - 1);
+  const texture_pyramid* image = textures_of(mat).normal;
+  if (!image) return {0, 0, 1};
+  const glm::vec3 n = 2.0f * glm::vec3(image->lookup(uv, duv)) - 1.0f;
   const float len = glm::length(n);
   return len > 1e-6f ? n / len : glm::vec3(0, 0, 1);
 }
@@ -194,31 +170,6 @@ glm::vec3 scene::impl::environment_radiance(const glm::vec3& dir, float angle) c
   const float s = 0.5f + std::atan2(dir.x, -dir.z) / (2 * pi);
   const float t = std::acos(std::clamp(dir.y, -1.0f, 1.0f)) / pi;
   return env_map.lookup(s, t, angle / (2 * pi), angle / pi) * env.intensity;
-}
-
-glm::vec3 env_pyramid::lookup(float s, float t, float ds, float dt) const {
-  const level& top = levels.front();
-  // The level whose texel matches the footprint (the larger of its two extents).
-  const float texels = std::max(ds * float(top.width), dt * float(top.height));
-  const float lod = std::clamp(std::log2(std::max(texels, 1e-6f)), 0.0f, float(levels.size() - 1));
-  const int l0 = int(lod);
-  const int l1 = std::min(l0 + 1, int(levels.size()) - 1);
-  auto bilinear = [&](const level& m) {
-    const float x = s * float(m.width) - 0.5f, y = std::clamp(t * float(m.height) - 0.5f, 0.0f, float(m.height - 1));
-    const float fx = std::floor(x), fy = std::floor(y);
-    const float ax = x - fx, ay = y - fy;
-    // s lies in [0, 1], so x0 lies in [-1, width - 1]: wrap by comparison, not division.
-    int x0 = int(fx);
-    x0 = x0 < 0 ? x0 + m.width : (x0 >= m.width ? x0 - m.width : x0);
-    x0 = std::clamp(x0, 0, m.width - 1);  // a NaN direction lands on a texel too
-    const int x1 = x0 + 1 == m.width ? 0 : x0 + 1;
-    const int y0 = std::clamp(int(fy), 0, m.height - 1), y1 = std::min(y0 + 1, m.height - 1);
-    const glm::vec3* r0 = m.texels.data() + size_t(y0) * m.width;
-    const glm::vec3* r1 = m.texels.data() + size_t(y1) * m.width;
-    return glm::mix(glm::mix(r0[x0], r0[x1], ax), glm::mix(r1[x0], r1[x1], ax), ay);
-  };
-  const glm::vec3 a = bilinear(levels[size_t(l0)]);
-  return l1 == l0 ? a : glm::mix(a, bilinear(levels[size_t(l1)]), lod - float(l0));
 }
 
 env_sampler make_env_sampler(const env_pyramid& p) {
@@ -291,60 +242,6 @@ float env_sampler::pdf(const glm::vec3& dir) const {
   return texel[size_t(y) * size_t(width) + size_t(x)] * float(width) * float(height) / (2 * pi * pi * sin_theta);
 }
 
-env_pyramid load_env_pyramid(const std::string& file) {
-  // Read through an ImageInput of its own, never OpenImageIO's shared image cache: the cache
-  // keeps a file's header by name, so an image rewritten with another size in the same
-  // process was read into a buffer sized by the stale header (a heap overflow the env_image
-  // fuzz target found).
-  std::unique_ptr<OIIO::ImageInput> in;
-  OIIO::ImageBuf image;
-  bool read = false;
-  {
-    const stderr_silenced quiet;  // libpng prints its own line for what OpenImageIO reports below
-    in = OIIO::ImageInput::open(file);
-    if (in) {
-      const OIIO::ImageSpec& s = in->spec();
-      image.reset(OIIO::ImageSpec(s.width, s.height, s.nchannels, OIIO::TypeDesc::FLOAT));
-      read = in->read_image(0, 0, 0, s.nchannels, OIIO::TypeDesc::FLOAT, image.localpixels());
-    }
-  }
-  if (!read)
-    throw std::runtime_error(fmt::format("{}: cannot read environment image: {}", file,
-                                         first_line(in ? in->geterror() : OIIO::geterror())));
-  const OIIO::ImageSpec& spec = in->spec();  // the file's: its pixel format says sRGB or linear
-  const bool srgb = !(spec.format == OIIO::TypeDesc::FLOAT || spec.format == OIIO::TypeDesc::HALF ||
-                      spec.format == OIIO::TypeDesc::DOUBLE);
-  env_pyramid out;
-  OIIO::ImageBuf current = image;  // (float, from here on)
-  for (;;) {
-    const OIIO::ImageSpec cs = current.spec();  // a copy: `current` is replaced below
-    env_pyramid::level l;
-    l.width = cs.width, l.height = cs.height;
-    l.texels.resize(size_t(l.width) * l.height);
-    std::vector<float> px(size_t(l.width) * l.height * size_t(cs.nchannels));
-    current.get_pixels(OIIO::ROI(0, cs.width, 0, cs.height, 0, 1, 0, cs.nchannels), OIIO::TypeDesc::FLOAT, px.data());
-    for (size_t i = 0; i < l.texels.size(); ++i)
-      for (int c = 0; c < 3; ++c) {
-        float v = px[i * size_t(cs.nchannels) + size_t(std::min(c, cs.nchannels - 1))];
-        if (out.levels.empty() && !std::isfinite(v)) v = 0, ++out.non_finite;
-        if (out.levels.empty() && v < 0) v = 0, ++out.negative;
-        if (out.levels.empty() && v > max_env_value) v = max_env_value, ++out.too_bright;
-        l.texels[i][c] = srgb && out.levels.empty() ? srgb_decode(v) : v;
-      }
-    if (srgb && out.levels.empty()) {  // filter the decoded (linear) values from here on
-      OIIO::ImageSpec linear(cs.width, cs.height, 3, OIIO::TypeDesc::FLOAT);
-      current = OIIO::ImageBuf(linear);
-      current.set_pixels(OIIO::ROI(0, cs.width, 0, cs.height, 0, 1, 0, 3), OIIO::TypeDesc::FLOAT, l.texels.data());
-    }
-    out.levels.push_back(std::move(l));
-    if (cs.width == 1 && cs.height == 1) break;
-    const int w2 = std::max(1, cs.width / 2), h2 = std::max(1, cs.height / 2);
-    current = OIIO::ImageBufAlgo::resize(current, "box", 2.0f, OIIO::ROI(0, w2, 0, h2, 0, 1, 0, current.nchannels()));
-    if (current.has_error()) throw std::runtime_error(fmt::format("{}: cannot filter: {}", file, first_line(current.geterror())));
-  }
-  return out;
-}
-
 void scene::impl::surface_at(unsigned inst, unsigned prim, float u, float v, surface& s) const {
   const instance& in = desc.instances[inst];
   const geometry_data& g = geometry[in.mesh];
@@ -383,7 +280,7 @@ void scene::impl::surface_at(unsigned inst, unsigned prim, float u, float v, sur
 
 namespace {
 
-// One Embree device for the process, as OpenImageIO's texture system below: a device holds
+// One Embree device for the process: a device holds
 // thread pools and allocators, and a process that makes scene after scene (a sweep, a fuzz
 // run) failed to make one after a few thousand. Each scene holds a reference.
 RTCDevice shared_device() {
@@ -391,6 +288,41 @@ RTCDevice shared_device() {
   if (!device) throw std::runtime_error(fmt::format("Embree device: error {}", int(rtcGetDeviceError(nullptr))));
   rtcRetainDevice(device);
   return device;
+}
+
+// Reads every texture file the materials name, each once and side by side on the task
+// pool, into d.texture_images, and points each material's slots at them. A file that cannot
+// be read leaves its slots empty (the material's factors) with one warning naming it.
+void load_textures(scene::impl& d) {
+  std::vector<std::string> files;
+  std::unordered_map<std::string, size_t> index;
+  auto slot = [&](const texture_ref& t) {
+    if (!t.file.empty() && index.emplace(t.file, files.size()).second) files.push_back(t.file);
+  };
+  for (const material& m : d.desc.materials)
+    for (const texture_ref* t : {&m.base_texture, &m.emissive_texture, &m.normal_texture, &m.metallic_roughness_texture,
+                                 &m.occlusion_texture})
+      slot(*t);
+  d.texture_images.resize(files.size());
+  std::vector<std::string> problems(files.size());
+  {
+    const stderr_silenced quiet;  // libpng prints its own line for what the problem names
+    tbb::parallel_for(size_t(0), files.size(), [&](size_t i) {
+      try {
+        d.texture_images[i] = std::make_unique<texture_pyramid>(load_texture_pyramid(files[i]));
+      } catch (const std::exception& e) {
+        problems[i] = e.what();
+      }
+    });
+  }
+  for (const std::string& p : problems)
+    if (!p.empty()) d.desc.warnings.push_back(fmt::format("{}; using the material's factors", p));
+  auto image = [&](const texture_ref& t) -> const texture_pyramid* {
+    return t.file.empty() ? nullptr : d.texture_images[index.at(t.file)].get();
+  };
+  for (const material& m : d.desc.materials)
+    d.textures.push_back({image(m.base_texture), image(m.emissive_texture), image(m.normal_texture),
+                          image(m.metallic_roughness_texture), image(m.occlusion_texture)});
 }
 
 }  // namespace
@@ -401,21 +333,7 @@ scene::scene(scene_description description) : impl_(std::make_unique<impl>()) {
   d.desc = std::move(description);
   if (d.desc.materials.empty()) d.desc.materials.push_back({});
   d.device = shared_device();
-  // OpenImageIO's shared texture system: 2.4's TextureSystem::destroy() skips the
-  // implementation's destructor (a leak and a new/delete size mismatch under ASan), so
-  // per-scene systems are not used. Files this scene names are re-read, not taken stale.
-  d.textures = OIIO::TextureSystem::create(true);
-  d.textures->attribute("automip", 1);
-  d.textures->attribute("autotile", 64);
-  d.textures->attribute("max_memory_MB", 2048.0f);
-  auto resolve = [&](const texture_ref& t) -> OIIO::TextureSystem::TextureHandle* {
-    if (t.file.empty()) return nullptr;
-    d.textures->invalidate(OIIO::ustring(t.file));
-    return d.textures->get_texture_handle(OIIO::ustring(t.file));
-  };
-  for (const material& m : d.desc.materials)
-    d.handles.push_back({resolve(m.base_texture), resolve(m.emissive_texture), resolve(m.normal_texture),
-                         resolve(m.metallic_roughness_texture), resolve(m.occlusion_texture)});
+  load_textures(d);
   if (!d.desc.env.latlong_file.empty()) {
     d.env_map = load_env_pyramid(d.desc.env.latlong_file);
     if (d.env_map.non_finite)

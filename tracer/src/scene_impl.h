@@ -2,8 +2,8 @@
 #pragma once
 
 #include <embree3/rtcore.h>
-#include <OpenImageIO/texture.h>
 
+#include <memory>
 #include <string>
 #include <unordered_map>
 #include <vector>
@@ -29,13 +29,36 @@ struct surface {
   glm::vec4 tangent{0, 0, 0, 0};
 };
 
-// A material's textures, resolved once: lookups by handle skip the file-name lookup.
-struct texture_handles {
-  OIIO::TextureSystem::TextureHandle* base = nullptr;
-  OIIO::TextureSystem::TextureHandle* emissive = nullptr;
-  OIIO::TextureSystem::TextureHandle* normal = nullptr;
-  OIIO::TextureSystem::TextureHandle* metallic_roughness = nullptr;
-  OIIO::TextureSystem::TextureHandle* occlusion = nullptr;
+// No image past this many texels is read (a header may claim any size): 16384 x 16384.
+constexpr uint64_t max_image_texels = uint64_t(1) << 28;
+
+// A material texture as a MIP pyramid in memory, four channels (grey read as RGB, a missing
+// alpha as 1), values as the file holds them (sRGB ones are decoded after filtering, as a
+// texture unit does). Levels are box-filtered by OpenImageIO's resize, halving each side.
+// This replaced OpenImageIO's TextureSystem, whose per-lookup cost (tile cache, per-thread
+// state) was most of a textured scene's shading time (docs/benchmarks.md).
+struct texture_pyramid {
+  struct level {
+    int width = 0, height = 0;
+    std::vector<uint8_t> bytes;  // RGBA, row-major, row 0 at the top (t = 0): from 8-bit files
+    std::vector<float> floats;   // the same from deeper files (16-bit, half, float)
+  };
+  std::vector<level> levels;
+  // Filtered value at uv (periodic both ways) over a footprint of duv UV units: bilinear in
+  // the two levels around the footprint, linear between them (trilinear, isotropic).
+  glm::vec4 lookup(glm::vec2 uv, float duv) const;
+};
+// Reads `file` whole. Throws std::runtime_error naming the file.
+texture_pyramid load_texture_pyramid(const std::string& file);
+
+// A material's textures, each read once per scene (materials naming the same file share it);
+// null where the material has none or its file could not be read (a warning said which).
+struct material_textures {
+  const texture_pyramid* base = nullptr;
+  const texture_pyramid* emissive = nullptr;
+  const texture_pyramid* normal = nullptr;
+  const texture_pyramid* metallic_roughness = nullptr;
+  const texture_pyramid* occlusion = nullptr;
 };
 
 // A lat-long environment image as a MIP pyramid in memory (levels built by OpenImageIO's
@@ -110,8 +133,8 @@ struct scene::impl {
   std::vector<RTCScene> mesh_scenes;
   std::vector<geometry_data> geometry;  // per mesh
   std::vector<glm::mat3> normal_matrix;  // per instance
-  OIIO::TextureSystem* textures = nullptr;  // OpenImageIO's shared system, not owned
-  std::vector<texture_handles> handles;      // per material
+  std::vector<std::unique_ptr<texture_pyramid>> texture_images;  // each file once
+  std::vector<material_textures> textures;                        // per material
   env_pyramid env_map;
   env_sampler env_light;  // when has_env_map
   emitter_set emitters;
@@ -132,9 +155,7 @@ struct scene::impl {
   glm::vec3 environment_radiance(const glm::vec3& dir, float angle) const;
   // Fills `s` for a hit of instance `inst`, primitive `prim` at barycentrics (u, v).
   void surface_at(unsigned inst, unsigned prim, float u, float v, surface& s) const;
-  // 4 channels (fill alpha = 1) of a texture; false when there is none or the lookup failed.
-  bool texture4(OIIO::TextureSystem::TextureHandle* t, glm::vec2 uv, float duv, float out[4]) const;
-  const texture_handles& handles_of(const material& mat) const { return handles[size_t(&mat - desc.materials.data())]; }
+  const material_textures& textures_of(const material& mat) const { return textures[size_t(&mat - desc.materials.data())]; }
 };
 
 // Procedural patterns, filtered over a box of width w pattern units.

@@ -14,7 +14,7 @@
 
 namespace fov {
 
-// A texture file read through OpenImageIO's TextureSystem (mip-mapped, filtered).
+// A texture file, read whole into a MIP pyramid when the scene is made (docs/tracer.md).
 struct texture_ref {
   std::string file;   // empty: none
   bool srgb = true;   // colour data stored sRGB-encoded (decoded after filtering)
