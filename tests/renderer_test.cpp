@@ -776,6 +776,46 @@ TEST(Reuse, AMovedObjectIsTracedWhereItWasAndWhereItIs) {
   }
 }
 
+// Each frame writes its history over the arrays of the one before last (reuse_history::spare)
+// instead of allocating them: along a moving camera with a short maximum age (so that ages
+// matter), a history recycled frame after frame decides and keeps exactly what a fresh copy
+// of it (a copy has no spare arrays) does.
+TEST(Reuse, ARecycledHistoryDecidesAsAFreshOne) {
+  const scene scn(red_before_blue(-2));
+  const auto set = small_set(64, 48);
+  trace_params tp;
+  tp.spp = 4;
+  tp.k = 5;
+  const traced_index index = make_traced_index(*set, 5);
+  reuse_params p;
+  p.mode = reuse_mode::temporal;
+  p.fovea_deg = 0;
+  p.max_age = 2;
+  reuse_history recycled, fresh;
+  uint64_t kept = 0;
+  for (uint32_t n = 0; n < 7; ++n) {
+    const camera cam = look_at({0.01f * float(n), 0, 0}, {0.01f * float(n) + 0.02f * float(n), 0, -1}, 90);
+    const gaze_point g{32.0 + n, 24};
+    reuse_history copy = fresh;  // no spare arrays: this frame allocates
+    const reused_trace a = trace_reusing(scn, cam, *set, index, g, tp, p, recycled);
+    const reused_trace b = trace_reusing(scn, cam, *set, index, g, tp, p, copy);
+    fresh = copy;
+    ASSERT_EQ(a.kept, b.kept) << "frame " << n;
+    ASSERT_EQ(a.trace.samples.colour, b.trace.samples.colour) << "frame " << n;
+    ASSERT_EQ(recycled.kind, fresh.kind) << "frame " << n;
+    // (Entries of points not seen this frame are stale in recycled arrays and never read.)
+    for (size_t i = 0; i < fresh.kind.size(); ++i)
+      if (fresh.kind[i] != reuse_history::seen::nothing) {
+        ASSERT_EQ(recycled.age[i], fresh.age[i]) << "frame " << n;
+      }
+    if (n >= 2) {
+      EXPECT_FALSE(recycled.spare.kind.empty()) << "frame " << n << " recycled nothing";
+    }
+    kept += a.report.reused;
+  }
+  EXPECT_GT(kept, 0u);
+}
+
 TEST_F(pipeline, AMovingCameraKeepsWhatStillHoldsAndTracesTheRest) {
   render_params reusing = params;
   reusing.reuse.mode = reuse_mode::temporal;

@@ -214,7 +214,8 @@ nlohmann::json reuse_json(const reuse_report& r) {
   return {{"points", r.points},           {"reused", r.reused},           {"traced", r.traced},
           {"probe_rays", r.probe_rays},   {"rays_traced", r.rays_traced}, {"rays_reused", r.rays_reused},
           {"reused_share", r.reused_share()}, {"kept_for_budget", r.kept_for_budget}, {"budget_short", r.budget_short},
-          {"by_eccentricity", bands}, {"by_verdict", verdicts}};
+          {"by_eccentricity", bands}, {"by_verdict", verdicts},
+          {"ms", {{"probe", r.ms_probe}, {"decide", r.ms_decide}, {"trace", r.ms_trace}, {"history", r.ms_history}}}};
 }
 
 nlohmann::json refinement_json(const frame_timing& t, const render_params& p, const nested_levels& levels) {

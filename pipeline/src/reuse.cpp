@@ -1,6 +1,7 @@
 #include "fov/reuse.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -58,7 +59,12 @@ reused_trace trace_reusing(const scene& s, const camera& cam, const pointset& se
   if (const std::string why = validate(p); !why.empty()) throw std::invalid_argument(why);
   if (params.ray_floor != 0) throw std::invalid_argument("temporal reuse traces every point at spp rays: no ray floor");
   const display_geometry& disp = set.model.display;
+  using clock = std::chrono::steady_clock;
+  auto since = [](clock::time_point t) { return std::chrono::duration<double, std::milli>(clock::now() - t).count(); };
+  clock::time_point t = clock::now();
   const point_probe probe = probe_points(s, cam, set, index, gaze, params);
+  const double ms_probe = since(t);
+  t = clock::now();
   const size_t n = set.points.size(), m = probe.points.size();
   const camera_frame now = make_frame(cam, disp.width, disp.height);
   spacing_model eye = set.model;  // the true eccentricity: the viewer's, not the set's scaled one
@@ -204,42 +210,65 @@ reused_trace trace_reusing(const scene& s, const camera& cam, const pointset& se
   std::vector<uint32_t> to_trace;
   for (size_t j = 0; j < m; ++j)
     if (source[j] < 0) to_trace.push_back(probe.points[j]);
+  rep.ms_probe = ms_probe, rep.ms_decide = since(t);
+  t = clock::now();
   out.trace = trace_listed_points(s, cam, set, to_trace, gaze, params);
+  rep.ms_trace = since(t);
+  t = clock::now();
   point_samples& smp = out.trace.samples;
+  // The next history is written over the arrays of the one before this (allocating them
+  // afresh each frame, a few tens of MB, cost more than deciding: docs/reuse.md). Only the
+  // kinds need clearing: a point's other entries are read only when its kind says it was seen.
   reuse_history next;
-  next.reset(n);
+  {
+    reuse_history::arrays& a = history.spare;
+    next.colour.swap(a.colour), next.where.swap(a.where), next.depth_bias.swap(a.depth_bias);
+    next.hits.swap(a.hits), next.kind.swap(a.kind), next.age.swap(a.age);
+  }
+  next.colour.resize(n), next.where.resize(n), next.depth_bias.resize(n), next.hits.resize(n), next.age.resize(n);
+  next.kind.assign(n, reuse_history::seen::nothing);
+  // Each listed point's sample (kept or traced) into the frame's samples and the next
+  // history, side by side (each point writes only its own entries); then the counts, in order.
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, m, 4096), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t j = r.begin(); j < r.end(); ++j) {
+      const uint32_t pt = probe.points[j];
+      if (source[j] >= 0) {
+        const size_t i = size_t(source[j]);
+        const bool hit = history.kind[i] == reuse_history::seen::hit || history.kind[i] == reuse_history::seen::sloped;
+        smp.colour[pt] = history.colour[i];
+        smp.hits[pt] = history.hits[i];
+        smp.depth[pt] = hit ? glm::dot(history.where[i] - now.origin, now.forward) + history.depth_bias[i] : infinity;
+        next.colour[pt] = history.colour[i], next.where[pt] = history.where[i], next.hits[pt] = history.hits[i];
+        next.depth_bias[pt] = history.depth_bias[i];
+        next.kind[pt] = history.kind[i];
+        next.age[pt] = uint16_t(history.age[i] + 1);
+      } else {
+        const bool hit = probe.distance[j] != infinity;
+        next.colour[pt] = smp.colour[pt], next.where[pt] = probe.where[j], next.hits[pt] = smp.hits[pt];
+        next.depth_bias[pt] = 0, next.age[pt] = 0;
+        // A sample is kept only where all its rays saw what its centre saw: all hit or all missed.
+        // ... and, for a hit, its rays' mean depth lies within half its disc's world radius of its
+        // centre's (a disc across a depth edge has all its rays hit, on two surfaces).
+        const float centre_depth = glm::dot(probe.where[j] - now.origin, now.forward);
+        const float bias = smp.depth[pt] - centre_depth;
+        const float disc = hit ? set.points[pt].spacing * now.pixel_angle * centre_depth : 0;
+        next.kind[pt] = reuse_history::seen::mixed;
+        if (hit && smp.hits[pt] == params.spp) {
+          next.kind[pt] = std::fabs(bias) <= 0.5f * disc ? reuse_history::seen::hit : reuse_history::seen::sloped;
+          next.depth_bias[pt] = bias;
+        }
+        if (!hit && smp.hits[pt] == 0) next.kind[pt] = reuse_history::seen::miss;
+      }
+    }
+  });
   for (size_t j = 0; j < m; ++j) {
-    const uint32_t pt = probe.points[j];
     ++rep.points_by_band[band[j]];
     ++rep.by_verdict[size_t(verdict[j])];
-    if (source[j] >= 0) ++rep.reused_by_band[band[j]];
     if (source[j] >= 0) {
-      const size_t i = size_t(source[j]);
-      const bool hit = history.kind[i] == reuse_history::seen::hit || history.kind[i] == reuse_history::seen::sloped;
-      smp.colour[pt] = history.colour[i];
-      smp.hits[pt] = history.hits[i];
-      smp.depth[pt] = hit ? glm::dot(history.where[i] - now.origin, now.forward) + history.depth_bias[i] : infinity;
-      next.colour[pt] = history.colour[i], next.where[pt] = history.where[i], next.hits[pt] = history.hits[i];
-      next.depth_bias[pt] = history.depth_bias[i];
-      next.kind[pt] = history.kind[i];
-      next.age[pt] = uint16_t(history.age[i] + 1);
-      out.kept.push_back(pt);
+      ++rep.reused_by_band[band[j]];
+      out.kept.push_back(probe.points[j]);
       ++rep.reused;
     } else {
-      const bool hit = probe.distance[j] != infinity;
-      next.colour[pt] = smp.colour[pt], next.where[pt] = probe.where[j], next.hits[pt] = smp.hits[pt];
-      // A sample is kept only where all its rays saw what its centre saw: all hit or all missed.
-      // ... and, for a hit, its rays' mean depth lies within half its disc's world radius of its
-      // centre's (a disc across a depth edge has all its rays hit, on two surfaces).
-      const float centre_depth = glm::dot(probe.where[j] - now.origin, now.forward);
-      const float bias = smp.depth[pt] - centre_depth;
-      const float disc = hit ? set.points[pt].spacing * now.pixel_angle * centre_depth : 0;
-      next.kind[pt] = reuse_history::seen::mixed;
-      if (hit && smp.hits[pt] == params.spp) {
-        next.kind[pt] = std::fabs(bias) <= 0.5f * disc ? reuse_history::seen::hit : reuse_history::seen::sloped;
-        next.depth_bias[pt] = bias;
-      }
-      if (!hit && smp.hits[pt] == 0) next.kind[pt] = reuse_history::seen::miss;
       ++rep.traced;
     }
   }
@@ -254,7 +283,13 @@ reused_trace trace_reusing(const scene& s, const camera& cam, const pointset& se
   next.offset = probe.offset;
   next.mirror_x = probe.mirror_x, next.mirror_y = probe.mirror_y;
   next.valid = true;
+  {
+    reuse_history::arrays& a = next.spare;
+    a.colour = std::move(history.colour), a.where = std::move(history.where), a.depth_bias = std::move(history.depth_bias);
+    a.hits = std::move(history.hits), a.kind = std::move(history.kind), a.age = std::move(history.age);
+  }
   history = std::move(next);
+  rep.ms_history = since(t);
   return out;
 }
 

@@ -111,6 +111,22 @@ struct reuse_history {
   canvas_offset offset;
   bool mirror_x = false, mirror_y = false;
   bool valid = false;
+  // The arrays of the history before this one, for the next frame to write over instead of
+  // allocating its own (trace_reusing). Not part of the history's value: a copy starts
+  // without them.
+  struct arrays {
+    std::vector<glm::vec3> colour, where;
+    std::vector<float> depth_bias;
+    std::vector<uint16_t> hits;
+    std::vector<seen> kind;
+    std::vector<uint16_t> age;
+    arrays() = default;
+    arrays(const arrays&) {}
+    arrays& operator=(const arrays&) { return *this; }
+    arrays(arrays&&) = default;
+    arrays& operator=(arrays&&) = default;
+    ~arrays() = default;
+  } spare;
   void clear() { *this = reuse_history{}; }
   // n points, none seen (its view and placement left as they are; not valid).
   void reset(size_t n);
@@ -164,6 +180,9 @@ struct reuse_report {
   bool budget_short = false;
   // The points by verdict (reuse_verdict; the budget's kept count as kept).
   uint64_t by_verdict[reuse_verdicts] = {};
+  // Where the frame's wall time went, ms: probing every point, deciding which keep a sample,
+  // tracing the rest, and keeping this frame's samples as the next frame's history.
+  double ms_probe = 0, ms_decide = 0, ms_trace = 0, ms_history = 0;
   double reused_share() const { return points ? double(reused) / double(points) : 0.0; }
 };
 
