@@ -1039,6 +1039,44 @@ TEST(Tracer, UnreadableTexturesWarnWithTheirReason) {
   fs::remove_all(dir);
 }
 
+// Debian's Assimp read past the end of its buffer on "f 1 1 1/1//31/ 3//441 1" (a scene
+// fuzz finding, in a file named .glb: Assimp tried its OBJ reader on it). Vertex references
+// of any other form than v, v/vt, v//vn, v/vt/vn are refused before Assimp parses them,
+// in .obj files and in files whose extension Assimp does not know; a .glb without its
+// magic is refused as one. The four forms and comment lines still load (a '#' after a
+// face is not a comment to Assimp, which refused such faces before).
+TEST(Tracer, ObjFacesAssimpWouldMisreadAreRefused) {
+  const fs::path dir = fs::temp_directory_path() / ("fovray-objfaces-" + std::to_string(getpid()));
+  fs::create_directories(dir);
+  auto message = [](const fs::path& file) {
+    try {
+      load_scene(file.string());
+      return std::string();
+    } catch (const std::exception& e) {
+      return std::string(e.what());
+    }
+  };
+  const std::string vertices = "v -1 -1 -3\nv 1 -1 -3\nv 1 1 -3\nvt 0 0\nvt 1 0\nvt 1 1\nvn 0 0 1\n";
+  for (const std::string face : {"f 1 2 3", "f 1/1 2/2 3/3", "f 1//1 2//1 3//1", "f 1/1/1 2/2/1 3/3/1",
+                                 "# f 1/1//31/ (a comment)\nf 1 2 3"}) {
+    std::ofstream(dir / "ok.obj") << vertices << face << "\n";
+    EXPECT_EQ(message(dir / "ok.obj"), "") << face;
+  }
+  for (const std::string face :
+       {"f 1 1 1/1//31/ 3//441 1", "f 1/ 2 3", "f 1// 2 3", "f 1/1/1/ 2 3", "f a 2 3", "l 1 2/x", "f 1 2 3 # 1/1//31/"}) {
+    std::ofstream(dir / "bad.obj") << vertices << face << "\n";
+    const std::string why = message(dir / "bad.obj");
+    EXPECT_NE(why.find("bad.obj: line 8: vertex reference"), std::string::npos) << face << ": " << why;
+  }
+  std::ofstream(dir / "bad.dat") << vertices << "f 1 2 3/1//\n";  // (an extension Assimp does not know)
+  EXPECT_NE(message(dir / "bad.dat").find("line 8: vertex reference '3/1//'"), std::string::npos) << message(dir / "bad.dat");
+  std::ofstream(dir / "obj.glb") << "f 1 1 1/1//31/ 3//441 1\n";
+  EXPECT_NE(message(dir / "obj.glb").find("is not a binary glTF"), std::string::npos) << message(dir / "obj.glb");
+  std::ofstream(dir / "short.glb") << "glTF";
+  EXPECT_NE(message(dir / "short.glb").find("too short for a binary glTF"), std::string::npos) << message(dir / "short.glb");
+  fs::remove_all(dir);
+}
+
 // env: images: special files are refused up front (/dev/zero read forever), too large an
 // image is refused with its size, and NaN or infinite texels are reported and read as 0.
 TEST(Tracer, EnvironmentImagesAreCheckedBeforeUse) {

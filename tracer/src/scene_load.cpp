@@ -10,6 +10,7 @@
 
 #include <sys/stat.h>
 
+#include <cctype>
 #include <cerrno>
 #include <cstring>
 
@@ -223,7 +224,10 @@ gltf_check check_gltf(const std::string& path, const std::string& extension) {
     std::ifstream in(path, std::ios::binary);  // (load_file has checked it is a regular file)
     char head[20] = {};
     uint32_t length = 0, type = 0;
-    if (!in.read(head, sizeof head)) return {};
+    // Not a binary glTF at all: refused here, since Assimp, its glTF readers failing, tries
+    // its other readers on the content (OBJ text in a .glb: a fuzz finding, see obj_problem).
+    if (!in.read(head, sizeof head)) return std::string("is too short for a binary glTF (a 20-byte header) (refused)");
+    if (std::memcmp(head, "glTF", 4) != 0) return std::string("is not a binary glTF: no 'glTF' at its start (refused)");
     std::memcpy(&length, head + 12, 4), std::memcpy(&type, head + 16, 4);
     if (type != 0x4E4F534Au) return {};
     // Assimp allocates what a chunk's length says before reading it: a length past the
@@ -422,6 +426,54 @@ class assimp_log : public Assimp::LogStream {
   static constexpr unsigned severities = Assimp::Logger::Warn | Assimp::Logger::Err;
 };
 
+// An OBJ's face, line and point elements ('f', 'l', 'p'), checked before Assimp parses them:
+// every vertex reference one of v, v/vt, v//vn or v/vt/vn (whole numbers, signed). Debian's
+// Assimp misreads others: "f 1 1/1//31/ 3" sent its strtol past the end of the file's
+// buffer (a heap overflow the scene fuzz target found). Returns "line N: ..." or "".
+std::string obj_problem(const std::string& path) {
+  const std::string text = read_input_file(path, max_scene_file_bytes, "scene file");
+  auto number = [](const std::string& t, size_t& i) {  // [+-]digits from i; false if none
+    if (i < t.size() && (t[i] == '+' || t[i] == '-')) ++i;
+    const size_t start = i;
+    while (i < t.size() && std::isdigit(static_cast<unsigned char>(t[i]))) ++i;
+    return i > start;
+  };
+  auto reference = [&](const std::string& t) {
+    size_t i = 0;
+    if (!number(t, i)) return false;
+    if (i == t.size()) return true;            // v
+    if (t[i++] != '/') return false;
+    if (i < t.size() && t[i] == '/') {          // v//vn
+      ++i;
+      return number(t, i) && i == t.size();
+    }
+    if (!number(t, i)) return false;            // v/vt
+    if (i == t.size()) return true;
+    if (t[i++] != '/') return false;            // v/vt/vn
+    return number(t, i) && i == t.size();
+  };
+  size_t line = 0, at = 0;
+  while (at < text.size()) {
+    const size_t end = std::min(text.find('\n', at), text.size());
+    const std::string l = text.substr(at, end - at);  // (Assimp reads a '#' after a face as part of it)
+    at = end + 1, ++line;
+    std::vector<std::string> tokens;
+    size_t i = 0;
+    while (i < l.size()) {
+      while (i < l.size() && std::isspace(static_cast<unsigned char>(l[i]))) ++i;
+      const size_t start = i;
+      while (i < l.size() && !std::isspace(static_cast<unsigned char>(l[i]))) ++i;
+      if (i > start) tokens.push_back(l.substr(start, i - start));
+    }
+    if (tokens.empty() || (tokens[0] != "f" && tokens[0] != "l" && tokens[0] != "p")) continue;
+    for (size_t k = 1; k < tokens.size(); ++k)
+      if (!reference(tokens[k]))
+        return fmt::format("line {}: vertex reference '{}' is not v, v/vt, v//vn or v/vt/vn (refused before Assimp "
+                           "parses it)", line, printable(tokens[k], 40));
+  }
+  return {};
+}
+
 std::mutex& assimp_mutex() {
   static std::mutex m;
   return m;
@@ -439,6 +491,10 @@ scene_description load_file(const std::string& path) {
     if (!checked.problem.empty()) throw std::runtime_error(fmt::format("{}: {}", path, checked.problem));
   }
   Assimp::Importer importer;
+  // OBJ, by its extension or by its content where Assimp does not know the extension (it
+  // then tries its readers on the content).
+  if (extension == ".obj" || !importer.IsExtensionSupported(extension))
+    if (const std::string why = obj_problem(path); !why.empty()) throw std::runtime_error(fmt::format("{}: {}", path, why));
   auto* io = new checked_io;  // the importer owns it
   importer.SetIOHandler(io);
   const unsigned flags = aiProcess_Triangulate | aiProcess_JoinIdenticalVertices | aiProcess_GenSmoothNormals |
