@@ -80,11 +80,33 @@ reused_trace trace_reusing(const scene& s, const camera& cam, const pointset& se
   std::vector<int64_t> fallback(budgeted ? m : 0, -1);
   std::vector<float> confidence(budgeted ? m : 0, 0.0f), eccentricity(budgeted ? m : 0, 0.0f);
   const bool usable = history.valid && history.colour.size() == n;
-  // Each point's probe distance (+inf: a miss; NaN: not probed), for the edge test below.
-  std::vector<float> seen_at;
+  // What deciding reads of each point, in one record (reuse_history::record), side by side:
+  // its last-frame kind, age and luminance, where its sample lies (world: as stored; screen:
+  // projected into this view once, not once for every point that tries it), and this frame's
+  // probe distance for the edge test (+inf: a miss; NaN: not probed).
+  using seen = reuse_history::seen;
+  std::vector<reuse_history::record>& rec = history.spare.records;
   if (usable) {
-    seen_at.assign(n, std::numeric_limits<float>::quiet_NaN());
-    for (size_t j = 0; j < m; ++j) seen_at[probe.points[j]] = probe.distance[j];
+    rec.resize(n);
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 4096), [&](const tbb::blocked_range<size_t>& r) {
+      for (size_t i = r.begin(); i < r.end(); ++i) {
+        reuse_history::record& c = rec[i];
+        c.kind = history.kind[i];
+        c.seen_now = std::numeric_limits<float>::quiet_NaN();
+        if (c.kind != seen::hit && c.kind != seen::sloped && c.kind != seen::miss) continue;
+        c.luminance = luminance(history.colour[i]);
+        c.age = history.age[i];
+        const glm::vec3& w = history.where[i];
+        if (p.distance == reuse_distance::world) {
+          c.at = w;
+        } else {
+          float z = 0;
+          const glm::vec2 q = project(now, c.kind == seen::miss ? now.origin + w : w, &z);
+          c.at = glm::vec3(q, z);
+        }
+      }
+    });
+    for (size_t j = 0; j < m; ++j) rec[probe.points[j]].seen_now = probe.distance[j];
   }
   tbb::parallel_for(tbb::blocked_range<size_t>(0, m, 1024), [&](const tbb::blocked_range<size_t>& r) {
     uint32_t near[8];
@@ -108,7 +130,7 @@ reused_trace trace_reusing(const scene& s, const camera& cam, const pointset& se
         pixel_neighbours(set, uint32_t(here.x), uint32_t(here.y), candidates, near);
         bool edge = false;
         for (uint32_t k = 0; k < candidates && !edge; ++k) {
-          const float other = seen_at[near[k]];
+          const float other = rec[near[k]].seen_now;
           if (std::isnan(other)) continue;
           edge = hit ? !(std::fabs(other - probe.distance[j]) <= 0.1f * probe.distance[j]) : other != infinity;
         }
@@ -123,7 +145,7 @@ reused_trace trace_reusing(const scene& s, const camera& cam, const pointset& se
       const glm::vec2 then = canvas_position(disp, q, history.offset, history.mirror_x, history.mirror_y);
       if (!(then.x >= 0 && then.x < canvas_w && then.y >= 0 && then.y < canvas_h)) continue;
       pixel_neighbours(set, uint32_t(then.x), uint32_t(then.y), candidates, near);
-      const reuse_history::seen want = hit ? reuse_history::seen::hit : reuse_history::seen::miss;
+      const seen want = hit ? seen::hit : seen::miss;
       const bool sloped_is_hit = hit && p.edges == reuse_edges::silhouettes;
       const float centre_depth = hit ? glm::dot(probe.where[j] - now.origin, now.forward) : 0.0f;
       int64_t best = -1;
@@ -131,22 +153,20 @@ reused_trace trace_reusing(const scene& s, const camera& cam, const pointset& se
       bool edge_then = false;
       for (uint32_t c = 0; c < candidates; ++c) {
         const uint32_t i = near[c];
-        edge_then |= history.kind[i] == reuse_history::seen::mixed ||
-                     (history.kind[i] == reuse_history::seen::sloped && p.edges == reuse_edges::strict);
-        if (history.kind[i] != want && !(sloped_is_hit && history.kind[i] == reuse_history::seen::sloped)) continue;
-        const float l = luminance(history.colour[i]);
-        lo = std::min(lo, l), hi = std::max(hi, l);
-        if (history.age[i] >= p.max_age) continue;
+        const reuse_history::record& cand = rec[i];
+        edge_then |= cand.kind == seen::mixed || (cand.kind == seen::sloped && p.edges == reuse_edges::strict);
+        if (cand.kind != want && !(sloped_is_hit && cand.kind == seen::sloped)) continue;
+        lo = std::min(lo, cand.luminance), hi = std::max(hi, cand.luminance);
+        if (cand.age >= p.max_age) continue;
         // world: for hits the world distance, for misses the chord between the directions (the
         // angle, nearly); screen: the pixels between the point and the sample seen from here.
         float d = 0;
         if (p.distance == reuse_distance::world) {
-          d = glm::distance(history.where[i], probe.where[j]);
+          d = glm::distance(cand.at, probe.where[j]);
         } else {
-          float z = 0;
-          const glm::vec2 seen = project(now, hit ? history.where[i] : now.origin + history.where[i], &z);
+          const float z = cand.at.z;
           if (!(z > 0) || (hit && !(std::fabs(z - centre_depth) <= 0.1f * centre_depth))) continue;
-          d = glm::distance(seen, at);
+          d = glm::distance(glm::vec2(cand.at), at);
         }
         if (d < best_distance) best_distance = d, best = i;
       }
@@ -287,6 +307,7 @@ reused_trace trace_reusing(const scene& s, const camera& cam, const pointset& se
     reuse_history::arrays& a = next.spare;
     a.colour = std::move(history.colour), a.where = std::move(history.where), a.depth_bias = std::move(history.depth_bias);
     a.hits = std::move(history.hits), a.kind = std::move(history.kind), a.age = std::move(history.age);
+    a.records = std::move(history.spare.records);
   }
   history = std::move(next);
   rep.ms_history = since(t);

@@ -114,7 +114,16 @@ struct reuse_history {
   // The arrays of the history before this one, for the next frame to write over instead of
   // allocating its own (trace_reusing). Not part of the history's value: a copy starts
   // without them.
+  // What deciding reads of one point, gathered once a frame into one record (trace_reusing).
+  struct record {
+    glm::vec3 at{0};  // its sample: world position or direction, or (screen distance) its screen position and depth here
+    float luminance = 0;
+    float seen_now = 0;  // this frame's probe distance (+inf: a miss; NaN: not probed)
+    uint16_t age = 0;
+    seen kind = seen::nothing;
+  };
   struct arrays {
+    std::vector<record> records;  // (scratch for deciding)
     std::vector<glm::vec3> colour, where;
     std::vector<float> depth_bias;
     std::vector<uint16_t> hits;
