@@ -34,7 +34,8 @@ constexpr uint64_t max_image_texels = uint64_t(1) << 28;
 
 // A material texture as a MIP pyramid in memory, four channels (grey read as RGB, a missing
 // alpha as 1), values as the file holds them (sRGB ones are decoded after filtering, as a
-// texture unit does). Levels are box-filtered by OpenImageIO's resize, halving each side.
+// texture unit does). Each level halves the one above, each texel the mean of the area it
+// covers (tracer/src/textures.cpp).
 // This replaced OpenImageIO's TextureSystem, whose per-lookup cost (tile cache, per-thread
 // state) was most of a textured scene's shading time (docs/benchmarks.md).
 struct texture_pyramid {
@@ -61,8 +62,8 @@ struct material_textures {
   const texture_pyramid* occlusion = nullptr;
 };
 
-// A lat-long environment image as a MIP pyramid in memory (levels built by OpenImageIO's
-// box-filtered resize). One environment lookup per ray is the whole cost of an env: scene,
+// A lat-long environment image as a MIP pyramid in memory (levels built as a
+// texture_pyramid's). One environment lookup per ray is the whole cost of an env: scene,
 // and a TextureSystem call per ray made that cost dominate (docs/fovview.md has the
 // measurement); this lookup is a trilinear read: two bilinear taps at the MIP level the
 // footprint asks for.

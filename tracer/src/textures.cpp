@@ -6,7 +6,6 @@
 #include <stdexcept>
 
 #include <fmt/format.h>
-#include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imageio.h>
 
 #include "fov/colour.h"
@@ -17,6 +16,12 @@ namespace fov {
 
 namespace {
 
+// An image's texels as float (a MIP level, or a whole file).
+struct float_level {
+  int width = 0, height = 0, channels = 0;
+  std::vector<float> values;  // row-major, channels interleaved
+};
+
 // A whole image read as float, with its file's pixel format. Through an ImageInput of its
 // own, never OpenImageIO's shared image cache: the cache keeps a file's header by name, so
 // an image rewritten with another size in the same process was read into a buffer sized by
@@ -24,7 +29,7 @@ namespace {
 // max_image_texels are refused before their pixels are allocated. Throws std::runtime_error
 // naming the file and `what` it is.
 struct float_image {
-  OIIO::ImageBuf pixels;
+  float_level texels;
   OIIO::TypeDesc format;  // the file's
 };
 float_image read_float_image(const std::string& file, const char* what) {
@@ -42,8 +47,9 @@ float_image read_float_image(const std::string& file, const char* what) {
       throw std::runtime_error(fmt::format("{}: cannot read {}: it is {} x {} texels, more than the {} a {} may have",
                                            file, what, s.width, s.height, max_image_texels, what));
     out.format = s.format;
-    out.pixels.reset(OIIO::ImageSpec(s.width, s.height, s.nchannels, OIIO::TypeDesc::FLOAT));
-    read = in->read_image(0, 0, 0, s.nchannels, OIIO::TypeDesc::FLOAT, out.pixels.localpixels());
+    out.texels = {s.width, s.height, s.nchannels, {}};
+    out.texels.values.resize(size_t(s.width) * size_t(s.height) * size_t(s.nchannels));
+    read = in->read_image(0, 0, 0, s.nchannels, OIIO::TypeDesc::FLOAT, out.texels.values.data());
   }
   if (!read)
     throw std::runtime_error(
@@ -54,10 +60,6 @@ float_image read_float_image(const std::string& file, const char* what) {
 // One MIP level from the one above: half its size each way (rounded down, at least 1),
 // each texel the mean of the source area it covers (2 x 2 texels where the size is even;
 // where it is odd, partly covered texels count by the part covered). Separable box filter.
-struct float_level {
-  int width = 0, height = 0, channels = 0;
-  std::vector<float> values;  // row-major, channels interleaved
-};
 float_level halve(const float_level& in) {
   auto weights = [](int from, int to) {  // per output texel: (first source texel, weights)
     std::vector<std::pair<int, std::vector<float>>> out(static_cast<size_t>(to));
@@ -127,19 +129,22 @@ axis_taps clamped_taps(float x, int size) {
   return {i0, std::min(i0 + 1, size - 1), std::isfinite(a) ? a : 0.0f};
 }
 
-// The MIP level a footprint of `texels` texels of the finest level falls on, fractional.
-float level_of(float texels, size_t levels) {
-  return std::clamp(std::log2(std::max(texels, 1e-6f)), 0.0f, float(levels - 1));
+// Trilinear: bilinear(level) at the two MIP levels around a footprint of `texels` texels of
+// the finest level, blended linearly between them.
+template <typename Level, typename Bilinear>
+auto trilinear(const std::vector<Level>& levels, float texels, Bilinear&& bilinear) {
+  const float lod = std::clamp(std::log2(std::max(texels, 1e-6f)), 0.0f, float(levels.size() - 1));
+  const int l0 = int(lod);
+  const int l1 = std::min(l0 + 1, int(levels.size()) - 1);
+  const auto a = bilinear(levels[size_t(l0)]);
+  return l1 == l0 ? a : glm::mix(a, bilinear(levels[size_t(l1)]), lod - float(l0));
 }
 
 }  // namespace
 
 glm::vec4 texture_pyramid::lookup(glm::vec2 uv, float duv) const {
   const level& top = levels.front();
-  const float lod = level_of(duv * float(std::max(top.width, top.height)), levels.size());
-  const int l0 = int(lod);
-  const int l1 = std::min(l0 + 1, int(levels.size()) - 1);
-  auto bilinear = [&](const level& m) {
+  return trilinear(levels, duv * float(std::max(top.width, top.height)), [&](const level& m) {
     const axis_taps x = periodic_taps(uv.x * float(m.width) - 0.5f, m.width);
     const axis_taps y = periodic_taps(uv.y * float(m.height) - 0.5f, m.height);
     const size_t r0 = size_t(y.i0) * size_t(m.width), r1 = size_t(y.i1) * size_t(m.width);
@@ -153,23 +158,21 @@ glm::vec4 texture_pyramid::lookup(glm::vec2 uv, float duv) const {
     };
     return glm::mix(glm::mix(at(r0 + size_t(x.i0)), at(r0 + size_t(x.i1)), x.a),
                     glm::mix(at(r1 + size_t(x.i0)), at(r1 + size_t(x.i1)), x.a), y.a);
-  };
-  const glm::vec4 a = bilinear(levels[size_t(l0)]);
-  return l1 == l0 ? a : glm::mix(a, bilinear(levels[size_t(l1)]), lod - float(l0));
+  });
 }
 
 texture_pyramid load_texture_pyramid(const std::string& file) {
   float_image image = read_float_image(file, "texture");
-  const OIIO::ImageSpec spec = image.pixels.spec();  // (a copy: the pixels are cleared below)
+  const float_level& file_texels = image.texels;
   // Four channels: grey is replicated to RGB, a missing alpha is 1.
-  const int n = spec.nchannels;
+  const int n = file_texels.channels;
   const int rgb[3] = {0, n >= 3 ? 1 : 0, n >= 3 ? 2 : 0};
   const int alpha = n == 2 ? 1 : (n >= 4 ? 3 : -1);
-  float_level rgba{spec.width, spec.height, 4, {}};
+  float_level rgba{file_texels.width, file_texels.height, 4, {}};
   {
-    const size_t texels = size_t(spec.width) * size_t(spec.height);
+    const size_t texels = size_t(rgba.width) * size_t(rgba.height);
     rgba.values.resize(4 * texels);
-    const auto* in = static_cast<const float*>(image.pixels.localpixels());
+    const float* in = file_texels.values.data();
     float* out = rgba.values.data();
     for (size_t i = 0; i < texels; ++i) {
       for (int c = 0; c < 3; ++c) out[4 * i + size_t(c)] = in[i * size_t(n) + size_t(rgb[c])];
@@ -178,7 +181,7 @@ texture_pyramid load_texture_pyramid(const std::string& file) {
         if (!std::isfinite(out[4 * i + size_t(c)])) out[4 * i + size_t(c)] = 0;  // (float files only)
     }
   }
-  image.pixels.clear();
+  image.texels = {};
   // 8-bit files keep 8 bits a channel (a quarter of the memory), every level rounded to them
   // (each filtered from the float values of the one above); deeper files keep floats.
   const bool bytes = image.format == OIIO::TypeDesc::UINT8;
@@ -200,19 +203,14 @@ texture_pyramid load_texture_pyramid(const std::string& file) {
 
 glm::vec3 env_pyramid::lookup(float s, float t, float ds, float dt) const {
   const level& top = levels.front();
-  // The level whose texel matches the footprint (the larger of its two extents).
-  const float lod = level_of(std::max(ds * float(top.width), dt * float(top.height)), levels.size());
-  const int l0 = int(lod);
-  const int l1 = std::min(l0 + 1, int(levels.size()) - 1);
-  auto bilinear = [&](const level& m) {
+  // The levels whose texels match the footprint (the larger of its two extents).
+  return trilinear(levels, std::max(ds * float(top.width), dt * float(top.height)), [&](const level& m) {
     const axis_taps x = periodic_taps(s * float(m.width) - 0.5f, m.width);
     const axis_taps y = clamped_taps(t * float(m.height) - 0.5f, m.height);
     const glm::vec3* r0 = m.texels.data() + size_t(y.i0) * size_t(m.width);
     const glm::vec3* r1 = m.texels.data() + size_t(y.i1) * size_t(m.width);
     return glm::mix(glm::mix(r0[x.i0], r0[x.i1], x.a), glm::mix(r1[x.i0], r1[x.i1], x.a), y.a);
-  };
-  const glm::vec3 a = bilinear(levels[size_t(l0)]);
-  return l1 == l0 ? a : glm::mix(a, bilinear(levels[size_t(l1)]), lod - float(l0));
+  });
 }
 
 env_pyramid load_env_pyramid(const std::string& file) {
@@ -225,14 +223,13 @@ env_pyramid load_env_pyramid(const std::string& file) {
   const bool srgb = !(f == OIIO::TypeDesc::FLOAT || f == OIIO::TypeDesc::HALF || f == OIIO::TypeDesc::DOUBLE);
   // The finest level, cleaned and (from 8-bit files) decoded to linear; every coarser one
   // is filtered from it.
-  const OIIO::ImageSpec spec = image.pixels.spec();  // (a copy: the pixels are cleared below)
-  const int n = spec.nchannels;
+  const int n = image.texels.channels;
   env_pyramid out;
-  float_level linear{spec.width, spec.height, 3, {}};
+  float_level linear{image.texels.width, image.texels.height, 3, {}};
   {
-    const size_t texels = size_t(spec.width) * size_t(spec.height);
+    const size_t texels = size_t(linear.width) * size_t(linear.height);
     linear.values.resize(3 * texels);
-    const auto* in = static_cast<const float*>(image.pixels.localpixels());
+    const float* in = image.texels.values.data();
     for (size_t i = 0; i < texels; ++i)
       for (int c = 0; c < 3; ++c) {
         float v = in[i * size_t(n) + size_t(std::min(c, n - 1))];
@@ -242,7 +239,7 @@ env_pyramid load_env_pyramid(const std::string& file) {
         linear.values[3 * i + size_t(c)] = srgb ? srgb_decode(v) : v;
       }
   }
-  image.pixels.clear();
+  image.texels = {};
   for_each_level(std::move(linear), [&](const float_level& level) {
     env_pyramid::level l;
     l.width = level.width, l.height = level.height;

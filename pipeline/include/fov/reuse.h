@@ -111,9 +111,6 @@ struct reuse_history {
   canvas_offset offset;
   bool mirror_x = false, mirror_y = false;
   bool valid = false;
-  // The arrays of the history before this one, for the next frame to write over instead of
-  // allocating its own (trace_reusing). Not part of the history's value: a copy starts
-  // without them.
   // What deciding reads of one point, gathered once a frame into one record (trace_reusing).
   struct record {
     glm::vec3 at{0};  // its sample: world position or direction, or (screen distance) its screen position and depth here
@@ -122,6 +119,9 @@ struct reuse_history {
     uint16_t age = 0;
     seen kind = seen::nothing;
   };
+  // The arrays of the history before this one, for the next frame to write over instead of
+  // allocating its own (trace_reusing), and the records deciding gathers. Not part of the
+  // history's value: a copy starts without them.
   struct arrays {
     std::vector<record> records;  // (scratch for deciding)
     std::vector<glm::vec3> colour, where;
