@@ -49,6 +49,7 @@ result_row sample_row(const std::string& method, const std::string& spp) {
   r.cells["sampler"] = "poisson";
   r.cells["adaptive_threshold"] = r.cells["levels"] = r.cells["level_rays"] = "";
   r.cells["integrator"] = "direct", r.cells["bounces"] = "";
+  r.cells["rays_cast"] = "3";  // at least the camera rays (1.5 here)
   return r;
 }
 
@@ -154,6 +155,8 @@ TEST(ResultsCsv, CorruptRowsAreRefusedAndCrlfIsRead) {
            {"sampler", "grid", "sampler 'grid' is not poisson, polar or log-polar"},
            {"integrator", "whitted", "integrator 'whitted' is not direct or path"},
            {"bounces", "2", "a path row names its bounces; no other row does"},
+           {"rays_cast", "1", "rays_cast '1' is not a whole number of at least the row's rays"},
+           {"rays_cast", "4.5", "rays_cast '4.5' is not a whole number of at least the row's rays"},
            {"scale", "1e308", "scale 1e308 lies outside (0, 10]"},
            {"ssim", "1.5", "ssim 1.5 lies outside [-1, 1]"},
            {"method", "full", "method 'full' is not one a foveated row has"},
@@ -491,6 +494,7 @@ result_row study_row(const std::string& kind, const std::string& scale, const st
   if (kind == "falloff") r.cells["method"] = "falloff", r.cells["k"] = "", r.cells["ray_floor"] = "1";
   r.cells["jod"] = fmt::format("{}", jod), r.cells["noise_floor_jod"] = "9.99";
   r.cells["full_rays"] = fmt::format("{}", 1000 * std::stoi(spp)), r.cells["rays"] = r.cells["full_rays"];
+  r.cells["rays_cast"] = fmt::format("{}", 2000 * std::stoi(spp));  // and a shadow ray each
   r.cells["speedup_samples"] = kind == "full" ? "1;1;1" : samples;
   r.cells["ladder_samples"] = kind == "full" ? samples : "";
   return r;
@@ -652,22 +656,23 @@ TEST(Summary, AnswersEachIntegratorOnItsOwn) {
 
 // A results.csv from before the steady-state columns reads for a summary (single frames),
 // never for --resume.
-// Files of older fovbenches: before the integrator columns, before the acuity column too,
+// Files of older fovbenches: before rays_cast, before the integrator columns too, before the acuity column too,
 // before the density columns too, and before the steady-state ones too (their rows read as
 // csf and direct); a header missing only later columns never existed and is refused.
 TEST(ResultsCsv, TheColumnsBeforeSteadyStateReadOnlyWhenAsked) {
   const std::string path = ::testing::TempDir() + "/results-before-steady-state.csv";
   const std::set<std::string> density = {"density", "adaptive_threshold", "levels", "level_rays"};
   const std::set<std::string> steady = {"taa_frames", "taa_pattern"}, acuity = {"acuity", "sampler"};
-  const std::set<std::string> traced = {"integrator", "bounces"};
+  const std::set<std::string> cast = {"rays_cast"};
+  const std::set<std::string> traced = {"rays_cast", "integrator", "bounces"};
   auto joined = [](std::set<std::string> a, const std::set<std::string>& b) {
     a.insert(b.begin(), b.end());
     return a;
   };
   for (const auto& [dropped, readable] : std::vector<std::pair<std::set<std::string>, bool>>{
-           {traced, true}, {joined(traced, acuity), true}, {joined(joined(traced, acuity), density), true},
+           {cast, true}, {traced, true}, {joined(traced, acuity), true}, {joined(joined(traced, acuity), density), true},
            {joined(joined(joined(traced, acuity), density), steady), true},
-           {acuity, false}, {density, false}, {steady, false}}) {
+           {acuity, false}, {density, false}, {steady, false}, {{"integrator", "bounces"}, false}}) {
     std::vector<std::string> columns = result_columns();
     columns.erase(std::remove_if(columns.begin(), columns.end(), [&](const std::string& c) { return dropped.count(c) > 0; }),
                   columns.end());

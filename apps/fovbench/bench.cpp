@@ -732,6 +732,7 @@ class scene_sweep {
       st_.say(fmt::format("measuring full resolution {} spp={}{}", gp.name, c.spp, taa_text(c)));
       result_row row = row_for(c);
       row.cells["points_traced"] = "", row.cells["rays"] = std::to_string(f.image.rays);
+      row.cells["rays_cast"] = std::to_string(f.cast.total());
       row.cells["trace_ms"] = number(summarise(f.ms).median), row.cells["reconstruct_ms"] = "0";
       // With TAA: each timing of the frame plus its TAA resolve's, timed right after it.
       const std::vector<double> ms = c.taa ? plus(f.ms, f.taa_ms) : f.ms;
@@ -764,6 +765,7 @@ class scene_sweep {
           fmt::format("falloff s={:.2f} {} spp={} floor={}{}", o_.scales[c.set], gp.name, c.spp, c.floor, taa_text(c));
       std::vector<double> full_ms, full_cpu, frame_ms, frame_cpu;
       frame image;
+      ray_counts cast;  // the same every repetition: the rays do not depend on the timing
       for (uint32_t n = 0; n < o_.frames; ++n) {
         st_.say(fmt::format("timing {} ({}/{})", what, n + 1, o_.frames));
         full_ms.push_back(time_full(c.spp));
@@ -774,6 +776,7 @@ class scene_sweep {
         reference_trace traced = r_.falloff_frame(f, p, &t);
         frame_cpu.push_back(process_cpu_ms() - cpu);
         frame_ms.push_back(t.trace_ms);
+        cast = t.cast;
         if (c.taa) frame_ms.back() += time_resolve(traced.image);
         if (image.rgb.empty()) image = std::move(traced.image);
       }
@@ -781,6 +784,7 @@ class scene_sweep {
       st_.say(fmt::format("measuring {}", what));
       result_row row = row_for(c);
       row.cells["points_traced"] = "", row.cells["rays"] = std::to_string(image.rays);
+      row.cells["rays_cast"] = std::to_string(cast.total());
       row.cells["trace_ms"] = number(summarise(frame_ms).median), row.cells["reconstruct_ms"] = "0";
       put_timing(row, pair_timings(frame_ms, full_ms), o_.spread_limit);
       std::vector<double> ratios;
@@ -799,6 +803,7 @@ class scene_sweep {
     frame image;
     std::vector<double> ms, cpu_ms;  // wall and process CPU time of every timing
     std::vector<double> taa_ms;      // with --taa-frames: a TAA resolve of it, timed right after each
+    ray_counts cast;                 // every ray it cast, by kind
   };
 
   static std::vector<double> plus(const std::vector<double>& a, const std::vector<double>& b) {
@@ -875,7 +880,7 @@ class scene_sweep {
     f.cpu_ms.push_back(process_cpu_ms() - cpu);
     f.ms.push_back(t.trace_ms);
     if (!o_.taa_frames.empty()) f.taa_ms.push_back(time_resolve(traced.image));
-    if (f.image.rgb.empty()) f.image = std::move(traced.image);
+    if (f.image.rgb.empty()) f.image = std::move(traced.image), f.cast = t.cast;
     return t.trace_ms;
   }
 
@@ -977,7 +982,7 @@ class scene_sweep {
     std::vector<double> full_ms, full_taa_ms, full_cpu;
     std::map<uint32_t, std::vector<double>> trace_ms, trace_cpu;
     std::map<recon, std::vector<double>> reconstruct_ms, taa_ms, reconstruct_cpu;
-    std::map<uint32_t, uint64_t> rays, points;
+    std::map<uint32_t, uint64_t> rays, points, cast;
     std::map<uint32_t, std::vector<uint64_t>> level_rays;  // adaptive: each k's rays per level
     for (uint32_t f = 0; f < o_.frames; ++f) {
       st_.say(fmt::format("timing {} {} {} spp={} ({}/{})", scene, what, gp.name, spp, f + 1, o_.frames));
@@ -992,7 +997,7 @@ class scene_sweep {
         else r_.trace(gp.at, p, t);
         trace_cpu[k].push_back(process_cpu_ms() - cpu);
         trace_ms[k].push_back(t.trace_ms);
-        rays[k] = t.rays, points[k] = t.points_traced;
+        rays[k] = t.rays, points[k] = t.points_traced, cast[k] = t.cast.total();
         if (adaptive) level_rays[k] = t.refinement.rays_per_level;
       }
       for (const recon& m : recons) {
@@ -1023,6 +1028,7 @@ class scene_sweep {
       }
       const std::vector<double>& traces = trace_ms[c->k];
       row.cells["points_traced"] = std::to_string(points[c->k]), row.cells["rays"] = std::to_string(rays[c->k]);
+      row.cells["rays_cast"] = std::to_string(cast[c->k]);
       row.cells["trace_ms"] = number(summarise(traces).median);
       row.cells["reconstruct_ms"] = number(summarise(reconstruct_ms[m]).median);
       std::vector<double> frame_ms = plus(traces, reconstruct_ms[m]);

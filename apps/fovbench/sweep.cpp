@@ -36,8 +36,10 @@ const std::vector<std::string>& result_columns() {
       // How a ray's colour is found (--integrator: direct or path) and, for path, the bounces
       // after the first hit (issue 29): the cost of a sample.
       "integrator", "bounces",
-      // What it cost, timed interleaved with a full-resolution frame at the same spp.
-      "points_traced", "rays", "full_rays", "trace_ms", "reconstruct_ms", "frame_ms", "frame_ms_lo", "frame_ms_hi",
+      // What it cost, timed interleaved with a full-resolution frame at the same spp: points
+      // traced, camera rays, every ray cast (camera, shadow and bounce rays: what a sample
+      // costs under the row's integrator), the full-resolution frame's camera rays.
+      "points_traced", "rays", "rays_cast", "full_rays", "trace_ms", "reconstruct_ms", "frame_ms", "frame_ms_lo", "frame_ms_hi",
       "full_ms", "full_ms_lo", "full_ms_hi", "speedup", "speedup_lo", "speedup_hi", "timing_flag",
       // Per repetition: full / frame (paired), and on full rows the ladder (this spp's time
       // over the lowest spp's, timed back to back); process CPU time per stage (medians).
@@ -159,6 +161,13 @@ std::string result_row_problem(const result_row& row) {
     if (!(n >= 0 && n <= max_bounces && n == std::floor(n)))
       return fmt::format("bounces '{}' is not a whole number in 0..{}", printable(bounces), max_bounces);
   }
+  // Every ray cast (empty in rows from before its column): a whole number, at least the
+  // camera rays, which it counts.
+  if (const std::string& cast = row.text("rays_cast"); !cast.empty()) {
+    const double n = row.number("rays_cast"), camera = row.text("rays").empty() ? 0 : row.number("rays");
+    if (!(n >= camera && n == std::floor(n)))
+      return fmt::format("rays_cast '{}' is not a whole number of at least the row's rays", printable(cast));
+  }
   // Density: a foveated row's fixed or adaptive; an adaptive one names its threshold and
   // levels (increasing scales joined by ';') and has no single scale.
   const std::string& density = row.text("density");
@@ -244,20 +253,21 @@ std::vector<result_row> read_results(const std::string& path, bool older_ok) {
   if (!std::getline(in, line) || in.eof()) throw std::runtime_error(fmt::format("{}: no header", path));
   chomp(line);
   const std::vector<std::string> header = split_csv(line);
-  // An older fovbench's header: without the acuity column, before that without the density
-  // columns, and before that without the steady-state ones too.
+  // An older fovbench's header: without rays_cast, before that without the integrator, before
+  // that without the acuity columns, before that without the density columns, and before that
+  // without the steady-state ones too.
   auto without = [](std::set<std::string> later) {
     std::vector<std::string> columns = result_columns();
     columns.erase(std::remove_if(columns.begin(), columns.end(), [&](const std::string& c) { return later.count(c) > 0; }),
                   columns.end());
     return columns;
   };
-  const bool older = older_ok && (header == without({"integrator", "bounces"}) ||
-                                  header == without({"integrator", "bounces", "acuity", "sampler"}) ||
-                                  header == without({"integrator", "bounces", "acuity", "sampler", "density", "adaptive_threshold",
-                                                     "levels", "level_rays"}) ||
-                                  header == without({"integrator", "bounces", "acuity", "sampler", "density", "adaptive_threshold",
-                                                     "levels", "level_rays", "taa_frames", "taa_pattern"}));
+  const bool older = older_ok && (header == without({"rays_cast"}) || header == without({"rays_cast", "integrator", "bounces"}) ||
+                                  header == without({"rays_cast", "integrator", "bounces", "acuity", "sampler"}) ||
+                                  header == without({"rays_cast", "integrator", "bounces", "acuity", "sampler", "density",
+                                                     "adaptive_threshold", "levels", "level_rays"}) ||
+                                  header == without({"rays_cast", "integrator", "bounces", "acuity", "sampler", "density",
+                                                     "adaptive_threshold", "levels", "level_rays", "taa_frames", "taa_pattern"}));
   if (header != result_columns() && !older)
     throw std::runtime_error(fmt::format("{}:1: not a results.csv of this fovbench (columns differ); use another -o", path));
   static const std::set<std::string> text_columns = {"scene",  "gaze",         "kind",   "method",         "texture_footprint", "taa_pattern",
@@ -275,6 +285,7 @@ std::vector<result_row> read_results(const std::string& path, bool older_ok) {
     result_row r;
     if (older) r.cells["taa_frames"] = r.cells["taa_pattern"] = "";  // single frames
     if (older) r.cells["adaptive_threshold"] = r.cells["levels"] = r.cells["level_rays"] = "";  // fixed sets
+    if (older) r.cells["rays_cast"] = "";  // not counted then
     for (size_t i = 0; i < cells.size(); ++i) {
       const std::string& c = cells[i];
       // A number as fovbench writes it: finite, or inf (a PSNR of identical images); empty
