@@ -62,6 +62,13 @@ TEST(Textures, TexelCentresReadTheirTexelAndWrapPeriodically) {
   // Halfway between the last column and the first: both, half each (the wrap is periodic).
   const glm::vec4 edge = t.lookup({0.0f, 0.5f / h}, 0);
   for (int c = 0; c < 4; ++c) EXPECT_NEAR(edge[c], 0.5f * (byte(w - 1, 0, c) + byte(0, 0, c)), 1e-6f);
+  // A coordinate or footprint that is not finite reads the finest level's first texel.
+  const float nan = std::nanf(""), inf = INFINITY;
+  for (const auto& [uv, duv] : std::vector<std::pair<glm::vec2, float>>{
+           {{nan, 0.5f / h}, 0}, {{0.5f / w, inf}, 0}, {{-inf, nan}, 0}, {{0.5f / w, 0.5f / h}, nan}}) {
+    const glm::vec4 v = t.lookup(uv, duv);
+    for (int c = 0; c < 4; ++c) EXPECT_NEAR(v[c], byte(0, 0, c), 1e-6f) << uv.x << "," << uv.y << " footprint " << duv;
+  }
 }
 
 TEST(Textures, AWideFootprintReadsTheMeanForEverySize) {

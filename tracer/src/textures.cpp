@@ -112,28 +112,31 @@ struct axis_taps {
   int i0, i1;
   float a;
 };
+// A coordinate that is not finite (a NaN uv from a degenerate triangle) reads the first
+// texel; it is never converted to int, where it would be undefined.
 axis_taps periodic_taps(float x, int size) {
+  if (!std::isfinite(x)) return {0, 0, 0.0f};
   const float f = std::floor(x);
   int i0 = int(std::fmod(f, float(size)));  // (exact for the integers a float holds)
   if (i0 < 0) i0 += size;
-  i0 = std::clamp(i0, 0, size - 1);  // a NaN or huge coordinate lands on a texel too
+  i0 = std::clamp(i0, 0, size - 1);
   const int i1 = i0 + 1 == size ? 0 : i0 + 1;
-  const float a = x - f;
-  return {i0, i1, std::isfinite(a) ? a : 0.0f};
+  return {i0, i1, x - f};
 }
 axis_taps clamped_taps(float x, int size) {
-  const float y = std::clamp(x, 0.0f, float(size - 1));  // (a NaN stays NaN: the int conversion is clamped next)
+  if (!std::isfinite(x)) return {0, 0, 0.0f};
+  const float y = std::clamp(x, 0.0f, float(size - 1));
   const float f = std::floor(y);
   const int i0 = std::clamp(int(f), 0, size - 1);
-  const float a = y - f;
-  return {i0, std::min(i0 + 1, size - 1), std::isfinite(a) ? a : 0.0f};
+  return {i0, std::min(i0 + 1, size - 1), y - f};
 }
 
 // Trilinear: bilinear(level) at the two MIP levels around a footprint of `texels` texels of
 // the finest level, blended linearly between them.
 template <typename Level, typename Bilinear>
 auto trilinear(const std::vector<Level>& levels, float texels, Bilinear&& bilinear) {
-  const float lod = std::clamp(std::log2(std::max(texels, 1e-6f)), 0.0f, float(levels.size() - 1));
+  // (A NaN footprint reads the finest level: the comparison is false for it.)
+  const float lod = std::clamp(std::log2(texels > 1e-6f ? texels : 1e-6f), 0.0f, float(levels.size() - 1));
   const int l0 = int(lod);
   const int l1 = std::min(l0 + 1, int(levels.size()) - 1);
   const auto a = bilinear(levels[size_t(l0)]);
