@@ -9,7 +9,9 @@
 # default 64; their floor a second seed): rays a frame, flicker and video JOD (FovVideoVDP, the
 # gaze per frame), and the trace time of both in turn frame by frame over three more passes
 # (median ratio and its range). REUSE adds reuse flags (e.g. "--reuse-fovea 2 --reuse-threshold 0.05") and
-# PATHS picks paths (default "slow-pan fast-turn sideways"). Results in out/reuse/DISPLAY
+# PATHS picks paths (default "slow-pan fast-turn sideways"). TRACE sets how a sample is traced,
+# for the frames and their converged references alike (e.g. "--integrator path --bounces 3";
+# default the direct integrator). Results in out/reuse/DISPLAY
 # (DISPLAY-TAG with TAG set): one JSON a path and summary.md.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -20,6 +22,7 @@ spp=${SPP:-4}
 frames=${FRAMES:-16}
 reference_spp=${REFERENCE_SPP:-64}
 read -r -a reuse <<< "${REUSE:-}"
+read -r -a trace <<< "${TRACE:-}"
 read -r -a names <<< "${PATHS:-slow-pan fast-turn sideways}"
 out=out/reuse/$display${TAG:+-$TAG}
 mkdir -p "$out"
@@ -31,13 +34,13 @@ declare -A paths=([slow-pan]="--flicker-yaw 0.15" [fast-turn]="--flicker-yaw 1" 
 for name in "${names[@]}"; do
   json=$out/$name.json
   read -r -a path <<< "${paths[$name]}"
-  [[ -s $json ]] || "$render" "${scene[@]}" --points "$set_file" --device cpp --spp "$spp" --reuse temporal "${reuse[@]}" \
+  [[ -s $json ]] || "$render" "${scene[@]}" --points "$set_file" --device cpp --spp "$spp" "${trace[@]}" --reuse temporal "${reuse[@]}" \
     --flicker "$frames" "${path[@]}" --reference-spp "$reference_spp" --no-flip -o "$out/$name.png" --json > "$json"
 done
-python3 - "$out" "$spp" "$frames" "$reference_spp" "${REUSE:-defaults}" <<'PY' > "$out/summary.md"
+python3 - "$out" "$spp" "$frames" "$reference_spp" "${REUSE:-defaults}" "${TRACE:-direct}" <<'PY' > "$out/summary.md"
 import json, os, sys
-out, spp, frames, reference_spp, reuse = sys.argv[1:]
-print(f"{frames} frames, {spp} rays a point, reuse settings: {reuse}; video JOD against converged frames of "
+out, spp, frames, reference_spp, reuse, trace = sys.argv[1:]
+print(f"{frames} frames, {spp} rays a point, traced: {trace}, reuse settings: {reuse}; video JOD against converged frames of "
       f"{reference_spp} rays a pixel (floor: a second seed); rays: the mean over frames 1.. (frame 0 has nothing to reuse).\n")
 print("| path | kept (share of points) | kept by eccentricity, frame 1..: <5 / 5-10 / 10-15 / 15-30 / >30 degrees | primary rays a frame, full -> reuse (ratio) | every ray, full -> reuse (ratio) | "
       "video JOD full / reuse (floor) | flicker full / reuse | trace time reuse / full: median (min-max), pairs |")
