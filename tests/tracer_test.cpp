@@ -1147,6 +1147,17 @@ TEST(Tracer, EnvironmentImagesAreCheckedBeforeUse) {
   for (int y = 0; y < bh; ++y) wide->write_scanline(y, 0, OIIO::TypeDesc::UINT8, row.data());
   wide->close();
   EXPECT_NE(message("env:" + big).find("larger than an environment image may be"), std::string::npos) << message("env:" + big);
+  // A row far wider than any image (fewer pixels than the cap): refused from its header,
+  // before OpenImageIO's scanline reading asks for gigabytes (the env_image fuzz target's
+  // finding, `finding-one-row-23-million-wide.hdr`).
+  const std::string row_file = (dir / "row.hdr").string();
+  {
+    std::ofstream o(row_file, std::ios::binary);
+    o << "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 1 +X 1000000\n" << std::string(256, '\x80');
+  }
+  EXPECT_NE(message("env:" + row_file).find("is 1000000 x 1 texels, and neither side may exceed 65536"),
+            std::string::npos)
+      << message("env:" + row_file);
   fs::remove_all(dir);
 }
 

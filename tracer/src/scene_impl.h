@@ -31,6 +31,9 @@ struct surface {
 
 // No image past this many texels is read (a header may claim any size): 16384 x 16384.
 constexpr uint64_t max_image_texels = uint64_t(1) << 28;
+// Nor one wider or taller than this: OpenImageIO's scanline reading allocates far more than
+// the pixels of a very wide image (a fuzz finding, docs/fuzzing.md).
+constexpr int max_image_side = 1 << 16;
 
 // A material texture as a MIP pyramid in memory, four channels (grey read as RGB, a missing
 // alpha as 1), values as the file holds them (sRGB ones are decoded after filtering, as a

@@ -46,6 +46,9 @@ float_image read_float_image(const std::string& file, const char* what) {
         uint64_t(s.width) * uint64_t(s.height) > max_image_texels)
       throw std::runtime_error(fmt::format("{}: cannot read {}: it is {} x {} texels, more than the {} a {} may have",
                                            file, what, s.width, s.height, max_image_texels, what));
+    if (s.width > max_image_side || s.height > max_image_side)
+      throw std::runtime_error(fmt::format("{}: cannot read {}: it is {} x {} texels, and neither side may exceed {}", file,
+                                           what, s.width, s.height, max_image_side));
     out.format = s.format;
     out.texels = {s.width, s.height, s.nchannels, {}};
     out.texels.values.resize(size_t(s.width) * size_t(s.height) * size_t(s.nchannels));
