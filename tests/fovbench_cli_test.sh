@@ -168,6 +168,48 @@ for m in ("nn", "shepard"):
 report = open(sys.argv[2]).read()
 assert "| adaptive |" in report and "adaptive T0 " in report, "the report names no adaptive scheme"
 PY
+# Reuse rows (issue 28): a fixed set's frames also along the temporal path with --reuse temporal.
+check "reuse eyes"      2 -- "$fovbench" "${common[@]}" --reuse eyes --temporal-frames 2 -o "$dir/x"
+check "reuse, no path"  2 -- "$fovbench" "${common[@]}" --reuse temporal -o "$dir/x"
+check "reuse knob alone" 2 -- "$fovbench" "${common[@]}" --reuse-fovea 0 --temporal-frames 2 -o "$dir/x"
+check "reuse threshold 2" 2 -- "$fovbench" "${common[@]}" --reuse temporal --reuse-threshold 2 --temporal-frames 2 -o "$dir/x"
+check "bad reuse edges" 2 -- "$fovbench" "${common[@]}" --reuse temporal --reuse-edges soft --temporal-frames 2 -o "$dir/x"
+check "reuse, no sparse" 2 -- "$fovbench" "${common[@]}" --reuse temporal --temporal-frames 2 --no-sparse --ray-floors 1 \
+  --spp 2 -o "$dir/x"
+check "reuse yardstick" 2 -- "$fovbench" "${common[@]}" --reuse temporal --temporal-frames 2 --yardstick -o "$dir/x"
+[[ -e "$dir/x" ]] && fail "a refused reuse sweep wrote $dir/x"
+reuse=("$fovbench" --display 128x96@10 --points-dir "$dir/sets" --frames 1 --scene builtin --scales 2.0 --methods nn,shepard
+       --k 4 --spp 2 --baselines full --reference-spp 8 --no-flip --temporal-frames 3 --reuse temporal --reuse-fovea 0
+       --reuse-edges silhouettes -o "$dir/reuse")
+check "reuse rows"      0 -- "${reuse[@]}" --reuse-threshold 0
+check "reuse, other settings" 0 -- "${reuse[@]}" --reuse-threshold 0.5 --resume
+out=$("${reuse[@]}" --reuse-threshold 0.5 --resume 2>&1)
+[[ "$out" == *"5 configurations, 5 already in"*"0 to measure"* ]] || fail "a resumed reuse sweep measured again: $out"
+check "reuse summary"   0 -- "$fovbench" summary "$dir/reuse" -o "$dir/reuse-summary"
+python3 - "$dir/reuse/results.csv" "$dir/reuse/report.md" <<'PY' || fail "reuse rows"
+import csv, sys
+rows = [r for r in csv.DictReader(open(sys.argv[1])) if r["kind"] == "foveated"]
+fixed = {r["method"]: r for r in rows if r["reuse"] == ""}
+reuse = {(r["method"], r["reuse_settings"].split()[1]): r for r in rows if r["reuse"] == "temporal"}
+assert sorted(fixed) == ["nn", "shepard"], sorted(fixed)
+assert sorted(reuse) == sorted((m, t) for m in ("nn", "shepard") for t in ("threshold=0", "threshold=0.5")), sorted(reuse)
+for (m, t), r in reuse.items():
+    f = fixed[m]
+    assert r["reuse_settings"].startswith("fovea=0 ") and "edges=silhouettes" in r["reuse_settings"], r["reuse_settings"]
+    # The fully traced sequence along the path is the fixed row's own temporal sequence.
+    assert r["reuse_video_jod_traced"] == f["video_jod"] and r["reuse_flicker_traced"] == f["flicker"], (r, f)
+    assert r["psnr"] == "" and r["jod"] == "" and r["flicker"] != "" and float(r["video_jod"]) <= 10, r
+    assert float(r["speedup"]) > 0 and float(r["reuse_trace_ratio_lo"]) <= float(r["reuse_trace_ratio"]), r
+    assert 0 <= float(r["reuse_kept"]) <= 1 and int(r["rays_cast"]) >= int(r["rays"]) > 0, r
+# Threshold 0 keeps what any confidence keeps: more than 0.5 does, and fewer rays in all.
+for m in ("nn", "shepard"):
+    loose, strict = reuse[(m, "threshold=0")], reuse[(m, "threshold=0.5")]
+    assert float(loose["reuse_kept"]) > float(strict["reuse_kept"]) > 0, (loose, strict)
+    assert float(loose["reuse_rays_cast_ratio"]) < min(1.0, float(strict["reuse_rays_cast_ratio"])), (loose, strict)
+report = open(sys.argv[2]).read()
+assert "## Temporal reuse along the temporal path" in report, "no reuse section"
+assert report.count("| builtin (direct) | centre |") == 4, report
+PY
 check "farther eye"     0 -- "$fovbench" "${common[@]}" --viewing-distance 2 --scene builtin --scales 1.0 --methods nn --spp 1 \
   --baselines full --reference-spp 4 -o "$dir/far"
 [[ -s "$dir/sets/64x72-v2-s1.00.fovset" ]] || fail "v = 2 did not write 64x72-v2-s1.00.fovset: $(ls "$dir/sets")"

@@ -50,6 +50,31 @@ result_row sample_row(const std::string& method, const std::string& spp) {
   r.cells["adaptive_threshold"] = r.cells["levels"] = r.cells["level_rays"] = "";
   r.cells["integrator"] = "direct", r.cells["bounces"] = "";
   r.cells["rays_cast"] = "3";  // at least the camera rays (1.5 here)
+  for (const std::string& c : result_columns())  // not a reuse row
+    if (c.rfind("reuse", 0) == 0) r.cells[c] = "";
+  return r;
+}
+
+// The reuse columns (issue 28).
+const std::set<std::string> reuse_columns = {"reuse",
+                                             "reuse_settings",
+                                             "reuse_kept",
+                                             "reuse_rays_ratio",
+                                             "reuse_rays_cast_ratio",
+                                             "reuse_trace_ratio",
+                                             "reuse_trace_ratio_lo",
+                                             "reuse_trace_ratio_hi",
+                                             "reuse_video_jod_traced",
+                                             "reuse_flicker_traced"};
+
+// A reuse row as fovbench writes it.
+result_row reuse_row() {
+  result_row r = sample_row("shepard", "4");
+  r.cells["ray_floor"] = "";
+  r.cells["reuse"] = "temporal", r.cells["reuse_settings"] = "fovea=0 threshold=0.2 max_age=16 budget=0 view=0 edges=strict distance=world";
+  r.cells["reuse_kept"] = "0.6", r.cells["reuse_rays_ratio"] = "0.7", r.cells["reuse_rays_cast_ratio"] = "0.5";
+  r.cells["reuse_trace_ratio"] = "0.9", r.cells["reuse_trace_ratio_lo"] = "0.8", r.cells["reuse_trace_ratio_hi"] = "1.2";
+  r.cells["reuse_video_jod_traced"] = "8.5", r.cells["reuse_flicker_traced"] = "0.04";
   return r;
 }
 
@@ -228,6 +253,41 @@ TEST(ResultsCsv, CorruptRowsAreRefusedAndCrlfIsRead) {
   result_row fixed_with_threshold = sample_row("nn", "1");
   fixed_with_threshold.cells["adaptive_threshold"] = "0.5";
   EXPECT_EQ(result_row_problem(fixed_with_threshold), pairing);
+  // Reuse (issue 28): a fixed set's single frame without a ray floor, its settings part of its
+  // key, and what it measured on it alone.
+  const result_row reused = reuse_row();
+  EXPECT_EQ(result_row_problem(reused), "");
+  result_row fixed_twin = reused;
+  for (const std::string& c : reuse_columns) fixed_twin.cells[c] = "";
+  EXPECT_EQ(result_row_problem(fixed_twin), "");
+  EXPECT_NE(fixed_twin.key(), reused.key());
+  result_row other_settings = reused;
+  other_settings.cells["reuse_settings"] = "fovea=5 threshold=0.2 max_age=16 budget=0 view=0 edges=strict distance=world";
+  EXPECT_NE(other_settings.key(), reused.key());
+  const std::string single = "a reuse row is a fixed set's single frame without a ray floor";
+  for (const auto& [column, bad, why] : std::vector<std::tuple<std::string, std::string, std::string>>{
+           {"reuse", "eyes", "reuse 'eyes' is not temporal"},
+           {"density", "adaptive", single},
+           {"taa_frames", "16", single},
+           {"ray_floor", "1", single},
+           {"reuse_settings", "", "reuse_settings is given on a reuse row and on no other"},
+           {"reuse_trace_ratio_hi", "", "reuse_trace_ratio_hi is given on a reuse row and on no other"},
+           {"reuse_kept", "1.5", "reuse_kept 1.5 lies outside [0, 1]"},
+           {"reuse_rays_ratio", "0", "reuse_rays_ratio 0 lies outside (0, inf)"},
+           {"reuse_trace_ratio", "1.3", "reuse_trace_ratio does not lie within its _lo and _hi"},
+           {"reuse_video_jod_traced", "11", "reuse_video_jod_traced 11 lies outside [-1.79769e+308, 10]"}}) {
+    result_row r = reused;
+    r.cells[column] = bad;
+    if (column == "density") r.cells["adaptive_threshold"] = "0.5", r.cells["levels"] = "1.00;2.00", r.cells["scale"] = "";
+    if (column == "taa_frames") r.cells["taa_pattern"] = "mirror";
+    EXPECT_EQ(result_row_problem(r), why) << column << " " << bad;
+  }
+  for (const std::string& c : reuse_columns) {  // none of it on a row without reuse
+    if (c == "reuse") continue;
+    result_row r = sample_row("nn", "1");
+    r.cells[c] = c == "reuse_settings" ? "fovea=0" : "0.5";
+    EXPECT_NE(result_row_problem(r), "") << c;
+  }
   write(lines, "\r\n");
   EXPECT_EQ(read_results(path).size(), 2u);
 }
@@ -422,6 +482,19 @@ TEST(BenchOptions, AreCheckedBeforeAnythingRuns) {
   }
   bad = o;
   bad.levels = {1.0, 2.0}, bad.adaptive_thresholds = {1}, bad.fovea = fovea_layout::grid;
+  EXPECT_THROW(check_bench_options(bad), usage_error);
+  // Reuse rows (issue 28): temporal only, along a temporal path, on sparse sets, within range.
+  bad = o;
+  bad.reuse.mode = reuse_mode::temporal;
+  EXPECT_THROW(check_bench_options(bad), usage_error);  // no temporal path
+  bad.temporal_frames = 4;
+  EXPECT_NO_THROW(check_bench_options(bad));
+  bad.reuse.threshold = 2;
+  EXPECT_THROW(check_bench_options(bad), usage_error);
+  bad.reuse.threshold = 0.2, bad.no_sparse = true, bad.ray_floors = {1}, bad.spps = {4};
+  EXPECT_THROW(check_bench_options(bad), usage_error);
+  bad = o;
+  bad.reuse.mode = reuse_mode::eyes, bad.temporal_frames = 4;
   EXPECT_THROW(check_bench_options(bad), usage_error);
   render_params renka = o.render;
   renka.reconstruct.renka = true;
@@ -656,23 +729,24 @@ TEST(Summary, AnswersEachIntegratorOnItsOwn) {
 
 // A results.csv from before the steady-state columns reads for a summary (single frames),
 // never for --resume.
-// Files of older fovbenches: before rays_cast, before the integrator columns too, before the acuity column too,
+// Files of older fovbenches: before the reuse columns, before rays_cast too, before the integrator columns too, before the acuity column too,
 // before the density columns too, and before the steady-state ones too (their rows read as
 // csf and direct); a header missing only later columns never existed and is refused.
 TEST(ResultsCsv, TheColumnsBeforeSteadyStateReadOnlyWhenAsked) {
   const std::string path = ::testing::TempDir() + "/results-before-steady-state.csv";
   const std::set<std::string> density = {"density", "adaptive_threshold", "levels", "level_rays"};
   const std::set<std::string> steady = {"taa_frames", "taa_pattern"}, acuity = {"acuity", "sampler"};
-  const std::set<std::string> cast = {"rays_cast"};
-  const std::set<std::string> traced = {"rays_cast", "integrator", "bounces"};
   auto joined = [](std::set<std::string> a, const std::set<std::string>& b) {
     a.insert(b.begin(), b.end());
     return a;
   };
+  const std::set<std::string> cast = joined(reuse_columns, {"rays_cast"});
+  const std::set<std::string> traced = joined(cast, {"integrator", "bounces"});
   for (const auto& [dropped, readable] : std::vector<std::pair<std::set<std::string>, bool>>{
-           {cast, true}, {traced, true}, {joined(traced, acuity), true}, {joined(joined(traced, acuity), density), true},
-           {joined(joined(joined(traced, acuity), density), steady), true},
-           {acuity, false}, {density, false}, {steady, false}, {{"integrator", "bounces"}, false}}) {
+           {reuse_columns, true}, {cast, true}, {traced, true}, {joined(traced, acuity), true},
+           {joined(joined(traced, acuity), density), true}, {joined(joined(joined(traced, acuity), density), steady), true},
+           {acuity, false}, {density, false}, {steady, false}, {{"integrator", "bounces"}, false}, {{"rays_cast"}, false},
+           {{"reuse_kept"}, false}}) {
     std::vector<std::string> columns = result_columns();
     columns.erase(std::remove_if(columns.begin(), columns.end(), [&](const std::string& c) { return dropped.count(c) > 0; }),
                   columns.end());

@@ -872,8 +872,9 @@ void looser_keeps_more(const pipeline& f, const render_params& tighter, const re
   EXPECT_GT(kept_looser, kept_tighter);
 }
 
-// measure_reuse times the path with full and reusing traces in turn on one renderer: a full
-// trace between two reusing ones leaves what they keep as it was.
+// measure_reuse times the path with full and reusing traces (and full-resolution frames) in
+// turn on one renderer: a full trace or a full-resolution frame between two reusing ones
+// leaves what they keep as it was.
 TEST_F(pipeline, AFullTraceBetweenReusingFramesLeavesTheReuseAsItWas) {
   render_params reusing = params, full = params;
   reusing.reuse.mode = reuse_mode::temporal;
@@ -888,6 +889,7 @@ TEST_F(pipeline, AFullTraceBetweenReusingFramesLeavesTheReuseAsItWas) {
     a.cam() = b.cam() = path_camera(start, slide, n);
     frame_timing between, ta, tb;
     a.trace({32, 24}, full, between);
+    a.reference(set->model.display.width, set->model.display.height, full);
     const points_trace pa = a.trace({32, 24}, reusing, ta), pb = b.trace({32, 24}, reusing, tb);
     EXPECT_EQ(ta.reuse.reused, tb.reuse.reused) << "frame " << n;
     EXPECT_EQ(ta.rays, tb.rays) << "frame " << n;
@@ -904,6 +906,12 @@ TEST_F(pipeline, AFullTraceBetweenReusingFramesLeavesTheReuseAsItWas) {
     EXPECT_GT(rp.trace_ms_full[i], 0.0);
     EXPECT_GT(rp.trace_ms_reuse[i], 0.0);
   }
+  EXPECT_TRUE(rp.trace_ms_full_resolution.empty());
+  const reuse_path_report with_full = measure_reuse(a, {32, 24}, reusing, slide, {}, 3, true);
+  ASSERT_EQ(with_full.trace_ms_full_resolution.size(), 3u * 2u);  // three passes (each order once) of frames 1 and 2
+  EXPECT_EQ(with_full.trace_ms_reuse.size(), 3u * 2u);
+  for (double ms : with_full.trace_ms_full_resolution) EXPECT_GT(ms, 0.0);
+  EXPECT_EQ(with_full.rays_reuse, rp.rays_reuse);
 }
 
 TEST_F(pipeline, SilhouetteEdgesKeepMoreAndStillChangeLessThanAnotherSeed) {

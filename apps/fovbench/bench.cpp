@@ -57,6 +57,7 @@ struct config {
   uint32_t floor;  // falloff, and foveated under --point-ray-floors: the ray floor (0: spp everywhere)
   uint32_t taa;    // 0: a single frame; N: the steady state after N frames of TAA (--taa-frames)
   bool adaptive;   // foveated: the nested set refined per frame at threshold `set` (--adaptive-thresholds)
+  bool reuse;      // foveated, fixed: along the temporal path with bench_options::reuse (a reuse row)
   std::string key;
 };
 
@@ -67,6 +68,14 @@ std::string levels_text(const std::vector<double>& scales) {
   std::string out;
   for (double s : scales) out += (out.empty() ? "" : ";") + fmt::format("{:.2f}", s);
   return out;
+}
+
+// A reuse row's settings as its reuse_settings column says them (every knob, so that rows
+// of other settings are other rows).
+std::string reuse_settings_text(const reuse_params& r) {
+  return fmt::format("fovea={:g} threshold={:g} max_age={} budget={} view={:g} edges={} distance={}", r.fovea_deg, r.threshold,
+                     r.max_age, r.budget, r.view_deg, label_of(reuse_edges_labels, r.edges),
+                     label_of(reuse_distance_labels, r.distance));
 }
 
 // The cells that say which row a configuration is (its key), written the same way for
@@ -88,6 +97,7 @@ result_row identity_row(const bench_options& o, const std::vector<named_gaze>& g
       r.cells["levels"] = levels_text(o.levels);
     } else if (c.kind == row_kind::foveated) {
       r.cells["scale"] = fmt::format("{:.2f}", o.scales[c.set]), r.cells["density"] = "fixed";
+      if (c.reuse) r.cells["reuse"] = "temporal", r.cells["reuse_settings"] = reuse_settings_text(o.reuse);
     } else {
       r.cells["pixel_fraction"] = fraction_text(o.uniform_fractions[c.set]);
     }
@@ -112,11 +122,14 @@ std::vector<config> all_configs(const bench_options& o, const std::vector<named_
   taas.insert(taas.end(), o.taa_frames.begin(), o.taa_frames.end());
   auto add = [&](size_t sc, row_kind kind, size_t set, size_t g, method how, uint32_t k, uint32_t spp, uint32_t floor,
                  bool adaptive = false) {
-    for (uint32_t taa : taas) {
-      config c{sc, kind, set, g, how, k, spp, floor, taa, adaptive, ""};
+    auto put = [&](config c) {
       c.key = identity_row(o, gazes, c).key();
       if (std::none_of(all.begin(), all.end(), [&](const config& d) { return d.key == c.key; })) all.push_back(c);
-    }
+    };
+    for (uint32_t taa : taas) put(config{sc, kind, set, g, how, k, spp, floor, taa, adaptive, false, ""});
+    // A fixed set's single frame also along the temporal path with reuse.
+    if (o.reuse.mode == reuse_mode::temporal && kind == row_kind::foveated && !adaptive && floor == 0)
+      put(config{sc, kind, set, g, how, k, spp, floor, 0, false, true, ""});
   };
   const bool uniform = std::count(o.baselines.begin(), o.baselines.end(), baseline::uniform) > 0;
   const bool full = std::count(o.baselines.begin(), o.baselines.end(), baseline::full) > 0;
@@ -488,6 +501,12 @@ display_geometry check_bench_options(const bench_options& o) {
         !why.empty())
       throw usage_error("--temporal-frames: " + why + " (fewer frames, or --no-jod)");
   if (o.no_sparse && o.ray_floors.empty()) throw usage_error("--no-sparse leaves no foveated scheme: add --ray-floors");
+  if (o.reuse.mode == reuse_mode::eyes) throw usage_error("--reuse eyes: fovbench renders one eye (use --reuse temporal)");
+  if (o.reuse.mode == reuse_mode::temporal) {
+    if (o.temporal_frames < 2) throw usage_error("--reuse temporal needs --temporal-frames 2..200 (the path it is measured along)");
+    if (o.no_sparse) throw usage_error("--reuse: --no-sparse leaves no point set to reuse the samples of");
+    if (const std::string why = validate(o.reuse); !why.empty()) throw usage_error(why);
+  }
   if (!o.levels.empty() || !o.adaptive_thresholds.empty()) {
     if (o.levels.empty()) throw usage_error("--adaptive-thresholds needs --levels (the nested set's scales)");
     if (o.adaptive_thresholds.empty()) throw usage_error("--levels needs --adaptive-thresholds (the adaptive rows' thresholds)");
@@ -1013,8 +1032,13 @@ class scene_sweep {
     }
     p.taa = false;
     for (const config* c : here) {
-      st_.say(fmt::format("measuring {} {} {} {} k={} spp={}{}", scene, what, gp.name, method_name(c->how), c->k, spp, taa_text(*c)));
       const recon m{c->how, c->k};
+      if (c->reuse) {
+        st_.say(fmt::format("reuse along the path {} {} {} {} k={} spp={}", scene, what, gp.name, method_name(c->how), c->k, spp));
+        measure_reuse_row(*c, p, summarise(reconstruct_ms[m]).median);
+        continue;
+      }
+      st_.say(fmt::format("measuring {} {} {} {} k={} spp={}{}", scene, what, gp.name, method_name(c->how), c->k, spp, taa_text(*c)));
       p.reconstruct.how = c->how, p.reconstruct.k = c->k;
       frame_timing t;
       const frame image = c->taa ? r_.steady_state(gp.at, p, c->taa) : rebuild(p, t);
@@ -1058,6 +1082,56 @@ class scene_sweep {
       }
       st_.finish(*c, row);
     }
+  }
+
+  // A reuse row: the set traced along the temporal path every point every frame and with
+  // o_.reuse (measure_reuse), o_.frames timing passes, each pair beside a full-resolution
+  // frame of the same pose. Its frame time per pair is the reusing trace's plus the method's
+  // reconstruction as timed on the still view (reuse does not change that work); its errors
+  // are those of the sequence (video JOD, flicker), not of a single frame.
+  void measure_reuse_row(const config& c, render_params p, double reconstruct_ms) {
+    p.reconstruct.how = c.how, p.reconstruct.k = c.k;
+    p.taa = false;
+    p.reuse = o_.reuse;
+    const flicker_params fp = temporal_path();
+    const reuse_path_report rp = measure_reuse(r_, st_.gazes[c.gaze].at, p, fp,
+                                               o_.jod ? path_at(c.gaze).frames : std::vector<frame>{}, o_.frames, true);
+    auto mean_after_first = [](const auto& v) {
+      double sum = 0;
+      for (size_t i = 1; i < v.size(); ++i) sum += double(v[i]);
+      return v.size() > 1 ? sum / double(v.size() - 1) : 0.0;
+    };
+    std::vector<double> traced, kept;
+    for (const reuse_report& r : rp.reuse) traced.push_back(double(r.traced)), kept.push_back(r.reused_share());
+    result_row row = row_for(c);
+    const double rays = mean_after_first(rp.rays_reuse), cast = mean_after_first(rp.cast_reuse);
+    row.cells["points_traced"] = std::to_string(std::llround(mean_after_first(traced)));
+    row.cells["rays"] = std::to_string(std::llround(rays));
+    row.cells["rays_cast"] = std::to_string(std::llround(cast));
+    row.cells["reuse_kept"] = number(mean_after_first(kept));
+    row.cells["reuse_rays_ratio"] = number(rays / mean_after_first(rp.rays_full));
+    row.cells["reuse_rays_cast_ratio"] = number(cast / mean_after_first(rp.cast_full));
+    std::vector<double> ratios, frame_ms, speedups;
+    for (size_t i = 0; i < rp.trace_ms_reuse.size(); ++i) {
+      ratios.push_back(rp.trace_ms_reuse[i] / rp.trace_ms_full[i]);
+      frame_ms.push_back(rp.trace_ms_reuse[i] + reconstruct_ms);
+      speedups.push_back(rp.trace_ms_full_resolution[i] / frame_ms.back());
+    }
+    const timing ratio = summarise(ratios);
+    row.cells["reuse_trace_ratio"] = number(ratio.median);
+    row.cells["reuse_trace_ratio_lo"] = number(ratio.min), row.cells["reuse_trace_ratio_hi"] = number(ratio.max);
+    row.cells["trace_ms"] = number(summarise(rp.trace_ms_reuse).median);
+    row.cells["reconstruct_ms"] = number(reconstruct_ms);
+    put_timing(row, pair_timings(frame_ms, rp.trace_ms_full_resolution), o_.spread_limit);
+    row.cells["speedup_samples"] = samples_text(speedups);
+    row.cells["flicker"] = number(rp.flicker_reuse), row.cells["reuse_flicker_traced"] = number(rp.flicker_full);
+    if (rp.has_jod) {
+      const fvvdp_result& floor = path_at(c.gaze).floor;
+      row.cells["video_jod"] = number(rp.jod_reuse.jod), row.cells["video_jod_nonfoveated"] = number(rp.jod_reuse.jod_nonfoveated);
+      row.cells["reuse_video_jod_traced"] = number(rp.jod_full.jod);
+      row.cells["noise_floor_video_jod"] = number(floor.jod), row.cells["noise_floor_video_jod_nonfoveated"] = number(floor.jod_nonfoveated);
+    }
+    st_.finish(c, row);
   }
 
   flicker_params temporal_path() const {

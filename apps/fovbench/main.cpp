@@ -75,7 +75,8 @@ int main(int argc, char** argv) {
                  "With --fovea grid: the largest model spacing (px, 0.5..4) with grid points (DISPLAY-sS-grid-P.fovset "
                  "unless 1)");
   fov::add_render_flags(app, o.render,
-                        fov::flags_trace | fov::flags_reconstruct | fov::flags_device | fov::flags_view | fov::flags_pattern);
+                        fov::flags_trace | fov::flags_reconstruct | fov::flags_device | fov::flags_view | fov::flags_pattern |
+                            fov::flags_reuse);
   app.add_option("--taa-frames", o.taa_frames,
                  "Every row also in steady state: its errors after each N frames of TAA with a still view (rays in "
                  "--pattern's patterns), its time a frame's plus TAA's against full resolution with TAA, e.g. 16")
@@ -205,6 +206,14 @@ int main(int argc, char** argv) {
       return 1;
     }
     fov::parse_shard(shard, app.count("--shard") > 0, o);
+    // --reuse and its knobs make rows of their own (bench_options::reuse); every other row
+    // traces every point.
+    o.reuse = o.render.reuse;
+    o.render.reuse = {};
+    for (const char* knob : {"--reuse-fovea", "--reuse-threshold", "--reuse-max-age", "--reuse-budget", "--reuse-edges",
+                             "--reuse-distance", "--reuse-view"})
+      if (app.count(knob) && o.reuse.mode == fov::reuse_mode::none) throw fov::usage_error(std::string(knob) + " needs --reuse temporal");
+    if (yardstick && o.reuse.mode != fov::reuse_mode::none) throw fov::usage_error("--reuse: --yardstick has no reuse rows");
     o.gazes = split_gazes(o.gazes);
     if (o.scenes.empty()) o.scenes = {"builtin"};
     if (yardstick && o.shard_count > 1) throw fov::usage_error("--yardstick runs whole: no --shard (or Slurm array)");

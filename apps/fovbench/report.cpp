@@ -30,8 +30,10 @@ struct sweep_part {
   bool operator==(const sweep_part& o) const {
     return scene == o.scene && taa_frames == o.taa_frames && taa_pattern == o.taa_pattern && integrator == o.integrator;
   }
+  // Reuse rows are measured along the temporal path, not as single frames: they have a
+  // section of their own (reuse_markdown) and no part.
   bool holds(const result_row& r) const {
-    return r.text("scene") == scene && r.text("taa_frames") == taa_frames && r.text("taa_pattern") == taa_pattern &&
+    return r.text("reuse").empty() && r.text("scene") == scene && r.text("taa_frames") == taa_frames && r.text("taa_pattern") == taa_pattern &&
            integrator_text(r) == integrator;
   }
 };
@@ -39,6 +41,7 @@ struct sweep_part {
 std::vector<sweep_part> scenes_of(const std::vector<result_row>& rows) {
   std::vector<sweep_part> out;
   for (const result_row& r : rows) {
+    if (!r.text("reuse").empty()) continue;
     const sweep_part part{r.text("scene"), r.text("taa_frames"), r.text("taa_pattern"), integrator_text(r)};
     if (std::find(out.begin(), out.end(), part) == out.end()) out.push_back(part);
   }
@@ -606,6 +609,40 @@ std::string scheme_answers_markdown(const std::vector<scheme_answer>& answers) {
   return md;
 }
 
+// The reuse rows, one table line each: what reuse kept and saved along the temporal path
+// against the same set traced in full, and what it cost in video JOD and flicker. "" when
+// there are none.
+std::string reuse_markdown(const std::vector<result_row>& rows) {
+  std::string md;
+  for (const result_row& r : rows) {
+    if (r.text("reuse").empty()) continue;
+    auto jod = [&](const char* c) { return std::isnan(r.number(c)) ? std::string("-") : fmt::format("{:.3f}", r.number(c)); };
+    md += fmt::format("| {} ({}) | {} | s = {} {} k = {} | {} | {} | {:.2f} | {:.2f}x | {:.2f}x | {:.2f} ({:.2f}-{:.2f}) | "
+                      "{} -> {} ({}; floor {}) | {:.4f} -> {:.4f} | {:.2f} ({:.2f}-{:.2f}) |\n",
+                      short_scene(r.text("scene")), integrator_text(r), r.text("gaze"), r.text("scale"), r.text("method"),
+                      r.text("k"), r.text("spp"), r.text("reuse_settings"), r.number("reuse_kept"), r.number("reuse_rays_ratio"),
+                      r.number("reuse_rays_cast_ratio"), r.number("reuse_trace_ratio"), r.number("reuse_trace_ratio_lo"),
+                      r.number("reuse_trace_ratio_hi"), jod("reuse_video_jod_traced"), jod("video_jod"),
+                      std::isnan(r.number("video_jod")) ? std::string("-")
+                                                        : fmt::format("{:+.3f}", r.number("video_jod") - r.number("reuse_video_jod_traced")),
+                      jod("noise_floor_video_jod"),
+                      r.number("reuse_flicker_traced"), r.number("flicker"), r.number("speedup"), r.number("speedup_lo"),
+                      r.number("speedup_hi"));
+  }
+  if (md.empty()) return md;
+  return "## Temporal reuse along the temporal path\n\n"
+         "Each reuse row's set traced along the temporal path twice, every point every frame (traced) and keeping earlier "
+         "frames' samples where they hold (reuse; docs/reuse.md), over the frames after the first. Kept: the share of the "
+         "points that kept a sample. Rays: reuse's camera rays (its probes included) and every ray (shadow and bounce rays "
+         "too) over the full traces'. Trace time: reuse's over the full trace's, paired frame by frame (median, min-max). "
+         "Video JOD against converged frames along the path, gaze per frame (its floor a second converged path). Speedup: "
+         "over full resolution at the row's spp traced from the same pose beside each pair (median, min-max), the frame "
+         "being reuse's trace plus the method's reconstruction timed on the still view.\n\n"
+         "| scene | gaze | configuration | spp | reuse settings | kept | camera rays | every ray | trace time | "
+         "video JOD traced -> reuse | flicker traced -> reuse | speedup over full resolution |\n"
+         "|---|---|---|---:|---|---:|---:|---:|---:|---|---|---:|\n" + md + "\n";
+}
+
 void write_bench_report(const std::vector<result_row>& rows, const bench_options& o, const std::string& path, int argc,
                         char** argv) {
   std::string md = "# fovbench report\n\n```\n";
@@ -724,6 +761,7 @@ void write_bench_report(const std::vector<result_row>& rows, const bench_options
     md += "\nThe thesis claimed a 4.3x speedup at s = 1.0 from a sample ratio of 22.8 % (1 / ratio), and a mean "
           "detection threshold near s = 1.75 with no difference between methods.\n\n";
   }
+  md += reuse_markdown(rows);
   md += "Figures (PNG and SVG): `pareto_jod` (JOD), `pareto` (foveated FLIP), `pareto_flip` (FLIP), `error_by_eccentricity`, "
         "`speedup_vs_scale`.\n";
   write_file_atomic(path, md.data(), md.size());

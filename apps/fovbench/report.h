@@ -89,6 +89,11 @@ struct bench_options {
   // "noisy" in results.csv and counted in the report.
   double spread_limit = 0.25;
   uint32_t temporal_frames = 0;
+  // Reuse rows (issue 28; column reuse = temporal): each fixed set's single-frame
+  // configuration (no ray floor) also along the temporal path with these settings
+  // (measure_reuse: every frame traced and reusing in turn), timed there against the set fully
+  // traced and against full resolution. mode none: no such rows; eyes is refused (one eye).
+  reuse_params reuse;
   double temporal_fps = 60;  // the display's frame rate along the temporal path, for its video JOD
   bool resume = false;
   double budget_psnr = std::numeric_limits<double>::quiet_NaN();

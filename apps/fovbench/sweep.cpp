@@ -60,14 +60,22 @@ const std::vector<std::string>& result_columns() {
       // converged path's own floor (a second one, another seed).
       "video_jod", "video_jod_nonfoveated", "video_jod_taa", "video_jod_taa_nonfoveated", "video_jod_full",
       "video_jod_full_nonfoveated", "noise_floor_video_jod", "noise_floor_video_jod_nonfoveated",
+      // A reuse row (issue 28; docs/reuse.md): `reuse` temporal and its settings. Its set is
+      // traced along the temporal path twice, every point every frame and reusing, over the
+      // frames after the first: the share of points that kept a sample, its camera rays and
+      // every ray against the full traces', the paired trace times' ratio (median, min, max),
+      // and the fully traced sequence's video JOD and flicker (the row's own are reuse's).
+      "reuse", "reuse_settings", "reuse_kept", "reuse_rays_ratio", "reuse_rays_cast_ratio", "reuse_trace_ratio",
+      "reuse_trace_ratio_lo", "reuse_trace_ratio_hi", "reuse_video_jod_traced", "reuse_flicker_traced",
       "error_profile", "device", "neighbours", "frames", "render_settings"};
   return columns;
 }
 
 std::string result_row::key() const {
-  return fmt::format("{}|{}|{}|{}|{}|{}|{}|{}|{}|{}|{}|{}|{}|{}", text("scene"), text("gaze"), text("kind"), text("scale"),
+  return fmt::format("{}|{}|{}|{}|{}|{}|{}|{}|{}|{}|{}|{}|{}|{}|{}|{}", text("scene"), text("gaze"), text("kind"), text("scale"),
                      text("pixel_fraction"), text("method"), text("k"), text("ray_floor"), text("spp"), text("taa_frames"),
-                     text("taa_pattern"), text("density"), text("adaptive_threshold"), text("levels"));
+                     text("taa_pattern"), text("density"), text("adaptive_threshold"), text("levels"), text("reuse"),
+                     text("reuse_settings"));
 }
 
 const std::string& result_row::text(const std::string& column) const {
@@ -191,6 +199,20 @@ std::string result_row_problem(const result_row& row) {
     if (!levels_problem(scales).empty())
       return fmt::format("levels '{}' is not 2..{} increasing positive scales", printable(row.text("levels")), max_levels);
   }
+  // Reuse: a fixed set's single frame without a ray floor, named with its settings and
+  // carrying what reuse measured; no other row carries any of it.
+  const std::string& reuse = row.text("reuse");
+  if (!reuse.empty() && reuse != "temporal") return fmt::format("reuse '{}' is not temporal", printable(reuse));
+  if (!reuse.empty() && (density != "fixed" || !row.text("taa_frames").empty() || !row.text("ray_floor").empty()))
+    return "a reuse row is a fixed set's single frame without a ray floor";
+  for (const char* c : {"reuse_settings", "reuse_kept", "reuse_rays_ratio", "reuse_rays_cast_ratio", "reuse_trace_ratio",
+                        "reuse_trace_ratio_lo", "reuse_trace_ratio_hi"})
+    if (row.text(c).empty() != reuse.empty()) return fmt::format("{} is given on a reuse row and on no other", c);
+  for (const char* c : {"reuse_video_jod_traced", "reuse_flicker_traced"})
+    if (reuse.empty() && !row.text(c).empty()) return fmt::format("{} on a row without reuse", c);
+  if (!reuse.empty() && !(row.number("reuse_trace_ratio_lo") <= row.number("reuse_trace_ratio") &&
+                          row.number("reuse_trace_ratio") <= row.number("reuse_trace_ratio_hi")))
+    return "reuse_trace_ratio does not lie within its _lo and _hi";
   for (const char* list : {"error_profile", "speedup_samples", "ladder_samples", "level_rays"}) {
     std::stringstream profile(row.text(list));
     std::string v;
@@ -218,6 +240,10 @@ std::string result_row_problem(const result_row& row) {
       return range{0, big, true, false};
     if (c == "scale") return range{0, 10, true, false};
     if (c == "adaptive_threshold") return range{0, max_adaptive_threshold, false, false};
+    if (c == "reuse_kept") return range{0, 1, false, false};
+    if (starts("reuse_rays") || starts("reuse_trace_ratio")) return range{0, big, true, false};
+    if (c == "reuse_video_jod_traced") return range{-big, 10, false, false};
+    if (c == "reuse_flicker_traced") return range{0, big, false, false};
     if (starts("jod") || starts("noise_floor_jod") || starts("video_jod") || starts("noise_floor_video_jod"))
       return range{-big, 10, false, false};
     if (c == "k") return range{1, 32, false, false};
@@ -262,16 +288,32 @@ std::vector<result_row> read_results(const std::string& path, bool older_ok) {
                   columns.end());
     return columns;
   };
-  const bool older = older_ok && (header == without({"rays_cast"}) || header == without({"rays_cast", "integrator", "bounces"}) ||
-                                  header == without({"rays_cast", "integrator", "bounces", "acuity", "sampler"}) ||
-                                  header == without({"rays_cast", "integrator", "bounces", "acuity", "sampler", "density",
-                                                     "adaptive_threshold", "levels", "level_rays"}) ||
-                                  header == without({"rays_cast", "integrator", "bounces", "acuity", "sampler", "density",
-                                                     "adaptive_threshold", "levels", "level_rays", "taa_frames", "taa_pattern"}));
+  const std::set<std::string> reuse_columns = {"reuse",
+                                               "reuse_settings",
+                                               "reuse_kept",
+                                               "reuse_rays_ratio",
+                                               "reuse_rays_cast_ratio",
+                                               "reuse_trace_ratio",
+                                               "reuse_trace_ratio_lo",
+                                               "reuse_trace_ratio_hi",
+                                               "reuse_video_jod_traced",
+                                               "reuse_flicker_traced"};
+  auto before_reuse = [&](std::set<std::string> later) {
+    later.insert(reuse_columns.begin(), reuse_columns.end());
+    return without(later);
+  };
+  const bool older =
+      older_ok && (header == before_reuse({}) || header == before_reuse({"rays_cast"}) ||
+                   header == before_reuse({"rays_cast", "integrator", "bounces"}) ||
+                   header == before_reuse({"rays_cast", "integrator", "bounces", "acuity", "sampler"}) ||
+                   header == before_reuse({"rays_cast", "integrator", "bounces", "acuity", "sampler", "density",
+                                           "adaptive_threshold", "levels", "level_rays"}) ||
+                   header == before_reuse({"rays_cast", "integrator", "bounces", "acuity", "sampler", "density",
+                                           "adaptive_threshold", "levels", "level_rays", "taa_frames", "taa_pattern"}));
   if (header != result_columns() && !older)
     throw std::runtime_error(fmt::format("{}:1: not a results.csv of this fovbench (columns differ); use another -o", path));
   static const std::set<std::string> text_columns = {"scene",  "gaze",         "kind",   "method",         "texture_footprint", "taa_pattern",
-                                                     "fovea",  "acuity", "sampler", "display", "timing_flag", "density", "levels", "level_rays", "integrator",  "device", "neighbours", "render_settings", "error_profile",
+                                                     "fovea",  "acuity", "sampler", "display", "timing_flag", "density", "levels", "level_rays", "integrator",  "device", "neighbours", "render_settings", "error_profile", "reuse", "reuse_settings",
                                                      "speedup_samples", "ladder_samples"};
   std::vector<result_row> rows;
   std::map<std::string, int> first_line;  // by key
@@ -286,6 +328,8 @@ std::vector<result_row> read_results(const std::string& path, bool older_ok) {
     if (older) r.cells["taa_frames"] = r.cells["taa_pattern"] = "";  // single frames
     if (older) r.cells["adaptive_threshold"] = r.cells["levels"] = r.cells["level_rays"] = "";  // fixed sets
     if (older) r.cells["rays_cast"] = "";  // not counted then
+    if (older)
+      for (const std::string& c : reuse_columns) r.cells[c] = "";  // no reuse rows then
     for (size_t i = 0; i < cells.size(); ++i) {
       const std::string& c = cells[i];
       // A number as fovbench writes it: finite, or inf (a PSNR of identical images); empty

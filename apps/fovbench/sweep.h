@@ -26,7 +26,7 @@ inline const char* row_kind_name(row_kind k) { return label_of(row_kind_labels, 
 
 struct result_row {
   std::map<std::string, std::string> cells;
-  std::string key() const;  // scene|gaze|kind|scale|pixel_fraction|method|k|ray_floor|spp|taa_frames|taa_pattern: what --resume skips on
+  std::string key() const;  // scene|gaze|kind|scale|pixel_fraction|method|k|ray_floor|spp|taa_frames|taa_pattern|density|adaptive_threshold|levels|reuse|reuse_settings: what --resume skips on
   double number(const std::string& column) const;  // NaN when empty or not a number
   // The kind column; std::logic_error for a row that result_row_problem would refuse.
   row_kind kind() const;
@@ -60,7 +60,7 @@ constexpr uintmax_t max_results_bytes = uintmax_t(256) << 20;
 // or empty; never nan), a row fails result_row_problem, or a row repeats an earlier row's
 // configuration (key()). A torn last line (no newline: an interrupted write) is ignored;
 // CRLF line ends read as LF. With older_ok (for reading only: fovbench summary), a results.csv
-// from before the integrator columns (integrator, bounces: its rows direct), before that
+// from before the reuse columns (no reuse rows), before rays_cast, before the integrator columns (integrator, bounces: its rows direct), before that
 // without the acuity model's (acuity, sampler), before the density columns (density, adaptive_threshold, levels, level_rays), or also
 // before the steady-state ones (taa_frames, taa_pattern), reads too, its rows single frames of
 // fixed density; --resume refuses one, since its new rows would have more columns.

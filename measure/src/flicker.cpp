@@ -123,7 +123,7 @@ flicker_report measure_flicker(renderer& r, gaze_point start, const render_param
 }
 
 reuse_path_report measure_reuse(renderer& r, gaze_point start, const render_params& p, const flicker_params& f,
-                                const std::vector<frame>& converged, uint32_t timing_repeats) {
+                                const std::vector<frame>& converged, uint32_t timing_repeats, bool time_full_resolution) {
   if (f.frames < 2) throw std::invalid_argument("the reuse path needs at least 2 frames");
   if (p.reuse.mode == reuse_mode::none) throw std::invalid_argument("measure_reuse: p.reuse.mode is none");
   if (p.adaptive.enabled) throw std::invalid_argument("measure_reuse: temporal reuse does not combine with adaptive refinement");
@@ -159,23 +159,28 @@ reuse_path_report measure_reuse(renderer& r, gaze_point start, const render_para
     if (jod) (reusing ? out.jod_reuse : out.jod_full) = jod->result();
   }
   out.has_jod = !converged.empty();
-  // Timing, interleaved (each pass puts the other first): a full trace leaves the reuse
-  // history as it was (trace() reads and writes it only when reusing), so one renderer times
-  // both, frame by frame.
+  // Timing, interleaved (each pass starts with the next trace of the three, so that none always
+  // finds the caches warm): a full trace leaves the reuse history as it was (trace() reads and
+  // writes it only when reusing), so one renderer times both, frame by frame.
   render_params full = p;
   full.reuse.mode = reuse_mode::none;
+  const size_t jobs = time_full_resolution ? 3 : 2;
   for (uint32_t k = 0; k < timing_repeats; ++k) {
     r.reset_reuse();
     for (uint32_t n = 0; n < f.frames; ++n) {
       r.cam() = path_camera(still, f, n);
       const gaze_point g = path_gaze(start, d, f, n);
-      frame_timing a, b;  // in turn first, so that neither always finds the caches warm
-      if (k % 2 == 0) r.trace(g, full, a);
-      r.trace(g, p, b);
-      if (k % 2 == 1) r.trace(g, full, a);
+      frame_timing t[3];
+      for (size_t j = 0; j < jobs; ++j) {
+        const size_t job = (j + k) % jobs;
+        if (job == 0) r.trace(g, full, t[0]);
+        else if (job == 1) r.trace(g, p, t[1]);
+        else r.reference(d.width, d.height, full, &t[2]);
+      }
       if (n == 0) continue;
-      out.trace_ms_full.push_back(a.trace_ms);
-      out.trace_ms_reuse.push_back(b.trace_ms);
+      out.trace_ms_full.push_back(t[0].trace_ms);
+      out.trace_ms_reuse.push_back(t[1].trace_ms);
+      if (time_full_resolution) out.trace_ms_full_resolution.push_back(t[2].trace_ms);
     }
   }
   r.cam() = still;

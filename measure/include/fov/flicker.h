@@ -73,14 +73,19 @@ struct reuse_path_report {
   // and then with reuse (its history carried along that pass), frame 0 left out. Per pair the
   // two times in ms.
   std::vector<double> trace_ms_full, trace_ms_reuse;
+  // With time_full_resolution: in the same passes, beside each pair, the full pixel grid at
+  // p.spp traced from the same pose (what a user would do without foveation), in ms.
+  std::vector<double> trace_ms_full_resolution;
   std::vector<uint64_t> cast_full, cast_reuse;  // every ray: primary, shadow and bounce
   std::vector<reuse_report> reuse;
   double flicker_full = 0, flicker_reuse = 0;
   bool has_jod = false;
   fvvdp_result jod_full, jod_reuse;
 };
+// The traces of each timing pass run in turn, each pass starting one later than the last.
 reuse_path_report measure_reuse(renderer& r, gaze_point start, const render_params& p, const flicker_params& f,
-                                const std::vector<frame>& converged = {}, uint32_t timing_repeats = 3);
+                                const std::vector<frame>& converged = {}, uint32_t timing_repeats = 3,
+                                bool time_full_resolution = false);
 
 // Video JOD of one converged path against another (converged_path with the two seeds of
 // converged_seeds): the noise floor of every video JOD measured against the first.
