@@ -1069,7 +1069,8 @@ class scene_sweep {
       if (o_.temporal_frames >= 2 && !c->taa) {
         st_.say(fmt::format("temporal {} {} {} k={} spp={}", scene, what, method_name(c->how), c->k, spp));
         const flicker_params fp = temporal_path();
-        const flicker_report fl = measure_flicker(r_, gp.at, p, fp, o_.jod ? path_at(c->gaze).frames : std::vector<frame>{});
+        const std::vector<frame> none;  // (both branches lvalues: the converged path is not copied)
+        const flicker_report fl = measure_flicker(r_, gp.at, p, fp, o_.jod ? path_at(c->gaze).frames : none);
         row.cells["flicker"] = number(fl.raw);
         row.cells["flicker_taa"] = number(fl.taa);
         row.cells["flicker_reference"] = number(fl.reference);
@@ -1094,8 +1095,9 @@ class scene_sweep {
     p.taa = false;
     p.reuse = o_.reuse;
     const flicker_params fp = temporal_path();
-    const reuse_path_report rp = measure_reuse(r_, st_.gazes[c.gaze].at, p, fp,
-                                               o_.jod ? path_at(c.gaze).frames : std::vector<frame>{}, o_.frames, true);
+    const std::vector<frame> none;  // (both branches lvalues: the converged path is not copied)
+    const reuse_path_report rp =
+        measure_reuse(r_, st_.gazes[c.gaze].at, p, fp, o_.jod ? path_at(c.gaze).frames : none, o_.frames, true);
     auto mean_after_first = [](const auto& v) {
       double sum = 0;
       for (size_t i = 1; i < v.size(); ++i) sum += double(v[i]);
