@@ -103,6 +103,13 @@ __kernel void reconstruct_nn(FOV_NEIGHBOUR_ARGS, __global const float4* colour, 
 
 // Modified Shepard's v of a neighbour at distance h within radius r: 0 at the radius, within
 // the relative tie FOV_SHEPARD_TIE (the C++ path's rule, reconstruct.h shepard_tie).
+// A point's distance from a pixel centre on the canvas: OpenCL's distance() guards against
+// overflow, which canvas coordinates cannot reach, and costs more on a CPU device.
+inline float canvas_distance(float2 p, float2 centre) {
+  const float2 d = p - centre;
+  return sqrt(d.x * d.x + d.y * d.y);
+}
+
 inline float shepard_v(float h, float r) { return h >= r * (1.0f - FOV_SHEPARD_TIE) ? 0.0f : (r - h) / (r * h); }
 
 // Depth by Shepard over the neighbours that hit something (finite depth), with their own R;
@@ -140,7 +147,7 @@ __kernel void reconstruct_shepard(FOV_NEIGHBOUR_ARGS, uint k, uint renka, __glob
   float h[FOV_MAX_K];
   uint idx[FOV_MAX_K];
   FOV_NEIGHBOURS((uint)(tx + offset_x), (uint)(ty + offset_y), k, idx);
-  for (uint j = 0; j < k; ++j) h[j] = distance(position[idx[j]], centre);
+  for (uint j = 0; j < k; ++j) h[j] = canvas_distance(position[idx[j]], centre);
   const size_t at = (size_t)sy * width + sx;
 
   float4 acc = (float4)(0.0f);
@@ -187,7 +194,7 @@ __kernel void reconstruct_weighted(FOV_NEIGHBOUR_ARGS, uint k, uint renka, __glo
   float4 acc = (float4)(0.0f);
   FOV_NEIGHBOURS(cx, cy, k, idx);
   for (uint j = 0; j < k; ++j) {
-    h[j] = distance(position[idx[j]], centre);
+    h[j] = canvas_distance(position[idx[j]], centre);
     if (w[j] != 0.0f) acc += w[j] * colour[idx[j]];
   }
   const size_t at = (size_t)sy * width + sx;

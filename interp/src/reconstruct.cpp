@@ -66,6 +66,12 @@ void lu_solve(const double* m, int n, const int* pivot, double* b) {
 
 constexpr int max_system = 33;  // 32 neighbours + the constant term
 
+// The distance from a pixel centre to a point, both on the canvas: coordinates of at most a
+// few tens of thousands, whose squares cannot overflow or lose precision, so the plain
+// formula serves where std::hypot's guard against both made it the reconstruction's costliest
+// call.
+inline double canvas_distance(double dx, double dy) { return std::sqrt(dx * dx + dy * dy); }
+
 }  // namespace
 
 bool rbf_weights(const double* px, const double* py, uint32_t k, double x, double y, double c, rbf_kernel kernel,
@@ -154,7 +160,7 @@ void pixel_weights(const pointset& set, const reconstruct_params& params, uint32
   for (uint32_t j = 0; j < k; ++j) {
     const point& p = set.points[idx[j]];
     xs[j] = p.x, ys[j] = p.y, spacing += p.spacing;
-    dist[j] = std::hypot(double(p.x) - x, double(p.y) - y);
+    dist[j] = canvas_distance(double(p.x) - x, double(p.y) - y);
   }
   if (cached_weights_method(params.how)) {
     // A neighbour on the pixel centre (a grid point): the interpolant's value there is its
@@ -294,7 +300,7 @@ void reconstruct_into(const pointset& set, const point_samples& samples, const r
         for (uint32_t j = 0; j < k; ++j) {
           const uint32_t i = idx[j];
           const point& p = set.points[i];
-          dist[j] = std::hypot(double(p.x) - px, double(p.y) - py);
+          dist[j] = canvas_distance(double(p.x) - px, double(p.y) - py);
           if (dist[j] < on_point_px && on_point < 0) on_point = i;
           const glm::vec3& c = samples.colour[i];
           value[j] = {c.r, c.g, c.b};
