@@ -140,7 +140,7 @@ check "gaze right off"     2 -- "$fovrender" "${set[@]}" --stereo --gaze-right 6
 check "eyes without stereo" 2 -- "$fovrender" "${set[@]}" --reuse eyes -o "$dir/a.png"
 check "stereo compare"     2 -- "$fovrender" "${set[@]}" --stereo --compare "$dir/set.fovset" -o "$dir/a.png"
 check "stereo speedup"     2 -- "$fovrender" "${set[@]}" --stereo --speedup 2 -o "$dir/a.png"
-check "stereo rolling"     2 -- "$fovrender" "${set[@]}" --stereo --camera "$dir/path.csv" --rolling top-down -o "$dir/a.png"
+check "eyes rolling"       2 -- "$fovrender" "${set[@]}" --stereo --reuse eyes --camera "$dir/path.csv" --rolling top-down -o "$dir/a.png"
 check "eyes ray floor"     2 -- "$fovrender" "${set[@]}" --stereo --reuse eyes --ray-floor 1 -o "$dir/a.png"
 [[ -e "$dir/a.png" ]] && fail "a refused stereo run wrote its output"
 python3 - "$fovrender" "$dir" <<'PY' || { echo "FAIL --stereo"; failures=$((failures + 1)); }
@@ -164,6 +164,11 @@ assert ref["width"] == 128 and ref["eyes"]["right"]["points_traced"] is None and
 PY
 check "rolling"            0 -- "$fovrender" "${set[@]}" --spp 1 --camera "$dir/path.csv" --rolling bottom-up --frame-period 100 -o "$dir/roll.png"
 cmp -s "$dir/cam-file.png" "$dir/roll.png" && fail "--rolling on a moving path changed nothing"
+# Two eyes on one rolling panel: the left eye's columns first, then the right eye's.
+check "stereo global"      0 -- "$fovrender" "${set[@]}" --spp 1 --stereo --camera "$dir/path.csv" -o "$dir/stereo-global.png"
+check "stereo rolling"     0 -- "$fovrender" "${set[@]}" --spp 1 --stereo --camera "$dir/path.csv" --rolling left-right \
+  --frame-period 100 --reference-spp 4 -o "$dir/stereo-roll.png"
+cmp -s "$dir/stereo-global.png" "$dir/stereo-roll.png" && fail "--stereo --rolling on a moving path changed nothing"
 check "bad size"           2 -- "$fovrender" --reference --width 0 -o "$dir/a.png"
 check "size beyond memory" 2 -- "$fovrender" --reference --width 65536 --height 65536 -o "$dir/a.png"
 check "bad display"        2 -- "$fovrender" --reference --display 64x72@ppd -o "$dir/a.png"

@@ -1037,7 +1037,110 @@ TEST(Stereo, EyesSitHalfTheIpdToEitherSideLookingTheSameWay) {
   auto path = std::make_shared<camera_path>();
   path->keys.push_back({0, {0, 0, 0}, {0, 0, -1}});
   rp.rolling.path = path;
-  EXPECT_NE(validate(rp).find("--stereo does not combine with --rolling"), std::string::npos);
+  EXPECT_EQ(validate(rp), "");  // two eyes on a rolling panel
+  rp.reuse.mode = reuse_mode::eyes;
+  EXPECT_NE(validate(rp).find("does not combine with --rolling"), std::string::npos);
+}
+
+// Two eyes on one rolling panel (the FOVE 0's: the eyes side by side): a row scanout shows
+// both eyes' row at once, a column scanout the left eye's columns first; each line's camera
+// is the eye's at the line's time.
+TEST(Rolling, APanelOfTwoEyesScansThemAsOne) {
+  rolling_params r;
+  r.frame_period_ms = 10;
+  r.stereo = true;
+  for (bool right : {false, true}) {
+    r.right_eye = right;
+    r.order = scanout::top_down;  // an eye's row at the panel row's time
+    EXPECT_DOUBLE_EQ(line_time_ms(r, 0, 40, 20), 0.25);
+    EXPECT_DOUBLE_EQ(line_time_ms(r, 19, 40, 20), 9.75);
+  }
+  r.order = scanout::left_right;  // 80 columns across the panel
+  r.right_eye = false;
+  EXPECT_DOUBLE_EQ(line_time_ms(r, 0, 40, 20), 0.0625);
+  EXPECT_DOUBLE_EQ(line_time_ms(r, 39, 40, 20), 4.9375);
+  r.right_eye = true;
+  EXPECT_DOUBLE_EQ(line_time_ms(r, 0, 40, 20), 5.0625);
+  EXPECT_DOUBLE_EQ(line_time_ms(r, 39, 40, 20), 9.9375);
+  r.order = scanout::right_left;  // the right eye's last column first
+  EXPECT_DOUBLE_EQ(line_time_ms(r, 39, 40, 20), 0.0625);
+  r.right_eye = false;
+  EXPECT_DOUBLE_EQ(line_time_ms(r, 0, 40, 20), 9.9375);
+  // Each line's camera: the eye's, of the path's head camera at the line's time.
+  const camera base = look_at({0, 0, 0}, {0, 0, -1}, 60);
+  auto path = std::make_shared<camera_path>();
+  path->keys = {{100, {0, 0, 0}, {0, 0, -1}}, {120, {20, 0, 0}, {20, 0, -1}}};
+  r.path = path;
+  r.start_ms = 105;
+  r.ipd_mm = 500;  // eyes 0.25 to either side of the head
+  for (scanout order : {scanout::top_down, scanout::left_right}) {
+    r.order = order;
+    for (bool right : {false, true}) {
+      r.right_eye = right;
+      const line_cameras l = rolling_cameras(r, base, 40, 20);
+      for (size_t i : {size_t(0), l.cameras.size() - 1}) {
+        const camera head = path->at(105 + line_time_ms(r, int(i), 40, 20), base);
+        const camera want = eye_camera(head, right ? eye_side::right : eye_side::left, 500);
+        EXPECT_EQ(l.cameras[i].position, want.position) << scanout_name(order) << " " << right << " " << i;
+        EXPECT_NEAR(l.cameras[i].position.x, head.position.x + (right ? 0.25f : -0.25f), 1e-5);
+        EXPECT_EQ(l.cameras[i].forward, want.forward);
+      }
+    }
+  }
+}
+
+// At zero IPD both eyes sit at the head: on a column scanout each eye's frame is a one-eye
+// rolling frame over its half of the period (the right eye's starting half a period later),
+// and on a row scanout the one-eye rolling frame itself, bit for bit, foveated and at full
+// resolution. A still path gives the global pair.
+TEST_F(pipeline, TwoEyesOnARollingPanelAreOneEyeFramesOverTheirHalves) {
+  render_params p = params;
+  p.stereo.enabled = true;
+  p.stereo.ipd_mm = 0;
+  p.rolling.path = turning_path(setup_camera(*scn), 0.5);
+  p.rolling.frame_period_ms = 16;
+  p.rolling.start_ms = 4;
+  for (scanout order : {scanout::left_right, scanout::top_down}) {
+    p.rolling.order = order;
+    stereo_renderer two(scn, p);
+    two.use_pointset(set);
+    const frame both = two.foveated({20, 30}, {40, 20}, p);
+    const frame both_full = two.reference(64, 48, p);
+    render_params one_p = p;
+    one_p.stereo.enabled = false;
+    const bool halves = order == scanout::left_right;
+    if (halves) one_p.rolling.frame_period_ms = 8;
+    renderer left(scn, one_p);
+    left.use_pointset(set);
+    EXPECT_TRUE(same_frame(eye_half(both, eye_side::left), left.foveated({20, 30}, one_p))) << scanout_name(order);
+    EXPECT_TRUE(same_frame(eye_half(both_full, eye_side::left), left.reference(64, 48, one_p).image)) << scanout_name(order);
+    if (halves) one_p.rolling.start_ms = 12;
+    renderer right(scn, one_p);
+    right.use_pointset(set);
+    EXPECT_TRUE(same_frame(eye_half(both, eye_side::right), right.foveated({40, 20}, one_p))) << scanout_name(order);
+    EXPECT_TRUE(same_frame(eye_half(both_full, eye_side::right), right.reference(64, 48, one_p).image)) << scanout_name(order);
+    if (halves) {
+      EXPECT_FALSE(same_frame(eye_half(both_full, eye_side::left), eye_half(both_full, eye_side::right)));
+    }
+  }
+  // A still path: the rolling pair is the global pair.
+  auto still = std::make_shared<camera_path>();
+  const camera c = setup_camera(*scn);
+  const glm::vec3 target = c.position + c.forward;
+  still->keys = {{0, {c.position.x, c.position.y, c.position.z}, {target.x, target.y, target.z}}};
+  p.rolling.path = still;
+  p.stereo.ipd_mm = 63;
+  render_params global = p;
+  global.rolling.order = scanout::global;
+  stereo_renderer g(scn, global);
+  g.use_pointset(set);
+  const frame want = g.foveated({20, 30}, {40, 20}, global);
+  for (scanout order : {scanout::left_right, scanout::bottom_up}) {
+    p.rolling.order = order;
+    stereo_renderer r(scn, p);
+    r.use_pointset(set);
+    EXPECT_TRUE(same_frame(r.foveated({20, 30}, {40, 20}, p), want)) << scanout_name(order);
+  }
 }
 
 TEST_F(pipeline, AtZeroIpdEachEyeIsTheHeadsFrame) {

@@ -211,16 +211,18 @@ int render_stereo(const render_options& o, const fov::render_params& p, std::sha
                   fov::gaze_point gaze_right, json j) {
   using fov::eye_side;
   fov::stereo_renderer sr(scene, p);
+  // Each eye's own params (its half of a rolling panel) for what is rendered through one eye.
+  const fov::render_params pl = fov::stereo_renderer::for_eye(p, eye_side::left), pr = fov::stereo_renderer::for_eye(p, eye_side::right);
   fov::stereo_timing t;
   fov::frame image;
   const int w = display.width, h = display.height;
   if (o.reference) {
     if (!o.no_warmup)
-      j["warmup_ms"] = sr.eye(eye_side::left).warm_up_reference(w, h, p).trace_ms +
-                       sr.eye(eye_side::right).warm_up_reference(w, h, p).trace_ms;
+      j["warmup_ms"] = sr.eye(eye_side::left).warm_up_reference(w, h, pl).trace_ms +
+                       sr.eye(eye_side::right).warm_up_reference(w, h, pr).trace_ms;
     if (o.taa_frames > 0)
-      image = fov::side_by_side(sr.eye(eye_side::left).full_steady_state(display, gaze_left, p, o.taa_frames, nullptr, &t.left),
-                                sr.eye(eye_side::right).full_steady_state(display, gaze_right, p, o.taa_frames, nullptr, &t.right));
+      image = fov::side_by_side(sr.eye(eye_side::left).full_steady_state(display, gaze_left, pl, o.taa_frames, nullptr, &t.left),
+                                sr.eye(eye_side::right).full_steady_state(display, gaze_right, pr, o.taa_frames, nullptr, &t.right));
     else
       image = sr.reference(w, h, p, &t);
   } else {
@@ -229,7 +231,7 @@ int render_stereo(const render_options& o, const fov::render_params& p, std::sha
       j["device_setup_ms"] = sr.eye(eye_side::left).device_setup_ms() + sr.eye(eye_side::right).device_setup_ms();
     if (const std::string warn = sr.eye(eye_side::left).device_warning(); !warn.empty()) std::cerr << "fovrender: " << warn << "\n";
     if (!o.no_warmup)
-      j["warmup_ms"] = sr.eye(eye_side::left).warm_up(gaze_left, p).trace_ms + sr.eye(eye_side::right).warm_up(gaze_right, p).trace_ms;
+      j["warmup_ms"] = sr.eye(eye_side::left).warm_up(gaze_left, pl).trace_ms + sr.eye(eye_side::right).warm_up(gaze_right, pr).trace_ms;
     for (uint32_t n = 0; n < std::max<uint32_t>(1, o.taa_frames); ++n) image = sr.foveated(gaze_left, gaze_right, p, &t);
     j["device"] = sr.eye(eye_side::left).device();
     j["k"] = p.reconstruct.k;
@@ -247,7 +249,8 @@ int render_stereo(const render_options& o, const fov::render_params& p, std::sha
     for (const eye_side e : {eye_side::left, eye_side::right}) {
       const char* name = fov::label_of(fov::eye_side_labels, e);
       const fov::converged_comparison cc = fov::compare_converged(sr.eye(e), fov::eye_half(image, e), eye,
-                                                                  e == eye_side::left ? gaze_left : gaze_right, p,
+                                                                  e == eye_side::left ? gaze_left : gaze_right,
+                                                                  fov::stereo_renderer::for_eye(p, e),
                                                                   o.reference_spp, what);
       eyes[name]["metrics"] = fov::comparison_json(cc.against);
       eyes[name]["noise_floor"] = fov::comparison_json(cc.floor);

@@ -28,7 +28,8 @@ bool same_trace(const render_params& a, const render_params& b) {
          a.reference_sampler == b.reference_sampler && a.ray_floor == b.ray_floor && a.method == b.method &&
          a.bounces == b.bounces && a.rolling.order == b.rolling.order &&
          a.rolling.frame_period_ms == b.rolling.frame_period_ms && a.rolling.path == b.rolling.path &&
-         a.rolling.start_ms == b.rolling.start_ms && a.reuse.mode == b.reuse.mode &&
+         a.rolling.start_ms == b.rolling.start_ms && a.rolling.stereo == b.rolling.stereo &&
+         a.rolling.right_eye == b.rolling.right_eye && a.rolling.ipd_mm == b.rolling.ipd_mm && a.reuse.mode == b.reuse.mode &&
          a.reuse.fovea_deg == b.reuse.fovea_deg && a.reuse.threshold == b.reuse.threshold &&
          a.reuse.max_age == b.reuse.max_age && a.reuse.budget == b.reuse.budget && a.reuse.view_deg == b.reuse.view_deg &&
          a.reuse.edges == b.reuse.edges && a.reuse.distance == b.reuse.distance;
@@ -86,7 +87,6 @@ std::string validate(const render_params& p, const pointset* set) {
   if (p.reuse.mode != reuse_mode::none && p.ray_floor > 0)
     return reuse + " traces every point at --spp rays: drop --ray-floor";
   if (p.reuse.mode == reuse_mode::eyes && !p.stereo.enabled) return "--reuse eyes needs --stereo (two eyes)";
-  if (p.stereo.enabled && p.rolling.order != scanout::global) return "--stereo does not combine with --rolling yet";
   if (p.adaptive.enabled && set && !set->nested())
     return "--adaptive needs a nested set (fovgen --levels); this set has one level";
   if (p.weight_caches < 1 || p.weight_caches > cl_reconstructor::max_weight_caches)

@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 
 #include "fov/labels.h"
+#include "fov/stereo.h"
 
 namespace fov {
 
@@ -29,7 +30,9 @@ bool by_columns(scanout s) { return s == scanout::left_right || s == scanout::ri
 
 double line_time_ms(const rolling_params& r, int line, int width, int height) {
   if (r.order == scanout::global) return 0;
-  const int lines = by_columns(r.order) ? width : height;
+  const bool panel = r.stereo && by_columns(r.order);  // the eyes' columns side by side on one panel
+  const int lines = by_columns(r.order) ? (panel ? 2 * width : width) : height;
+  if (panel && r.right_eye) line += width;
   const bool reversed = r.order == scanout::bottom_up || r.order == scanout::right_left;
   const int shown = reversed ? lines - 1 - line : line;  // how many lines come before it
   return (shown + 0.5) / lines * r.frame_period_ms;
@@ -41,8 +44,10 @@ line_cameras rolling_cameras(const rolling_params& r, const camera& base, int wi
   out.columns = by_columns(r.order);
   const int lines = out.columns ? width : height;
   out.cameras.reserve(size_t(lines));
-  for (int line = 0; line < lines; ++line)
-    out.cameras.push_back(r.path->at(r.start_ms + line_time_ms(r, line, width, height), base));
+  for (int line = 0; line < lines; ++line) {
+    const camera head = r.path->at(r.start_ms + line_time_ms(r, line, width, height), base);
+    out.cameras.push_back(r.stereo ? eye_camera(head, r.right_eye ? eye_side::right : eye_side::left, r.ipd_mm) : head);
+  }
   return out;
 }
 

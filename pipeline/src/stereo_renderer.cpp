@@ -28,15 +28,22 @@ void stereo_renderer::place_eyes(double ipd_mm) {
   right_.cam() = eye_camera(head_, eye_side::right, ipd_mm);
 }
 
+render_params stereo_renderer::for_eye(const render_params& p, eye_side e) {
+  render_params q = p;
+  q.rolling.stereo = true, q.rolling.right_eye = e == eye_side::right, q.rolling.ipd_mm = p.stereo.ipd_mm;
+  return q;
+}
+
 const frame& stereo_renderer::foveated(gaze_point left, gaze_point right, const render_params& p, stereo_timing* t) {
   place_eyes(p.stereo.ipd_mm);
   stereo_timing st;
-  const frame& l = left_.foveated(left, p, &st.left);
+  const render_params pl = for_eye(p, eye_side::left), pr = for_eye(p, eye_side::right);
+  const frame& l = left_.foveated(left, pl, &st.left);
   if (p.reuse.mode == reuse_mode::eyes) {
     const reuse_history other = history_of(left_.last_samples(), left_.cam(), *left_.current_set(), p.spp);
-    frame_ = side_by_side(l, right_.foveated_from(other, right, p, &st.right));
+    frame_ = side_by_side(l, right_.foveated_from(other, right, pr, &st.right));
   } else {
-    frame_ = side_by_side(l, right_.foveated(right, p, &st.right));
+    frame_ = side_by_side(l, right_.foveated(right, pr, &st.right));
   }
   if (t) *t = st;
   return frame_;
@@ -45,8 +52,8 @@ const frame& stereo_renderer::foveated(gaze_point left, gaze_point right, const 
 frame stereo_renderer::reference(int width, int height, const render_params& p, stereo_timing* t) {
   place_eyes(p.stereo.ipd_mm);
   stereo_timing st;
-  const reference_trace l = left_.reference(width, height, p, &st.left);
-  const reference_trace r = right_.reference(width, height, p, &st.right);
+  const reference_trace l = left_.reference(width, height, for_eye(p, eye_side::left), &st.left);
+  const reference_trace r = right_.reference(width, height, for_eye(p, eye_side::right), &st.right);
   if (t) *t = st;
   return side_by_side(l.image, r.image);
 }

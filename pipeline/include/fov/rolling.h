@@ -44,18 +44,29 @@ struct rolling_params {
   // global frame. The tools' --camera FILE and --camera-time set them.
   std::shared_ptr<const camera_path> path;
   double start_ms = 0;
+  // With two eyes (fov/stereo.h; the stereo renderer sets these per eye): the screen is one
+  // half of a panel that shows the eyes side by side and scans them out as one, as the FOVE 0
+  // does. A row scanout shows both eyes' row at once; a column scanout crosses the left eye's
+  // columns and then the right eye's (right-left: the other way), each eye in half the
+  // period. Each line's camera is this eye's: the path's head camera moved ipd_mm / 2000 to
+  // the eye's side (fov::eye_camera).
+  bool stereo = false;
+  bool right_eye = false;
+  double ipd_mm = 0;
 };
 // "" when the params are valid, else the reason naming the flag (--frame-period, --camera-time).
 std::string validate(const rolling_params& r);
 
 // The time (ms after the scanout begins) at which screen line `line` (a row counted from the
 // top, or a column from the left, as the order scans) is shown: the middle of its share of
-// the period, (k + 0.5) / lines x period for the k-th line shown; 0 for global.
+// the period, (k + 0.5) / lines x period for the k-th line shown; 0 for global. With stereo,
+// a column's line is counted on the panel (the right eye's after the left eye's width).
 double line_time_ms(const rolling_params& r, int line, int width, int height);
 
 // The cameras of a rolling frame on a width x height screen: each line's camera on the path
-// at start_ms + line_time_ms, `base` giving the field of view and up (camera_path::at). Empty
-// for global or without a path: the frame's one camera then is the path's at start_ms.
+// at start_ms + line_time_ms, `base` giving the field of view and up (camera_path::at), with
+// stereo moved to the eye. Empty for global or without a path: the frame's one camera then is
+// the path's at start_ms (the eye's, placed by the stereo renderer).
 line_cameras rolling_cameras(const rolling_params& r, const camera& base, int width, int height);
 
 }  // namespace fov

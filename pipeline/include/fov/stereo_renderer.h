@@ -38,6 +38,9 @@ class stereo_renderer {
   const frame& foveated(gaze_point left, gaze_point right, const render_params& p, stereo_timing* t = nullptr);
   // Both eyes at full resolution (renderer::reference, width x height each), side by side.
   frame reference(int width, int height, const render_params& p, stereo_timing* t = nullptr);
+  // The params one eye's renderer is given: p with its rolling scanout placed on that eye's
+  // half of the panel (rolling_params::stereo). A tool that renders through eye(e) passes these.
+  static render_params for_eye(const render_params& p, eye_side e);
 
  private:
   renderer left_, right_;
