@@ -50,22 +50,12 @@ result_row sample_row(const std::string& method, const std::string& spp) {
   r.cells["adaptive_threshold"] = r.cells["levels"] = r.cells["level_rays"] = "";
   r.cells["integrator"] = "direct", r.cells["bounces"] = "";
   r.cells["rays_cast"] = "3";  // at least the camera rays (1.5 here)
-  for (const std::string& c : result_columns())  // not a reuse row
-    if (c.rfind("reuse", 0) == 0) r.cells[c] = "";
+  for (const std::string& c : reuse_result_columns()) r.cells[c] = "";  // not a reuse row
   return r;
 }
 
 // The reuse columns (issue 28).
-const std::set<std::string> reuse_columns = {"reuse",
-                                             "reuse_settings",
-                                             "reuse_kept",
-                                             "reuse_rays_ratio",
-                                             "reuse_rays_cast_ratio",
-                                             "reuse_trace_ratio",
-                                             "reuse_trace_ratio_lo",
-                                             "reuse_trace_ratio_hi",
-                                             "reuse_video_jod_traced",
-                                             "reuse_flicker_traced"};
+const std::set<std::string>& reuse_columns = reuse_result_columns();
 
 // A reuse row as fovbench writes it.
 result_row reuse_row() {
@@ -256,6 +246,7 @@ TEST(ResultsCsv, CorruptRowsAreRefusedAndCrlfIsRead) {
   // Reuse (issue 28): a fixed set's single frame without a ray floor, its settings part of its
   // key, and what it measured on it alone.
   const result_row reused = reuse_row();
+  ASSERT_EQ(reuse_columns.size(), 10u);  // reuse, its settings and what it measured
   EXPECT_EQ(result_row_problem(reused), "");
   result_row fixed_twin = reused;
   for (const std::string& c : reuse_columns) fixed_twin.cells[c] = "";

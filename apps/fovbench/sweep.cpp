@@ -71,6 +71,16 @@ const std::vector<std::string>& result_columns() {
   return columns;
 }
 
+const std::set<std::string>& reuse_result_columns() {
+  static const std::set<std::string> columns = [] {
+    std::set<std::string> out;
+    for (const std::string& c : result_columns())
+      if (c.rfind("reuse", 0) == 0) out.insert(c);
+    return out;
+  }();
+  return columns;
+}
+
 std::string result_row::key() const {
   return fmt::format("{}|{}|{}|{}|{}|{}|{}|{}|{}|{}|{}|{}|{}|{}|{}|{}", text("scene"), text("gaze"), text("kind"), text("scale"),
                      text("pixel_fraction"), text("method"), text("k"), text("ray_floor"), text("spp"), text("taa_frames"),
@@ -288,16 +298,7 @@ std::vector<result_row> read_results(const std::string& path, bool older_ok) {
                   columns.end());
     return columns;
   };
-  const std::set<std::string> reuse_columns = {"reuse",
-                                               "reuse_settings",
-                                               "reuse_kept",
-                                               "reuse_rays_ratio",
-                                               "reuse_rays_cast_ratio",
-                                               "reuse_trace_ratio",
-                                               "reuse_trace_ratio_lo",
-                                               "reuse_trace_ratio_hi",
-                                               "reuse_video_jod_traced",
-                                               "reuse_flicker_traced"};
+  const std::set<std::string>& reuse_columns = reuse_result_columns();
   auto before_reuse = [&](std::set<std::string> later) {
     later.insert(reuse_columns.begin(), reuse_columns.end());
     return without(later);

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <map>
+#include <set>
 #include <string>
 #include <utility>
 #include <vector>
@@ -38,6 +39,10 @@ constexpr uint32_t max_taa_frames = 256;
 
 // The columns, in file order (docs/speed-accuracy.md explains each).
 const std::vector<std::string>& result_columns();
+
+// The reuse rows' columns (every column named reuse...): none of them in a results.csv from
+// before reuse rows.
+const std::set<std::string>& reuse_result_columns();
 
 // Why a row is not one fovbench writes, or "" when it is: the rule every row passes, read
 // back (--resume) or about to be written. Text cells: kind foveated, uniform, full or falloff, a
