@@ -1,5 +1,6 @@
 #include "cli.h"
 
+#include <malloc.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -17,6 +18,12 @@
 #include "fov/files.h"
 
 namespace fov {
+
+void keep_frame_buffers_in_heap() {
+  mallopt(M_MMAP_THRESHOLD, 1 << 30);
+  mallopt(M_TRIM_THRESHOLD, 1 << 30);
+}
+
 
 int run_tool(const char* tool, CLI::App& app, int argc, char** argv, const std::function<int()>& body) {
   try {

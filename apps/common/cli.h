@@ -16,6 +16,12 @@
 namespace fov {
 
 
+// For the tools that render frame after frame (fovrender, fovview, fovbench): every frame
+// allocates and frees buffers of tens of MB, which glibc by default returns to the kernel
+// (munmap, trim) for the next frame to page-fault back in, zeroed. Keeps them in the heap
+// (docs/fovview.md); call first in main.
+void keep_frame_buffers_in_heap();
+
 // Parses the command line and runs `body`, turning every failure into the tools' policy:
 // one line "TOOL: reason" on stderr; exit 2 for usage (bad flags), 1 for anything else.
 int run_tool(const char* tool, CLI::App& app, int argc, char** argv, const std::function<int()>& body);

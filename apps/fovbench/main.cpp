@@ -2,7 +2,6 @@
 // measures the speed/accuracy trade against full-resolution references, side by side.
 #include <cmath>
 #include <cstdlib>
-#include <malloc.h>
 #include <unistd.h>
 
 #include <chrono>
@@ -45,8 +44,7 @@ std::vector<std::string> split_gazes(const std::vector<std::string>& items) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  mallopt(M_MMAP_THRESHOLD, 1 << 30);  // big per-frame buffers stay in the heap (docs/fovview.md)
-  mallopt(M_TRIM_THRESHOLD, 1 << 30);
+  fov::keep_frame_buffers_in_heap();
   CLI::App app{"fovbench: the speed/accuracy trade of foveated ray tracing, measured"};
   fov::bench_options o;
   o.methods = {fov::method::shepard};

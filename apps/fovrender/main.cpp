@@ -284,6 +284,7 @@ int render_stereo(const render_options& o, const fov::render_params& p, std::sha
 }  // namespace
 
 int main(int argc, char** argv) {
+  fov::keep_frame_buffers_in_heap();
   CLI::App app{"fovrender: render one frame foveated (or at full resolution) and measure it"};
   render_options o;
   fov::render_params p;

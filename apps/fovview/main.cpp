@@ -1,6 +1,5 @@
 // fovview: the gaze-contingent viewer. Foveated rendering follows the gaze live; keys switch
 // methods and settings; an overlay shows what each costs.
-#include <malloc.h>
 
 #include <filesystem>
 
@@ -14,11 +13,7 @@
 #include "viewer.h"
 
 int main(int argc, char** argv) {
-  // Every frame allocates and frees buffers of tens of MB; by default glibc returns them to
-  // the kernel (munmap, trim) and the next frame page-faults them back in, zeroed (its
-  // share of the frame time is in docs/fovview.md). Keep them in the heap instead.
-  mallopt(M_MMAP_THRESHOLD, 1 << 30);
-  mallopt(M_TRIM_THRESHOLD, 1 << 30);
+  fov::keep_frame_buffers_in_heap();
   CLI::App app{"fovview: gaze-contingent foveated rendering in a window"};
   fov::viewer_options o;
   fov::render_params settings;
