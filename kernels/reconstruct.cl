@@ -101,8 +101,6 @@ __kernel void reconstruct_nn(FOV_NEIGHBOUR_ARGS, __global const float4* colour, 
   out_depth[sy * width + sx] = depth[i];
 }
 
-// Modified Shepard's v of a neighbour at distance h within radius r: 0 at the radius, within
-// the relative tie FOV_SHEPARD_TIE (the C++ path's rule, reconstruct.h shepard_tie).
 // A point's distance from a pixel centre on the canvas: OpenCL's distance() guards against
 // overflow, which canvas coordinates cannot reach, and costs more on a CPU device.
 inline float canvas_distance(float2 p, float2 centre) {
@@ -110,6 +108,8 @@ inline float canvas_distance(float2 p, float2 centre) {
   return sqrt(d.x * d.x + d.y * d.y);
 }
 
+// Modified Shepard's v of a neighbour at distance h within radius r: 0 at the radius, within
+// the relative tie FOV_SHEPARD_TIE (the C++ path's rule, reconstruct.h shepard_tie).
 inline float shepard_v(float h, float r) { return h >= r * (1.0f - FOV_SHEPARD_TIE) ? 0.0f : (r - h) / (r * h); }
 
 // Depth by Shepard over the neighbours that hit something (finite depth), with their own R;

@@ -24,7 +24,6 @@ void keep_frame_buffers_in_heap() {
   mallopt(M_TRIM_THRESHOLD, 1 << 30);
 }
 
-
 int run_tool(const char* tool, CLI::App& app, int argc, char** argv, const std::function<int()>& body) {
   try {
     app.parse(argc, argv);

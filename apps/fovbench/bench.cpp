@@ -805,10 +805,9 @@ class scene_sweep {
       row.cells["points_traced"] = "", row.cells["rays"] = std::to_string(image.rays);
       row.cells["rays_cast"] = std::to_string(cast.total());
       row.cells["trace_ms"] = number(summarise(frame_ms).median), row.cells["reconstruct_ms"] = "0";
-      put_timing(row, pair_timings(frame_ms, full_ms), o_.spread_limit);
-      std::vector<double> ratios;
-      for (size_t n = 0; n < full_ms.size(); ++n) ratios.push_back(full_ms[n] / frame_ms[n]);
-      row.cells["speedup_samples"] = samples_text(ratios);
+      const paired_timing paired = pair_timings(frame_ms, full_ms);
+      put_timing(row, paired, o_.spread_limit);
+      row.cells["speedup_samples"] = samples_text(paired.ratios);
       row.cells["trace_cpu_ms"] = number(summarise(frame_cpu).median), row.cells["reconstruct_cpu_ms"] = "0";
       row.cells["full_cpu_ms"] = number(summarise(full_cpu).median);
       put_errors(row, compare_images(image, *truth_, eye_, gp.at, o_.judging()));
@@ -1058,10 +1057,9 @@ class scene_sweep {
       std::vector<double> frame_ms = plus(traces, reconstruct_ms[m]);
       if (c->taa) frame_ms = plus(frame_ms, taa_ms[m]);
       const std::vector<double> full = c->taa ? plus(full_ms, full_taa_ms) : full_ms;
-      put_timing(row, pair_timings(frame_ms, full), o_.spread_limit);
-      std::vector<double> ratios;
-      for (size_t f = 0; f < full.size(); ++f) ratios.push_back(full[f] / frame_ms[f]);
-      row.cells["speedup_samples"] = samples_text(ratios);
+      const paired_timing paired = pair_timings(frame_ms, full);
+      put_timing(row, paired, o_.spread_limit);
+      row.cells["speedup_samples"] = samples_text(paired.ratios);
       row.cells["trace_cpu_ms"] = number(summarise(trace_cpu[c->k]).median);
       row.cells["reconstruct_cpu_ms"] = number(summarise(reconstruct_cpu[m]).median);
       row.cells["full_cpu_ms"] = number(summarise(full_cpu).median);
@@ -1098,11 +1096,6 @@ class scene_sweep {
     const std::vector<frame> none;  // (both branches lvalues: the converged path is not copied)
     const reuse_path_report rp =
         measure_reuse(r_, st_.gazes[c.gaze].at, p, fp, o_.jod ? path_at(c.gaze).frames : none, o_.frames, true);
-    auto mean_after_first = [](const auto& v) {
-      double sum = 0;
-      for (size_t i = 1; i < v.size(); ++i) sum += double(v[i]);
-      return v.size() > 1 ? sum / double(v.size() - 1) : 0.0;
-    };
     std::vector<double> traced, kept;
     for (const reuse_report& r : rp.reuse) traced.push_back(double(r.traced)), kept.push_back(r.reused_share());
     result_row row = row_for(c);
@@ -1113,19 +1106,16 @@ class scene_sweep {
     row.cells["reuse_kept"] = number(mean_after_first(kept));
     row.cells["reuse_rays_ratio"] = number(rays / mean_after_first(rp.rays_full));
     row.cells["reuse_rays_cast_ratio"] = number(cast / mean_after_first(rp.cast_full));
-    std::vector<double> ratios, frame_ms, speedups;
-    for (size_t i = 0; i < rp.trace_ms_reuse.size(); ++i) {
-      ratios.push_back(rp.trace_ms_reuse[i] / rp.trace_ms_full[i]);
-      frame_ms.push_back(rp.trace_ms_reuse[i] + reconstruct_ms);
-      speedups.push_back(rp.trace_ms_full_resolution[i] / frame_ms.back());
-    }
-    const timing ratio = summarise(ratios);
+    std::vector<double> frame_ms;
+    for (double trace_ms : rp.trace_ms_reuse) frame_ms.push_back(trace_ms + reconstruct_ms);
+    const timing ratio = summarise(rp.trace_ratios());
     row.cells["reuse_trace_ratio"] = number(ratio.median);
     row.cells["reuse_trace_ratio_lo"] = number(ratio.min), row.cells["reuse_trace_ratio_hi"] = number(ratio.max);
     row.cells["trace_ms"] = number(summarise(rp.trace_ms_reuse).median);
     row.cells["reconstruct_ms"] = number(reconstruct_ms);
-    put_timing(row, pair_timings(frame_ms, rp.trace_ms_full_resolution), o_.spread_limit);
-    row.cells["speedup_samples"] = samples_text(speedups);
+    const paired_timing paired = pair_timings(frame_ms, rp.trace_ms_full_resolution);
+    put_timing(row, paired, o_.spread_limit);
+    row.cells["speedup_samples"] = samples_text(paired.ratios);
     row.cells["flicker"] = number(rp.flicker_reuse), row.cells["reuse_flicker_traced"] = number(rp.flicker_full);
     if (rp.has_jod) {
       const fvvdp_result& floor = path_at(c.gaze).floor;

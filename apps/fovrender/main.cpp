@@ -57,11 +57,6 @@ struct render_options {
 // over the frames after the first, which has nothing to reuse): primary rays (with reuse the
 // probes too) and every ray (shadow and bounce rays too); flicker and video JOD.
 json reuse_path_json(const fov::reuse_path_report& rp, const fov::flicker_params& fp) {
-  auto mean_after_first = [](const std::vector<uint64_t>& v) {
-    double sum = 0;
-    for (size_t i = 1; i < v.size(); ++i) sum += double(v[i]);
-    return v.size() > 1 ? sum / double(v.size() - 1) : 0.0;
-  };
   json frames = json::array();
   for (size_t n = 0; n < rp.reuse.size(); ++n) {
     json f = fov::reuse_json(rp.reuse[n]);
@@ -71,8 +66,8 @@ json reuse_path_json(const fov::reuse_path_report& rp, const fov::flicker_params
     f["all_rays_full"] = rp.cast_full[n];
     frames.push_back(f);
   }
-  const double full = mean_after_first(rp.rays_full), reused = mean_after_first(rp.rays_reuse);
-  const double all_full = mean_after_first(rp.cast_full), all_reused = mean_after_first(rp.cast_reuse);
+  const double full = fov::mean_after_first(rp.rays_full), reused = fov::mean_after_first(rp.rays_reuse);
+  const double all_full = fov::mean_after_first(rp.cast_full), all_reused = fov::mean_after_first(rp.cast_reuse);
   json j{{"frames", fp.frames},
          {"yaw_deg_per_frame", fp.yaw_deg_per_frame},
          {"shift_per_frame", fp.shift_per_frame},
@@ -88,8 +83,7 @@ json reuse_path_json(const fov::reuse_path_report& rp, const fov::flicker_params
          {"per_frame", frames}};
   if (rp.has_jod) j["jod_full"] = rp.jod_full.jod, j["jod_reuse"] = rp.jod_reuse.jod;
   if (!rp.trace_ms_full.empty()) {
-    std::vector<double> ratio(rp.trace_ms_full.size());
-    for (size_t i = 0; i < ratio.size(); ++i) ratio[i] = rp.trace_ms_reuse[i] / rp.trace_ms_full[i];
+    const std::vector<double> ratio = rp.trace_ratios();
     const fov::timing r = fov::summarise(ratio);
     j["trace_time"] = {{"pairs", ratio.size()},
                        {"ms_full_median", fov::summarise(rp.trace_ms_full).median},

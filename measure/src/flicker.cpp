@@ -122,6 +122,12 @@ flicker_report measure_flicker(renderer& r, gaze_point start, const render_param
   return out;
 }
 
+std::vector<double> reuse_path_report::trace_ratios() const {
+  std::vector<double> ratio(trace_ms_full.size());
+  for (size_t i = 0; i < ratio.size(); ++i) ratio[i] = trace_ms_reuse[i] / trace_ms_full[i];
+  return ratio;
+}
+
 reuse_path_report measure_reuse(renderer& r, gaze_point start, const render_params& p, const flicker_params& f,
                                 const std::vector<frame>& converged, uint32_t timing_repeats, bool time_full_resolution) {
   if (f.frames < 2) throw std::invalid_argument("the reuse path needs at least 2 frames");

@@ -81,7 +81,17 @@ struct reuse_path_report {
   double flicker_full = 0, flicker_reuse = 0;
   bool has_jod = false;
   fvvdp_result jod_full, jod_reuse;
+  // Per timing pair, the reusing trace's time over the full trace's.
+  std::vector<double> trace_ratios() const;
 };
+// The mean of a per-frame figure of the path over the frames after the first (frame 0 has
+// nothing to keep); 0 for fewer than two frames.
+template <class T>
+double mean_after_first(const std::vector<T>& per_frame) {
+  double sum = 0;
+  for (size_t i = 1; i < per_frame.size(); ++i) sum += double(per_frame[i]);
+  return per_frame.size() > 1 ? sum / double(per_frame.size() - 1) : 0.0;
+}
 // The traces of each timing pass run in turn, each pass starting one later than the last.
 reuse_path_report measure_reuse(renderer& r, gaze_point start, const render_params& p, const flicker_params& f,
                                 const std::vector<frame>& converged = {}, uint32_t timing_repeats = 3,
