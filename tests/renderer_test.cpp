@@ -407,6 +407,8 @@ TEST_F(pipeline, DetailNoiseIsTheSpreadRebuiltAndAddedOutsideTheFovea) {
   reuse.reuse.mode = reuse_mode::temporal;
   adaptive.adaptive.enabled = true;
   EXPECT_EQ(validate(taa), "--detail-noise does not combine with --taa yet");
+  frame_timing t;
+  EXPECT_THROW(r.reconstruct(traced.samples, g, taa, t), std::invalid_argument);
   EXPECT_EQ(validate(reuse), "--detail-noise does not combine with --reuse");
   EXPECT_EQ(validate(adaptive), "--detail-noise does not combine with --adaptive");
   noisy.detail.gain = 5;

@@ -229,6 +229,7 @@ const frame& renderer::reconstruct(const point_samples& samples, gaze_point gaze
   const auto t0 = clock_type::now();
   reconstruct_result r;
   t.taa_ms = 0;
+  if (p.detail.enabled() && p.taa) throw std::invalid_argument("--detail-noise does not combine with --taa yet");
   if (p.taa && device_->available()) {
     // Reconstruction and TAA on the device, the frame kept there in between; TAA's share
     // is its kernel's time.
