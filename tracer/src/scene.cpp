@@ -248,16 +248,17 @@ void scene::impl::surface_at(unsigned inst, unsigned prim, float u, float v, sur
   const mesh& m = *g.m;
   const glm::uvec3 t = m.triangles[prim];
   const float w = 1 - u - v;
-  const glm::vec3 p0 = glm::vec3(in.transform * glm::vec4(m.positions[t.x], 1));
-  const glm::vec3 p1 = glm::vec3(in.transform * glm::vec4(m.positions[t.y], 1));
-  const glm::vec3 p2 = glm::vec3(in.transform * glm::vec4(m.positions[t.z], 1));
+  const bool identity = identity_instance[inst];
+  auto place = [&](const glm::vec3& p) { return identity ? p : glm::vec3(in.transform * glm::vec4(p, 1)); };
+  const glm::vec3 p0 = place(m.positions[t.x]), p1 = place(m.positions[t.y]), p2 = place(m.positions[t.z]);
   s.position = w * p0 + u * p1 + v * p2;
   const glm::vec3 ng = glm::cross(p1 - p0, p2 - p0);
   const float area2 = glm::length(ng);
   s.geometric_normal = area2 > 0 ? ng / area2 : glm::vec3(0, 1, 0);
   s.normal = s.geometric_normal;
   if (!m.normals.empty()) {
-    const glm::vec3 n = normal_matrix[inst] * (w * m.normals[t.x] + u * m.normals[t.y] + v * m.normals[t.z]);
+    const glm::vec3 interpolated = w * m.normals[t.x] + u * m.normals[t.y] + v * m.normals[t.z];
+    const glm::vec3 n = identity ? interpolated : normal_matrix[inst] * interpolated;
     const float len = glm::length(n);
     if (len > 1e-12f) s.normal = n / len;
   }
@@ -272,7 +273,7 @@ void scene::impl::surface_at(unsigned inst, unsigned prim, float u, float v, sur
   s.tangent = glm::vec4(0);
   if (!m.tangents.empty()) {
     const glm::vec4 tg = w * m.tangents[t.x] + u * m.tangents[t.y] + v * m.tangents[t.z];
-    s.tangent = glm::vec4(glm::mat3(in.transform) * glm::vec3(tg), tg.w < 0 ? -1.0f : 1.0f);
+    s.tangent = glm::vec4(identity ? glm::vec3(tg) : glm::mat3(in.transform) * glm::vec3(tg), tg.w < 0 ? -1.0f : 1.0f);
   }
   s.mat = g.mat;
   s.m = &m;
@@ -382,9 +383,11 @@ scene::scene(scene_description description) : impl_(std::make_unique<impl>()) {
   d.bmin = glm::vec3(INFINITY);
   d.bmax = glm::vec3(-INFINITY);
   d.normal_matrix.resize(d.desc.instances.size());
+  d.identity_instance.resize(d.desc.instances.size());
   for (size_t i = 0; i < d.desc.instances.size(); ++i) {
     const instance& in = d.desc.instances[i];
     d.normal_matrix[i] = glm::transpose(glm::inverse(glm::mat3(in.transform)));
+    d.identity_instance[i] = in.transform == glm::mat4(1.0f);
     RTCGeometry g = rtcNewGeometry(d.device, RTC_GEOMETRY_TYPE_INSTANCE);
     rtcSetGeometryInstancedScene(g, d.mesh_scenes[in.mesh]);
     rtcSetGeometryTransform(g, 0, RTC_FORMAT_FLOAT4X4_COLUMN_MAJOR, &in.transform[0][0]);

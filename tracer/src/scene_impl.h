@@ -137,6 +137,7 @@ struct scene::impl {
   std::vector<RTCScene> mesh_scenes;
   std::vector<geometry_data> geometry;  // per mesh
   std::vector<glm::mat3> normal_matrix;  // per instance
+  std::vector<uint8_t> identity_instance;  // per instance: its transform is the identity (surface_at skips it)
   std::vector<std::unique_ptr<texture_pyramid>> texture_images;  // each file once
   std::vector<material_textures> textures;                        // per material
   env_pyramid env_map;
