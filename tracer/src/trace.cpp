@@ -546,22 +546,27 @@ void trace_rays(const scene::impl& d, const trace_params& params, const view_fra
 // A ray sink for trace_rays: averages each run of `spp` consecutive rays, which belong to
 // one owner (a point or a pixel), and hands emit(owner, mean colour, mean depth of the
 // rays that hit or +inf, hits, spread) the result, its colour times `exposure`; spread is
-// the sample standard deviation of the rays' colours per channel, times `exposure` (0 for
-// one ray). `count(owner)` gives each owner's run length (a falloff's pixels differ).
+// the sample standard deviation, per channel, of the rays' displayed values (colour times
+// `exposure`, clamped to 0..1 as the display clamps it; 0 for one ray): contrast above the
+// display's white is not seen. `count(owner)` gives each owner's run length (a falloff's
+// pixels differ).
 template <class Count, class Emit>
 auto per_owner_mean_by(Count count, float exposure, Emit emit) {
-  return [count, exposure, emit, sum = glm::vec3(0), square_sum = glm::vec3(0), depth_sum = 0.0, hits = uint32_t(0),
+  return [count, exposure, emit, sum = glm::vec3(0), shown_sum = glm::vec3(0), shown_squares = glm::vec3(0),
+          depth_sum = 0.0, hits = uint32_t(0),
           seen = uint32_t(0)](const sample_ray& ray, glm::vec3 c, float depth, bool hit) mutable {
     sum += c;
-    square_sum += c * c;
+    const glm::vec3 shown = glm::clamp(c * exposure, 0.0f, 1.0f);
+    shown_sum += shown;
+    shown_squares += shown * shown;
     if (hit) depth_sum += depth, ++hits;
     const uint32_t n = count(ray.owner);
     if (++seen < n) return;
     glm::vec3 spread(0);
     if (n > 1)
-      spread = glm::sqrt(glm::max(glm::vec3(0), (square_sum - sum * sum / float(n)) / float(n - 1))) * exposure;
+      spread = glm::sqrt(glm::max(glm::vec3(0), (shown_squares - shown_sum * shown_sum / float(n)) / float(n - 1)));
     emit(ray.owner, sum * (exposure / float(n)), hits ? float(depth_sum / hits) : infinity, hits, spread);
-    sum = square_sum = glm::vec3(0);
+    sum = shown_sum = shown_squares = glm::vec3(0);
     depth_sum = 0;
     hits = seen = 0;
   };
