@@ -38,13 +38,21 @@ PY
 done
 echo
 
-source scripts/adaptive-scenes.sh  # scene_flags, scene_missing, converged_pair
+scene_flags() {
+  case $1 in
+    builtin) echo "--scene builtin" ;;
+    helmet) echo "--scene ../shared/scenes/flight-helmet/FlightHelmet.gltf --eye 0.1,0.28,0.22 --look-at 0,0.3,0 --hfov 60" ;;
+    env) echo "--scene env:/usr/share/blender/datafiles/studiolights/world/forest.exr" ;;
+  esac
+}
 for scene in ${SCENES:-builtin helmet env}; do
-  scene_missing $scene && continue
   flags=$(scene_flags $scene)
+  if [[ $scene == helmet && ! -f ../shared/scenes/flight-helmet/FlightHelmet.gltf ]]; then echo "(no helmet: ../shared absent)"; continue; fi
   d=$out/$scene
+  mkdir -p "$d"
   # Two converged references, different seeds: the first is the truth, the second its noise floor.
-  converged_pair "$d" "$ref_spp" $flags
+  [[ -f $d/ref-a.exr ]] || "$render" $flags --display fove --reference --spp "$ref_spp" --seed 1001 -o "$d/ref-a.exr" > /dev/null
+  [[ -f $d/ref-b.exr ]] || "$render" $flags --display fove --reference --spp "$ref_spp" --seed 1002 -o "$d/ref-b.exr" > /dev/null
   for gaze in centre 320,1080; do
     g=$d/${gaze/,/-}
     mkdir -p "$g"

@@ -6,7 +6,6 @@
 #include <gtest/gtest.h>
 
 #include "fov/dart_throwing.h"
-#include "fov/detail_noise.h"
 #include "fov/knn_cells.h"
 #include "fov/knn_table.h"
 #include "fov/weight_cache.h"
@@ -511,98 +510,6 @@ TEST(Rbf, RejectsANonPositiveShape) {
   rp.how = method::rbf;
   rp.shape = 0;
   EXPECT_THROW(reconstruct(fx.set, fx.samples, rp), std::invalid_argument);
-}
-
-// Detail noise (fov/detail_noise.h): none inside the fovea or where the points saw no detail,
-// and outside it zero-mean noise whose spread is the gain times the interpolated spread.
-TEST(DetailNoise, AddsNoiseOfTheSpreadsAmplitudeOutsideTheFoveaOnly) {
-  const display_geometry d{400, 300, 1.0};
-  const gaze_point gaze{200, 150};
-  frame image, spread;
-  image.width = spread.width = 400, image.height = spread.height = 300;
-  image.rgb.assign(400 * 300, glm::vec3(0.5f, 0.4f, 0.3f));
-  spread.rgb.assign(400 * 300, glm::vec3(0.05f, 0.02f, 0.01f));
-  detail_noise_params p;
-  p.gain = 1.5f, p.from_deg = 10, p.ramp_deg = 0;
-  frame noisy = image;
-  add_detail_noise(noisy, spread, d, gaze, p, 3);
-  double sum[3] = {0, 0, 0}, square[3] = {0, 0, 0};
-  size_t outside = 0;
-  for (int y = 0; y < 300; ++y)
-    for (int x = 0; x < 400; ++x) {
-      const size_t i = size_t(y) * 400 + size_t(x);
-      const glm::vec3 diff = noisy.rgb[i] - image.rgb[i];
-      if (pixel_eccentricity_deg(d, gaze, x, y) < 10) {
-        ASSERT_EQ(diff, glm::vec3(0)) << x << "," << y;
-        continue;
-      }
-      ++outside;
-      for (int c = 0; c < 3; ++c) sum[c] += diff[c], square[c] += double(diff[c]) * diff[c];
-      // One number per pixel, shared by the channels: each moves by its spread's share.
-      EXPECT_NEAR(diff.g * 0.05f, diff.r * 0.02f, 1e-6f);
-    }
-  ASSERT_GT(outside, 50000u);
-  const float want[3] = {0.075f, 0.03f, 0.015f};
-  for (int c = 0; c < 3; ++c) {
-    EXPECT_NEAR(sum[c] / double(outside), 0.0, 0.01 * want[c]);
-    EXPECT_NEAR(std::sqrt(square[c] / double(outside)), want[c], 0.01 * want[c]);
-  }
-  // The same seed gives the same noise, another seed other noise.
-  frame again = image, other = image;
-  add_detail_noise(again, spread, d, gaze, p, 3);
-  add_detail_noise(other, spread, d, gaze, p, 4);
-  EXPECT_EQ(again.rgb, noisy.rgb);
-  EXPECT_NE(other.rgb, noisy.rgb);
-  // No spread, or a gain of 0: the image as it was.
-  frame flat = image, off = image;
-  frame none = spread;
-  none.rgb.assign(none.rgb.size(), glm::vec3(0));
-  add_detail_noise(flat, none, d, gaze, p, 3);
-  EXPECT_EQ(flat.rgb, image.rgb);
-  detail_noise_params zero = p;
-  zero.gain = 0;
-  add_detail_noise(off, spread, d, gaze, zero, 3);
-  EXPECT_EQ(off.rgb, image.rgb);
-  // Through a ramp the same noise grows with eccentricity as detail_noise_gain says.
-  detail_noise_params ramped = p;
-  ramped.ramp_deg = 10;
-  frame rising = image;
-  add_detail_noise(rising, spread, d, gaze, ramped, 3);
-  for (int y = 0; y < 300; y += 3)
-    for (int x = 0; x < 400; x += 3) {
-      const size_t i = size_t(y) * 400 + size_t(x);
-      const float share = detail_noise_gain(ramped, pixel_eccentricity_deg(d, gaze, x, y)) / p.gain;
-      EXPECT_NEAR(rising.rgb[i].r - image.rgb[i].r, share * (noisy.rgb[i].r - image.rgb[i].r), 1e-6f) << x << "," << y;
-    }
-  // The ramp: half the gain half-way through it.
-  detail_noise_params ramp;
-  ramp.gain = 2, ramp.from_deg = 5, ramp.ramp_deg = 4;
-  EXPECT_EQ(detail_noise_gain(ramp, 4.9), 0.0f);
-  EXPECT_FLOAT_EQ(detail_noise_gain(ramp, 7), 1.0f);
-  EXPECT_FLOAT_EQ(detail_noise_gain(ramp, 30), 2.0f);
-  // Never below black.
-  frame dark = image;
-  dark.rgb.assign(dark.rgb.size(), glm::vec3(0.01f));
-  add_detail_noise(dark, spread, d, gaze, p, 3);
-  for (const glm::vec3& c : dark.rgb) EXPECT_TRUE(glm::all(glm::greaterThanEqual(c, glm::vec3(0))));
-}
-
-TEST(DetailNoise, RefusesBadSettingsAndSizes) {
-  detail_noise_params p;
-  EXPECT_EQ(validate(p), "");
-  p.gain = 4.5f;
-  EXPECT_NE(validate(p).find("--detail-noise must"), std::string::npos);
-  p.gain = std::numeric_limits<float>::quiet_NaN();
-  EXPECT_NE(validate(p).find("--detail-noise must"), std::string::npos);
-  p.gain = 1, p.from_deg = -1;
-  EXPECT_NE(validate(p).find("--detail-noise-from"), std::string::npos);
-  p.from_deg = 5, p.ramp_deg = 91;
-  EXPECT_NE(validate(p).find("--detail-noise-ramp"), std::string::npos);
-  p.ramp_deg = 5;
-  frame a, b;
-  a.width = b.width = 10, a.height = 10, b.height = 9;
-  a.rgb.resize(100), b.rgb.resize(90);
-  EXPECT_THROW(add_detail_noise(a, b, display_geometry{10, 10, 1.0}, {5, 5}, p, 1), std::invalid_argument);
 }
 
 }  // namespace

@@ -365,56 +365,6 @@ TEST_F(pipeline, TracingAheadGivesTheSameFrame) {
   }
 }
 
-// Detail noise (render_params::detail): the trace keeps each point's spread without changing
-// its colours, and the frame is the plain one plus add_detail_noise over the spreads rebuilt
-// by the same reconstruction.
-TEST_F(pipeline, DetailNoiseIsTheSpreadRebuiltAndAddedOutsideTheFovea) {
-  params.spp = 4;
-  renderer r(scn, params);
-  r.use_pointset(set);
-  const gaze_point g{32, 24};
-  const frame plain = r.foveated(g, params);
-  render_params noisy = params;
-  noisy.detail.gain = 1, noisy.detail.from_deg = 5, noisy.detail.ramp_deg = 0;
-  ASSERT_EQ(validate(noisy, set.get()), "");
-  const frame got = r.foveated(g, noisy);
-  trace_params tp;
-  tp.spp = 4, tp.k = 5, tp.keep_spread = true;
-  const points_trace traced = trace_points(*scn, setup_camera(*scn), *set, g, tp);
-  tp.keep_spread = false;
-  const points_trace bare = trace_points(*scn, setup_camera(*scn), *set, g, tp);
-  EXPECT_EQ(traced.samples.colour, bare.samples.colour);
-  EXPECT_TRUE(bare.samples.spread.empty());
-  ASSERT_EQ(traced.samples.spread.size(), traced.samples.colour.size());
-  size_t with_detail = 0;
-  for (uint32_t i : traced.samples.traced) with_detail += traced.samples.spread[i] != glm::vec3(0);
-  EXPECT_GT(with_detail, 0u);
-  point_samples spread = traced.samples;
-  spread.colour = traced.samples.spread;
-  frame expected = plain;
-  add_detail_noise(expected, reconstruct(*set, spread, params.reconstruct), set->model.display, g, noisy.detail,
-                   noisy.seed);
-  EXPECT_EQ(max_difference(got, expected), 0.0f);
-  EXPECT_GT(max_difference(got, plain), 0.0f);
-  // One ray a point sees no detail: no noise.
-  render_params one = params, one_noisy = noisy;
-  one.spp = one_noisy.spp = 1;
-  const frame single = r.foveated(g, one);
-  EXPECT_EQ(max_difference(r.foveated(g, one_noisy), single), 0.0f);
-  // Not with TAA, reuse or adaptive refinement (yet).
-  render_params taa = noisy, reuse = noisy, adaptive = noisy;
-  taa.taa = true;
-  reuse.reuse.mode = reuse_mode::temporal;
-  adaptive.adaptive.enabled = true;
-  EXPECT_EQ(validate(taa), "--detail-noise does not combine with --taa yet");
-  frame_timing t;
-  EXPECT_THROW(r.reconstruct(traced.samples, g, taa, t), std::invalid_argument);
-  EXPECT_EQ(validate(reuse), "--detail-noise does not combine with --reuse");
-  EXPECT_EQ(validate(adaptive), "--detail-noise does not combine with --adaptive");
-  noisy.detail.gain = 5;
-  EXPECT_EQ(validate(noisy), "--detail-noise must lie in 0..4 (got 5)");
-}
-
 TEST_F(pipeline, AStaleTraceIsDroppedNotShown) {
   renderer in_turn(scn, params), ahead(scn, params);
   in_turn.use_pointset(set);
@@ -520,11 +470,10 @@ TEST_F(pipeline, TheDevicePathGivesTheCppFrames) {
   }
   EXPECT_EQ(gpu.device_problem(), "");
   for (method m : {method::nn, method::shepard, method::rbf, method::barycentric, method::natural})
-    for (int variant = 0; variant < 3; ++variant) {  // plain, TAA, detail noise
-      const bool taa = variant == 1;
-      on.reconstruct.how = m, on.taa = taa, on.detail.gain = variant == 2 ? 1.0f : 0.0f;
+    for (bool taa : {false, true}) {
+      on.reconstruct.how = m, on.taa = taa;
       render_params off = params;
-      off.reconstruct.how = m, off.taa = taa, off.detail = on.detail;
+      off.reconstruct.how = m, off.taa = taa;
       for (int n = 0; n < 3; ++n) {
         frame_timing tg, tc;
         const frame a = gpu.foveated({30, 20}, on, &tg);
@@ -537,9 +486,7 @@ TEST_F(pipeline, TheDevicePathGivesTheCppFrames) {
             worst = std::max(worst, std::fabs(a.rgb[i][c] - b.rgb[i][c]) / std::max(1.0f, std::fabs(b.rgb[i][c])));
             brightest = std::max(brightest, b.rgb[i][c]);
           }
-        // Detail noise multiplies the spread's rebuilt difference by its number (|n| < 3.5).
-        EXPECT_LT(worst, variant == 2 ? 3.5e-4f : 1e-4f)
-            << method_name(m) << " variant " << variant << " frame " << n << " (brightest " << brightest << ")";
+        EXPECT_LT(worst, 1e-4f) << method_name(m) << " taa " << taa << " frame " << n << " (brightest " << brightest << ")";
       }
     }
 }

@@ -82,19 +82,6 @@ void add_render_flags(CLI::App& app, render_params& p, unsigned groups) {
     app.add_option("--rbf-shape", p.reconstruct.shape, "RBF shape c in units of the neighbours' mean spacing p")
         ->capture_default_str();
   }
-  if (groups & flags_detail) {
-    app.add_option("--detail-noise", p.detail.gain,
-                   "Add noise of this x the spread of each point's rays outside the fovea (0: off; an experiment, "
-                   "docs/adaptive.md)")
-        ->check(CLI::Range(0.0, 4.0))
-        ->capture_default_str();
-    app.add_option("--detail-noise-from", p.detail.from_deg, "Eccentricity (degrees) where --detail-noise starts")
-        ->check(CLI::Range(0.0, 90.0))
-        ->capture_default_str();
-    app.add_option("--detail-noise-ramp", p.detail.ramp_deg, "Degrees over which --detail-noise grows to its gain")
-        ->check(CLI::Range(0.0, 90.0))
-        ->capture_default_str();
-  }
   if (groups & flags_pattern)
     add_label_option(app, "--pattern", p.pattern, ray_pattern_labels,
                      "With TAA, how each frame's rays differ: reseed (new positions), mirror (the set mirrored: four "

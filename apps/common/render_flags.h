@@ -33,9 +33,6 @@ enum render_flags : unsigned {
   flags_reuse = 512,
   // --stereo, --ipd: two eyes side by side (fov/stereo.h), each its own gaze (the tool's --gaze-right).
   flags_stereo = 1024,
-  // --detail-noise, --detail-noise-from, --detail-noise-ramp: noise for the detail inside the
-  // points' discs (fov/detail_noise.h), for tools that show single frames without TAA.
-  flags_detail = 2048,
 };
 void add_render_flags(CLI::App& app, render_params& p, unsigned groups = flags_all);
 

@@ -138,8 +138,6 @@ void check_options(const render_options& o, const fov::render_params& p) {
   if (p.adaptive.enabled && o.reference) throw usage_error("--adaptive refines a point set; drop --reference");
   if (p.reuse.mode != fov::reuse_mode::none && o.reference)
     throw usage_error("--reuse keeps a point set's samples across frames; drop --reference");
-  if (p.detail.enabled() && o.reference) throw usage_error("--detail-noise adds noise to a point set's frames; drop --reference");
-  if (p.detail.enabled() && o.flicker > 0) throw usage_error("--detail-noise does not combine with --flicker (its TAA frames) yet");
   if (o.debug_asked && o.debug == fov::debug_view::refinement && !p.adaptive.enabled)
     throw usage_error("--debug-view refinement needs --adaptive");
   if (!p.stereo.enabled && !o.gaze_right.empty()) throw usage_error("--gaze-right is the right eye's: give --stereo");
@@ -288,7 +286,7 @@ int main(int argc, char** argv) {
   app.add_option("--points", o.points, "Point set (.fovset); gives the screen size");
   app.add_option("--gaze", o.gaze, "X,Y in screen pixels, centre or corner (with --stereo: the left eye's, in its screen)");
   app.add_option("--gaze-right", o.gaze_right, "With --stereo: the right eye's gaze in its screen (default: --gaze)");
-  fov::add_render_flags(app, p, fov::flags_all | fov::flags_rolling | fov::flags_reuse | fov::flags_stereo | fov::flags_detail);
+  fov::add_render_flags(app, p, fov::flags_all | fov::flags_rolling | fov::flags_reuse | fov::flags_stereo);
   app.add_flag("--reference", o.reference, "Render at full resolution instead");
   app.add_option("--ray-floor", o.ray_floor,
                  "Rays falling with eccentricity from --spp at the gaze to this floor as the acuity model's point density "

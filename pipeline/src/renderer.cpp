@@ -32,8 +32,7 @@ bool same_trace(const render_params& a, const render_params& b) {
          a.rolling.right_eye == b.rolling.right_eye && a.rolling.ipd_mm == b.rolling.ipd_mm && a.reuse.mode == b.reuse.mode &&
          a.reuse.fovea_deg == b.reuse.fovea_deg && a.reuse.threshold == b.reuse.threshold &&
          a.reuse.max_age == b.reuse.max_age && a.reuse.budget == b.reuse.budget && a.reuse.view_deg == b.reuse.view_deg &&
-         a.reuse.edges == b.reuse.edges && a.reuse.distance == b.reuse.distance &&
-         a.detail.enabled() == b.detail.enabled();
+         a.reuse.edges == b.reuse.edges && a.reuse.distance == b.reuse.distance;
 }
 
 // The tracing half of the params, without a frame's pattern.
@@ -56,7 +55,6 @@ trace_params base_trace(const render_params& p) {
   }
   tp.k = p.reconstruct.k;
   tp.ray_floor = p.ray_floor;
-  tp.keep_spread = p.detail.enabled();
   return tp;
 }
 
@@ -82,12 +80,6 @@ std::string validate(const render_params& p, const pointset* set) {
   if (const std::string why = validate(p.rolling); !why.empty()) return why;
   if (const std::string why = validate(p.reuse); !why.empty()) return why;
   if (const std::string why = validate(p.stereo); !why.empty()) return why;
-  if (const std::string why = validate(p.detail); !why.empty()) return why;
-  if (p.detail.enabled()) {
-    if (p.taa) return "--detail-noise does not combine with --taa yet";
-    if (p.reuse.mode != reuse_mode::none) return "--detail-noise does not combine with --reuse";
-    if (p.adaptive.enabled) return "--detail-noise does not combine with --adaptive";
-  }
   const std::string reuse = std::string("--reuse ") + label_of(reuse_mode_labels, p.reuse.mode);
   if (p.reuse.mode != reuse_mode::none && p.adaptive.enabled) return reuse + " does not combine with --adaptive";
   if (p.reuse.mode != reuse_mode::none && p.rolling.order != scanout::global)
@@ -229,7 +221,6 @@ const frame& renderer::reconstruct(const point_samples& samples, gaze_point gaze
   const auto t0 = clock_type::now();
   reconstruct_result r;
   t.taa_ms = 0;
-  if (p.detail.enabled() && p.taa) throw std::invalid_argument("--detail-noise does not combine with --taa yet");
   if (p.taa && device_->available()) {
     // Reconstruction and TAA on the device, the frame kept there in between; TAA's share
     // is its kernel's time.
@@ -238,15 +229,6 @@ const frame& renderer::reconstruct(const point_samples& samples, gaze_point gaze
     t.reconstruct_ms = ms_since(t0) - t.taa_ms;
   } else {
     r = device_->run(samples, p.reconstruct, frame_);
-    if (p.detail.enabled()) {
-      // The points' spreads rebuilt as colours are, then noise of that amplitude.
-      if (samples.spread.size() != samples.colour.size())
-        throw std::invalid_argument("--detail-noise: these samples were traced without their spread");
-      point_samples spread = samples;
-      spread.colour = samples.spread;
-      device_->run(spread, p.reconstruct, spread_frame_);
-      add_detail_noise(frame_, spread_frame_, set_->model.display, gaze, p.detail, p.seed);
-    }
     t.reconstruct_ms = ms_since(t0);
     if (p.taa) {
       const auto t1 = clock_type::now();

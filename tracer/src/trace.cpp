@@ -545,28 +545,18 @@ void trace_rays(const scene::impl& d, const trace_params& params, const view_fra
 
 // A ray sink for trace_rays: averages each run of `spp` consecutive rays, which belong to
 // one owner (a point or a pixel), and hands emit(owner, mean colour, mean depth of the
-// rays that hit or +inf, hits, spread) the result, its colour times `exposure`; spread is
-// the sample standard deviation, per channel, of the rays' displayed values (colour times
-// `exposure`, clamped to 0..1 as the display clamps it; 0 for one ray): contrast above the
-// display's white is not seen. `count(owner)` gives each owner's run length (a falloff's
-// pixels differ).
+// rays that hit or +inf, hits) the result, its colour times `exposure`.
+// `count(owner)` gives each owner's run length (a falloff's pixels differ).
 template <class Count, class Emit>
 auto per_owner_mean_by(Count count, float exposure, Emit emit) {
-  return [count, exposure, emit, sum = glm::vec3(0), shown_sum = glm::vec3(0), shown_squares = glm::vec3(0),
-          depth_sum = 0.0, hits = uint32_t(0),
-          seen = uint32_t(0)](const sample_ray& ray, glm::vec3 c, float depth, bool hit) mutable {
+  return [count, exposure, emit, sum = glm::vec3(0), depth_sum = 0.0, hits = uint32_t(0), seen = uint32_t(0)](
+             const sample_ray& ray, glm::vec3 c, float depth, bool hit) mutable {
     sum += c;
-    const glm::vec3 shown = glm::clamp(c * exposure, 0.0f, 1.0f);
-    shown_sum += shown;
-    shown_squares += shown * shown;
     if (hit) depth_sum += depth, ++hits;
     const uint32_t n = count(ray.owner);
     if (++seen < n) return;
-    glm::vec3 spread(0);
-    if (n > 1)
-      spread = glm::sqrt(glm::max(glm::vec3(0), (shown_squares - shown_sum * shown_sum / float(n)) / float(n - 1)));
-    emit(ray.owner, sum * (exposure / float(n)), hits ? float(depth_sum / hits) : infinity, hits, spread);
-    sum = shown_sum = shown_squares = glm::vec3(0);
+    emit(ray.owner, sum * (exposure / float(n)), hits ? float(depth_sum / hits) : infinity, hits);
+    sum = glm::vec3(0);
     depth_sum = 0;
     hits = seen = 0;
   };
@@ -764,12 +754,11 @@ uint64_t cast_points(const scene::impl& d, const view_frames& f, const pointset&
     }
     trace_rays(d, params, f, rays.data(), rays.size(), timing,
                per_owner_mean_by([&](uint32_t k) { return uint32_t(rays_of[k]); }, exposure_factor(params),
-                                 [&](uint32_t k, glm::vec3 c, float depth, uint32_t hits, glm::vec3 spread) {
+                                 [&](uint32_t k, glm::vec3 c, float depth, uint32_t hits) {
                                    const uint32_t i = points[k];
                                    out.colour[i] = c;
                                    out.depth[i] = depth;
                                    out.hits[i] = uint16_t(hits);
-                                   if (!out.spread.empty()) out.spread[i] = spread;
                                  }));
   });
   uint64_t cast = 0;
@@ -798,10 +787,7 @@ points_trace trace_selected(const scene& sc, const camera& cam, const pointset& 
       [&] {
         out.traced = listed ? std::move(*listed) : index ? traced_points(set, *index, placed) : traced_points(set, placed, params.k);
       },
-      [&] {
-        out.colour.assign(n, glm::vec3(0));
-        if (params.keep_spread) out.spread.assign(n, glm::vec3(0));
-      },
+      [&] { out.colour.assign(n, glm::vec3(0)); },
       [&] {
         out.depth.assign(n, infinity);
         out.hits.assign(n, 0);
@@ -974,7 +960,7 @@ reference_trace trace_reference(const scene& sc, const camera& cam, int width, i
         }
       trace_rays(d, params, f, rays.data(), rays.size(), timing,
                  per_owner_mean_by([&](uint32_t pixel) { return rays_of.empty() ? spp : uint32_t(rays_of[pixel]); },
-                                   exposure_factor(params), [&](uint32_t pixel, glm::vec3 c, float depth, uint32_t, glm::vec3) {
+                                   exposure_factor(params), [&](uint32_t pixel, glm::vec3 c, float depth, uint32_t) {
                                      out.rgb[pixel] = c;
                                      out.depth[pixel] = depth;
                                    }));

@@ -14,7 +14,6 @@
 #include "fov/adaptive.h"
 #include "fov/camera.h"
 #include "fov/cl_reconstruct.h"
-#include "fov/detail_noise.h"
 #include "fov/frame.h"
 #include "fov/labels.h"
 #include "fov/pointset.h"
@@ -63,9 +62,6 @@ struct render_params {
   std::optional<glm::vec3> sun_direction, sun_irradiance;
   // Reconstruction (its k also decides which off-screen points are traced).
   reconstruct_params reconstruct;
-  // Noise where the points' rays saw detail the reconstruction smooths away (fov/detail_noise.h;
-  // an experiment: not with TAA, reuse or adaptive refinement).
-  detail_noise_params detail;
   // Temporal anti-aliasing.
   bool taa = false;
   ray_pattern pattern = ray_pattern::reseed;
@@ -288,7 +284,6 @@ class renderer {
   render_params reuse_params_;  // the params reuse_ was traced with
   uint64_t frames_traced_ = 0;
   frame frame_;  // what reconstruct() and foveated() return
-  frame spread_frame_;  // the points' spreads reconstructed (render_params::detail)
   point_samples last_samples_;  // what the last foveated() frame traced
 
   struct pending_trace {

@@ -133,9 +133,6 @@ struct trace_params {
   // Keep every ray the trace casts (trace_stats::recorded), for a bare Embree loop that casts
   // the same rays the same way (tracer_bench). Memory: 32 bytes a ray.
   bool record_rays = false;
-  // Foveated only: keep each traced point's spread (point_samples::spread), for the
-  // reconstruction's detail noise (fov/detail_noise.h).
-  bool keep_spread = false;
   // Reference only: measure trace_stats::tile_seconds.
   bool tile_costs = false;
   // The positions of a full-resolution pixel's rays: the reference's, and a foveated grid

@@ -17,11 +17,6 @@ struct point_samples {
   std::vector<glm::vec3> colour;  // mean linear RGB of the point's rays
   std::vector<float> depth;       // mean camera-space depth of the rays that hit; +inf if none did
   std::vector<uint16_t> hits;     // rays that hit geometry
-  // The sample standard deviation of each point's rays' displayed values (colour after
-  // exposure, clamped to 0..1), per channel (0 for one ray): the visible detail inside its
-  // disc that the reconstruction cannot show. Empty unless the trace kept it
-  // (trace_params::keep_spread).
-  std::vector<glm::vec3> spread;
   std::vector<uint32_t> traced;   // the traced points, in Morton order
   canvas_offset offset;           // canvas = (mirrored) screen + offset for this gaze
   // The pattern was mirrored (trace_params): screen pixel (x, y) reads the table at
