@@ -13,16 +13,14 @@
 # picks some). One JSON a run and summary.md in out/stereo/DISPLAY.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-source scripts/study-scene.sh
-render=${FOV_RENDER:-build/apps/fovrender}
+source scripts/study-scene.sh  # bench, fovgen, render, study_scene, stereo_set
 display=${1:-fove}
 spp=${SPP:-4}
 reference_spp=${REFERENCE_SPP:-64}
 read -r -a pair <<< "${GAZE_PAIR:-700,800 660,800}"
 out=out/stereo/$display
 mkdir -p "$out"
-set_file=out/stereo/$display-s1.0.fovset
-[[ -s $set_file ]] || "$fovgen" --display "$display" --scale 1.0 -o "$set_file" > /dev/null
+stereo_set "$display"
 read -r -a names <<< "${VARIANTS:-none none-seed2 eyes eyes-f0 eyes-f0-t0 eyes-f0-v2 eyes-f0-v5 eyes-f0-screen}"
 declare -A variants=([none]="--reuse none" [none-seed2]="--reuse none --seed 2" [eyes]="--reuse eyes"
                      [eyes-f0]="--reuse eyes --reuse-fovea 0" [eyes-f0-t0]="--reuse eyes --reuse-fovea 0 --reuse-threshold 0"

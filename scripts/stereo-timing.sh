@@ -10,17 +10,14 @@
 # One JSON a run and timing.md in out/stereo-timing/DISPLAY.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-source scripts/study-scene.sh
-render=${FOV_RENDER:-build/apps/fovrender}
+source scripts/study-scene.sh  # bench, fovgen, render, study_scene, stereo_set
 display=${1:-fove}
 spp=${SPP:-4}
 repeats=${REPEATS:-5}
 reuse=${REUSE:---reuse eyes --reuse-fovea 0}
 out=out/stereo-timing/$display
 mkdir -p "$out"
-set_file=out/stereo/$display-s1.0.fovset
-mkdir -p out/stereo
-[[ -s $set_file ]] || "$fovgen" --display "$display" --scale 1.0 -o "$set_file" > /dev/null
+stereo_set "$display"
 declare -A traces=([direct]="--integrator direct" [path3]="--integrator path --bounces 3")
 read -r -a reuse_flags <<< "$reuse"
 for name in ${SCENES:-builtin helmet}; do

@@ -3,10 +3,11 @@
 # sets the array `scene`: builtin (whites unclipped, the display's field of view), helmet
 # (the close-up, 60°), env (the forest map, the display's field of view) or cornell (the
 # built-in room lit by one downlight, the display's field of view); exits 2 on
-# another NAME. Sourcing also sets the tools (FOV_BENCH, FOV_GEN; default build/apps/) and
+# another NAME. Sourcing also sets the tools (FOV_BENCH, FOV_GEN, FOV_RENDER; default build/apps/) and
 # the scene's name (SCENE; default builtin).
 bench=${FOV_BENCH:-build/apps/fovbench}
 fovgen=${FOV_GEN:-build/apps/fovgen}
+render=${FOV_RENDER:-build/apps/fovrender}
 scene_name=${SCENE:-builtin}
 study_scene() {
   local name=$1 display=$2 hfov
@@ -18,4 +19,11 @@ study_scene() {
     cornell) scene=(--scene builtin:cornell --hfov "$hfov") ;;
     *) echo "SCENE must be builtin, helmet, env or cornell (got $name)" >&2; exit 2 ;;
   esac
+}
+# stereo_set DISPLAY: sets `set_file` to the s = 1.0 set the stereo studies share
+# (out/stereo/DISPLAY-s1.0.fovset), generating it when it is missing.
+stereo_set() {
+  set_file=out/stereo/$1-s1.0.fovset
+  mkdir -p out/stereo
+  [[ -s $set_file ]] || "$fovgen" --display "$1" --scale 1.0 -o "$set_file" > /dev/null
 }

@@ -53,6 +53,13 @@ double mean_abs(const frame& a, const frame& b) {
   return sum / double(3 * a.rgb.size());
 }
 
+// A camera path that moves 20 units along x from 100 to 120 ms, looking down -z throughout.
+std::shared_ptr<const camera_path> sideways_path() {
+  auto path = std::make_shared<camera_path>();
+  path->keys = {{100, {0, 0, 0}, {0, 0, -1}}, {120, {20, 0, 0}, {20, 0, -1}}};
+  return path;
+}
+
 // A small lat-long image with a horizontal ramp: an env: scene whose camera has its own
 // field of view (90 degrees), like the built-in scene's and a file camera's.
 std::string ramp_envmap() {
@@ -170,8 +177,7 @@ TEST(Rolling, LinesAreShownInScanoutOrderAcrossThePeriod) {
   EXPECT_DOUBLE_EQ(line_time_ms(r, 39, 40, 20), 0.125);
   // Each line's camera is the path's at start + its time.
   const camera base = look_at({0, 0, 0}, {0, 0, -1}, 60);
-  auto path = std::make_shared<camera_path>();
-  path->keys = {{100, {0, 0, 0}, {0, 0, -1}}, {120, {20, 0, 0}, {20, 0, -1}}};
+  const std::shared_ptr<const camera_path> path = sideways_path();
   r.path = path;
   r.start_ms = 105;
   for (scanout order : {scanout::top_down, scanout::bottom_up, scanout::left_right, scanout::right_left}) {
@@ -1068,8 +1074,7 @@ TEST(Rolling, APanelOfTwoEyesScansThemAsOne) {
   EXPECT_DOUBLE_EQ(line_time_ms(r, 0, 40, 20), 9.9375);
   // Each line's camera: the eye's, of the path's head camera at the line's time.
   const camera base = look_at({0, 0, 0}, {0, 0, -1}, 60);
-  auto path = std::make_shared<camera_path>();
-  path->keys = {{100, {0, 0, 0}, {0, 0, -1}}, {120, {20, 0, 0}, {20, 0, -1}}};
+  const std::shared_ptr<const camera_path> path = sideways_path();
   r.path = path;
   r.start_ms = 105;
   r.ipd_mm = 500;  // eyes 0.25 to either side of the head

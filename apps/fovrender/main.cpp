@@ -244,8 +244,7 @@ int render_stereo(const render_options& o, const fov::render_params& p, std::sha
       const char* name = fov::label_of(fov::eye_side_labels, e);
       const fov::converged_comparison cc = fov::compare_converged(sr.eye(e), fov::eye_half(image, e), eye,
                                                                   e == eye_side::left ? gaze_left : gaze_right,
-                                                                  fov::stereo_renderer::for_eye(p, e),
-                                                                  o.reference_spp, what);
+                                                                  e == eye_side::left ? pl : pr, o.reference_spp, what);
       eyes[name]["metrics"] = fov::comparison_json(cc.against);
       eyes[name]["noise_floor"] = fov::comparison_json(cc.floor);
       eyes[name]["converged_reference_ms"] = cc.reference_ms;
